@@ -1,0 +1,141 @@
+// The one source of truth for everything the host and the shaders share: binding numbers,
+// specialization-constant ids, push constants and buffer struct layouts (std430).
+// src/gpu/shared.rs mirrors these structs; tests/shared_layout.rs parses this file and checks
+// every Rust mirror's size and field offsets against the std430 rules, so the two cannot drift.
+// Keep struct members to 4-byte scalars, vec4/uvec4 and arrays of them (the test's parser knows
+// only those), one member per line.
+#ifndef FOVEA_SHARED_H
+#define FOVEA_SHARED_H
+
+// ---- descriptor set 0 bindings -------------------------------------------------------------
+#define BINDING_BLAS_NODES 0   // uvec4[5] per CWBVH node (80 bytes, obvhs layout), all meshes
+#define BINDING_TLAS_NODES 1   // uvec4[5] per CWBVH node over objects
+#define BINDING_TRIANGLES 2    // GpuTriangle[], in BLAS leaf order, object space
+#define BINDING_OBJECTS 3      // GpuObject[], in TLAS leaf order
+#define BINDING_MATERIALS 4    // GpuMaterial[]
+#define BINDING_EMITTERS 5     // GpuEmitter[]
+#define BINDING_SCENE_INFO 6   // GpuSceneInfo
+#define BINDING_STATS 7        // uint counters, STAT_*
+#define BINDING_OUTPUT 8       // rgba32f storage image: the traced frame
+#define BINDING_PROBE_RAYS 9   // GpuProbeRay[] (raycast.comp only)
+#define BINDING_PROBE_HITS 10  // GpuProbeHit[] (raycast.comp only)
+#define BINDING_COUNT 11
+
+// ---- specialization constants: what a scene does not need is compiled away ------------------
+#define SPEC_HAS_TRIANGLES 0
+#define SPEC_HAS_BOXES 1
+#define SPEC_HAS_SPHERES 2
+#define SPEC_HAS_SPECULAR 3
+#define SPEC_HAS_EMITTERS 4
+#define SPEC_MAX_BOUNCES 5
+#define SPEC_INTEGRATOR 6
+
+#define INTEGRATOR_PT 0
+#define INTEGRATOR_SEED 1
+
+// ---- object kinds (GpuObject.kind) and emitter kinds (GpuEmitter.kind) ----------------------
+#define KIND_INSTANCE 0
+#define KIND_BOX 1
+#define KIND_SPHERE 2
+#define KIND_TRIANGLE 3 // emitters only: one world-space triangle of an emissive instance
+
+#define NO_EMITTER 0xffffffffu
+
+// ---- stats counters (BINDING_STATS), reported after every frame ----------------------------
+#define STAT_NONFINITE 0       // samples that came out NaN/inf and were dropped (counted as black)
+#define STAT_STACK_OVERFLOW 1  // BVH traversals whose stack overflowed
+#define STAT_PATHS 2           // camera paths traced
+#define STAT_RAYS 3            // all rays traced (camera, bounce and shadow)
+#define STAT_COUNT 4
+
+// Traversal stack depth per BVH level. CWBVH trees are shallow (8-wide); an overflow is
+// counted in STAT_STACK_OVERFLOW, never silently ignored.
+#define TRAVERSAL_STACK_SIZE 32
+#define WORKGROUP_SIZE_X 8
+#define WORKGROUP_SIZE_Y 8
+#define PROBE_WORKGROUP_SIZE 64
+
+struct GpuTriangle {
+    vec4 v0;
+    vec4 v1;
+    vec4 v2;
+};
+
+// An instance of a mesh, an axis-aligned box or a sphere: the TLAS leaves.
+struct GpuObject {
+    vec4 world_to_object0; // rows of the 3x4 affine world→object matrix (instances)
+    vec4 world_to_object1;
+    vec4 world_to_object2;
+    vec4 object_to_world0; // rows of the 3x4 affine object→world matrix (instances)
+    vec4 object_to_world1;
+    vec4 object_to_world2;
+    vec4 a; // box: min; sphere: centre xyz, radius w
+    vec4 b; // box: max
+    uint kind;
+    uint material;
+    uint blas_root; // index of the mesh's root node in BLAS_NODES
+    uint triangle_base; // index of the mesh's first triangle in TRIANGLES
+    uint emitter; // index into EMITTERS of this object's first emitter, or NO_EMITTER
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+struct GpuMaterial {
+    vec4 kd; // xyz = k_d, w = Phong exponent α (+inf: perfect mirror)
+    vec4 ks; // xyz = k_s, w = p_S, the thesis' specular selection probability (eq. 3.11)
+    vec4 emission; // xyz = radiance
+};
+
+// A light for next-event estimation: a world-space triangle, a box or a sphere.
+struct GpuEmitter {
+    vec4 p0; // triangle: v0; box: min; sphere: centre xyz, radius w
+    vec4 p1; // triangle: v1; box: max
+    vec4 p2; // triangle: v2
+    vec4 emission; // xyz = radiance, w = surface area
+    uint kind;
+    uint object;
+    uint pad0;
+    uint pad1;
+};
+
+struct GpuSceneInfo {
+    vec4 sky_zenith;
+    vec4 sky_horizon;
+    vec4 sky_ground;
+    uint emitter_count;
+    uint object_count;
+    uint tlas_node_count;
+    uint pad0;
+};
+
+// Per-dispatch parameters (≤ 128 bytes: the guaranteed push-constant size).
+struct PushConstants {
+    vec4 cam_position;
+    vec4 cam_right;
+    vec4 cam_up;
+    vec4 cam_forward;
+    vec4 cam_tan; // tan of the view's left, right, up, down half-angles (OpenXR convention)
+    uint width;
+    uint height;
+    uint spp;
+    uint seed;
+    uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
+    uint probe_count;
+    uint pad0;
+    uint pad1;
+};
+
+struct GpuProbeRay {
+    vec4 origin; // w = t_min
+    vec4 direction; // w = t_max
+};
+
+struct GpuProbeHit {
+    float t; // +inf when nothing was hit
+    uint object; // TLAS object index (after BVH reordering) or NO_EMITTER
+    uint primitive; // triangle index within TRIANGLES, or NO_EMITTER
+    uint overflow; // 1 when the traversal stack overflowed
+};
+
+#endif

@@ -1,0 +1,168 @@
+//! The renderer-independent scene description: what a built-in scene or a glTF file becomes.
+//! Everything here is in world units (metres by convention), right-handed, Y up.
+
+use glam::{Mat4, Vec3};
+
+/// A material of the thesis' BRDF (eqs. 3.7–3.8): Lambert `k_d / π` plus modified Phong
+/// `k_s (α+2)/(2π) cos^α θ_r`. `alpha == f32::INFINITY` is a perfect mirror.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub kd: Vec3,
+    pub ks: Vec3,
+    /// Phong exponent α ≥ 0; `f32::INFINITY` means a perfect mirror.
+    pub alpha: f32,
+    /// Emitted radiance (W·sr⁻¹·m⁻²); one-sided (front face) on triangles, two-sided on
+    /// analytic boxes and spheres.
+    pub emission: Vec3,
+}
+
+impl Material {
+    pub fn diffuse(kd: Vec3) -> Self {
+        Self { kd, ks: Vec3::ZERO, alpha: 1.0, emission: Vec3::ZERO }
+    }
+    pub fn mirror(ks: Vec3) -> Self {
+        Self { kd: Vec3::ZERO, ks, alpha: f32::INFINITY, emission: Vec3::ZERO }
+    }
+    pub fn emitter(kd: Vec3, emission: Vec3) -> Self {
+        Self { kd, ks: Vec3::ZERO, alpha: 1.0, emission }
+    }
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+    pub fn is_specular(&self) -> bool {
+        self.ks.max_element() > 0.0
+    }
+}
+
+/// An indexed triangle mesh in object space.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// A placement of a mesh in the world with one material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    pub mesh: u32,
+    pub material: u32,
+    /// Object → world.
+    pub transform: Mat4,
+}
+
+/// An axis-aligned box in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AaBox {
+    pub min: Vec3,
+    pub max: Vec3,
+    pub material: u32,
+}
+
+/// A sphere in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+    pub material: u32,
+}
+
+/// A pinhole camera. The field of view is given as the four half-angles OpenXR reports
+/// (`angleLeft` < 0 < `angleRight`, `angleDown` < 0 < `angleUp`, radians), so one type serves
+/// desktop (symmetric) and headset (asymmetric, per eye) views.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub forward: Vec3,
+    pub up: Vec3,
+    pub angle_left: f32,
+    pub angle_right: f32,
+    pub angle_up: f32,
+    pub angle_down: f32,
+}
+
+impl Camera {
+    /// A symmetric camera looking from `position` at `target` with vertical field of view
+    /// `fov_y_deg`; the horizontal extent follows from the image aspect `width / height`.
+    pub fn look_at(position: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32) -> Self {
+        let half_y = (fov_y_deg.to_radians() * 0.5).tan();
+        let half_x = (half_y * aspect).atan();
+        let half_y = half_y.atan();
+        Self {
+            position,
+            forward: (target - position).normalize(),
+            up,
+            angle_left: -half_x,
+            angle_right: half_x,
+            angle_up: half_y,
+            angle_down: -half_y,
+        }
+    }
+
+    /// The same view with the horizontal extent refitted to a new aspect ratio, keeping the
+    /// vertical field of view (used when the user renders at another width/height).
+    pub fn with_aspect(mut self, aspect: f32) -> Self {
+        let up = self.angle_up.tan();
+        let down = self.angle_down.tan();
+        let half_x = 0.5 * (up - down) * aspect;
+        let centre_x = 0.5 * (self.angle_right.tan() + self.angle_left.tan());
+        self.angle_left = (centre_x - half_x).atan();
+        self.angle_right = (centre_x + half_x).atan();
+        self
+    }
+
+    /// Orthonormal right, up and forward vectors of the view.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let f = self.forward.normalize();
+        let r = f.cross(self.up).normalize();
+        let u = r.cross(f);
+        (r, u, f)
+    }
+}
+
+/// The background seen by rays that leave the scene: a vertical gradient from `ground`
+/// (below the horizon) through `horizon` to `zenith`. Equal colours make a uniform sky.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Environment {
+    pub zenith: Vec3,
+    pub horizon: Vec3,
+    pub ground: Vec3,
+}
+
+impl Environment {
+    pub fn uniform(radiance: Vec3) -> Self {
+        Self { zenith: radiance, horizon: radiance, ground: radiance }
+    }
+    pub fn sky() -> Self {
+        Self {
+            zenith: Vec3::new(0.25, 0.45, 0.85),
+            horizon: Vec3::new(0.85, 0.9, 1.0),
+            ground: Vec3::new(0.3, 0.28, 0.25),
+        }
+    }
+    pub fn black() -> Self {
+        Self::uniform(Vec3::ZERO)
+    }
+}
+
+/// A whole scene, ready to be turned into BVHs and GPU buffers.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub meshes: Vec<Mesh>,
+    pub instances: Vec<Instance>,
+    pub boxes: Vec<AaBox>,
+    pub spheres: Vec<Sphere>,
+    pub materials: Vec<Material>,
+    pub camera: Camera,
+    pub environment: Environment,
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .map(|i| self.meshes[i.mesh as usize].indices.len())
+            .sum()
+    }
+}
