@@ -63,10 +63,10 @@ struct GpuTriangle {
 
 // An instance of a mesh, an axis-aligned box or a sphere: the TLAS leaves.
 struct GpuObject {
-    vec4 world_to_object0; // rows of the 3x4 affine world→object matrix (instances)
+    vec4 world_to_object0; // rows of the 3x4 affine world->object matrix (instances)
     vec4 world_to_object1;
     vec4 world_to_object2;
-    vec4 object_to_world0; // rows of the 3x4 affine object→world matrix (instances)
+    vec4 object_to_world0; // rows of the 3x4 affine object->world matrix (instances)
     vec4 object_to_world1;
     vec4 object_to_world2;
     vec4 a; // box: min; sphere: centre xyz, radius w
@@ -76,13 +76,13 @@ struct GpuObject {
     uint blas_root; // index of the mesh's root node in BLAS_NODES
     uint triangle_base; // index of the mesh's first triangle in TRIANGLES
     uint emitter; // index into EMITTERS of this object's first emitter, or NO_EMITTER
-    uint pad0;
+    uint triangle_count; // the mesh's triangles (instances)
     uint pad1;
     uint pad2;
 };
 
 struct GpuMaterial {
-    vec4 kd; // xyz = k_d, w = Phong exponent α (+inf: perfect mirror)
+    vec4 kd; // xyz = k_d, w = Phong exponent alpha (+inf: perfect mirror)
     vec4 ks; // xyz = k_s, w = p_S, the thesis' specular selection probability (eq. 3.11)
     vec4 emission; // xyz = radiance
 };
@@ -109,7 +109,7 @@ struct GpuSceneInfo {
     uint pad0;
 };
 
-// Per-dispatch parameters (≤ 128 bytes: the guaranteed push-constant size).
+// Per-dispatch parameters (<= 128 bytes: the guaranteed push-constant size).
 struct PushConstants {
     vec4 cam_position;
     vec4 cam_right;

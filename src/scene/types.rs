@@ -18,13 +18,28 @@ pub struct Material {
 
 impl Material {
     pub fn diffuse(kd: Vec3) -> Self {
-        Self { kd, ks: Vec3::ZERO, alpha: 1.0, emission: Vec3::ZERO }
+        Self {
+            kd,
+            ks: Vec3::ZERO,
+            alpha: 1.0,
+            emission: Vec3::ZERO,
+        }
     }
     pub fn mirror(ks: Vec3) -> Self {
-        Self { kd: Vec3::ZERO, ks, alpha: f32::INFINITY, emission: Vec3::ZERO }
+        Self {
+            kd: Vec3::ZERO,
+            ks,
+            alpha: f32::INFINITY,
+            emission: Vec3::ZERO,
+        }
     }
     pub fn emitter(kd: Vec3, emission: Vec3) -> Self {
-        Self { kd, ks: Vec3::ZERO, alpha: 1.0, emission }
+        Self {
+            kd,
+            ks: Vec3::ZERO,
+            alpha: 1.0,
+            emission,
+        }
     }
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
@@ -131,7 +146,11 @@ pub struct Environment {
 
 impl Environment {
     pub fn uniform(radiance: Vec3) -> Self {
-        Self { zenith: radiance, horizon: radiance, ground: radiance }
+        Self {
+            zenith: radiance,
+            horizon: radiance,
+            ground: radiance,
+        }
     }
     pub fn sky() -> Self {
         Self {

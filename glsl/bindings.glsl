@@ -1,0 +1,28 @@
+// Declarations of every set-0 resource and specialization constant, from shared.h's numbers.
+#ifndef FOVEA_BINDINGS_GLSL
+#define FOVEA_BINDINGS_GLSL
+#include "shared.h"
+
+layout(constant_id = SPEC_HAS_TRIANGLES) const bool HAS_TRIANGLES = true;
+layout(constant_id = SPEC_HAS_BOXES) const bool HAS_BOXES = true;
+layout(constant_id = SPEC_HAS_SPHERES) const bool HAS_SPHERES = true;
+layout(constant_id = SPEC_HAS_SPECULAR) const bool HAS_SPECULAR = true;
+layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
+layout(constant_id = SPEC_MAX_BOUNCES) const uint MAX_BOUNCES = 8;
+layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
+
+layout(std430, set = 0, binding = BINDING_BLAS_NODES) readonly buffer BlasNodes { uvec4 blas_nodes[]; };
+layout(std430, set = 0, binding = BINDING_TLAS_NODES) readonly buffer TlasNodes { uvec4 tlas_nodes[]; };
+layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
+layout(std430, set = 0, binding = BINDING_OBJECTS) readonly buffer Objects { GpuObject objects[]; };
+layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer Emitters { GpuEmitter emitters[]; };
+layout(std430, set = 0, binding = BINDING_SCENE_INFO) readonly buffer SceneInfoBuf { GpuSceneInfo scene_info; };
+layout(std430, set = 0, binding = BINDING_STATS) buffer Stats { uint stats[]; };
+layout(set = 0, binding = BINDING_OUTPUT, rgba32f) uniform image2D out_image;
+layout(std430, set = 0, binding = BINDING_PROBE_RAYS) readonly buffer ProbeRays { GpuProbeRay probe_rays[]; };
+layout(std430, set = 0, binding = BINDING_PROBE_HITS) writeonly buffer ProbeHits { GpuProbeHit probe_hits[]; };
+
+layout(push_constant) uniform Push { PushConstants pc; };
+
+#endif

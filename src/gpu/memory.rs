@@ -1,0 +1,334 @@
+//! Buffers and storage images with gpu-allocator memory. Each holds an `Arc<GpuContext>` so
+//! the context outlives every resource, and frees itself on drop.
+
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+fn allocation_error(what: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
+    match e {
+        gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
+            what: what.into(),
+            bytes,
+            detail: e.to_string(),
+        },
+        other => GpuError::Allocation {
+            what: what.into(),
+            detail: other.to_string(),
+        },
+    }
+}
+
+pub struct Buffer {
+    ctx: Arc<GpuContext>,
+    pub(crate) buffer: vk::Buffer,
+    allocation: Option<Allocation>,
+    pub size: u64,
+}
+
+impl Buffer {
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self, GpuError> {
+        // Zero-sized buffers are invalid in Vulkan; empty scene arrays get one 16-byte element.
+        let size = size.max(16);
+        let info = vk::BufferCreateInfo::default().size(size).usage(usage);
+        let device = &ctx.device;
+        // SAFETY: valid device and create info.
+        let buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: buffer was created from this device.
+        let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
+        let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear: true,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: the buffer has no memory bound and is not in use.
+                unsafe { device.destroy_buffer(buffer, None) };
+                return Err(allocation_error(name, size, e));
+            }
+        };
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
+        let bound =
+            unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
+        let mut this = Self {
+            ctx: ctx.clone(),
+            buffer,
+            allocation: Some(allocation),
+            size,
+        };
+        bound.vk("vkBindBufferMemory")?;
+        this.size = size;
+        Ok(this)
+    }
+
+    /// A device-local storage buffer holding `data`, uploaded once through a staging buffer.
+    pub fn with_data(ctx: &Arc<GpuContext>, name: &str, data: &[u8]) -> Result<Self, GpuError> {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let buffer = Self::new(ctx, name, data.len() as u64, usage, MemoryLocation::GpuOnly)?;
+        if data.is_empty() {
+            return Ok(buffer);
+        }
+        let mut staging = Self::new(
+            ctx,
+            &format!("{name} (staging)"),
+            data.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(0, data)?;
+        let region = [vk::BufferCopy::default().size(data.len() as u64)];
+        ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
+            // SAFETY: both buffers are alive until the wait returns; sizes match the region.
+            unsafe {
+                ctx.device
+                    .cmd_copy_buffer(cmd, staging.buffer, buffer.buffer, &region)
+            };
+        })?;
+        Ok(buffer)
+    }
+
+    /// Host-visible buffers only: copies `data` at `offset`.
+    pub fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), GpuError> {
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| GpuError::Limit("buffer is not host-visible".into()))?;
+        slice
+            .get_mut(offset..offset + data.len())
+            .ok_or_else(|| GpuError::Limit("write past the end of a buffer".into()))?
+            .copy_from_slice(data);
+        Ok(())
+    }
+
+    /// Host-visible buffers only: the mapped bytes.
+    pub fn read(&self) -> Result<&[u8], GpuError> {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .ok_or_else(|| GpuError::Limit("buffer is not host-visible".into()))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.ctx.allocator().free(allocation);
+        }
+        // SAFETY: users wait for the GPU before dropping the resources they used.
+        unsafe { self.ctx.device.destroy_buffer(self.buffer, None) };
+    }
+}
+
+/// An RGBA32F storage image, the target of a traced frame.
+pub struct StorageImage {
+    ctx: Arc<GpuContext>,
+    pub(crate) image: vk::Image,
+    pub(crate) view: vk::ImageView,
+    allocation: Option<Allocation>,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl StorageImage {
+    pub const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        name: &str,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(Self::FORMAT)
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let device = &ctx.device;
+        // SAFETY: valid device and create info.
+        let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: image from this device.
+        let requirements = unsafe { device.get_image_memory_requirements(image) };
+        let allocation = match ctx.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        }) {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: unbound, unused image.
+                unsafe { device.destroy_image(image, None) };
+                return Err(allocation_error(name, requirements.size, e));
+            }
+        };
+        let mut this = Self {
+            ctx: ctx.clone(),
+            image,
+            view: vk::ImageView::null(),
+            allocation: None,
+            width,
+            height,
+        };
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
+            .vk("vkBindImageMemory")?;
+        this.allocation = Some(allocation);
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(image)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(Self::FORMAT)
+            .subresource_range(color_range());
+        // SAFETY: the image is bound to memory.
+        this.view =
+            unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        Ok(this)
+    }
+
+    /// Records a transition from UNDEFINED to GENERAL (contents discarded) for compute writes.
+    pub(crate) fn cmd_prepare_for_write(&self, cmd: vk::CommandBuffer) {
+        let barrier = [vk::ImageMemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::empty())
+            .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .old_layout(vk::ImageLayout::UNDEFINED)
+            .new_layout(vk::ImageLayout::GENERAL)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(self.image)
+            .subresource_range(color_range())];
+        // SAFETY: cmd is recording; the barrier names this image.
+        unsafe {
+            self.ctx.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barrier,
+            )
+        };
+    }
+
+    /// Copies the image (in GENERAL layout after compute writes) to the host: RGBA f32 rows.
+    pub fn read_back(&self) -> Result<Vec<f32>, GpuError> {
+        let bytes = self.width as u64 * self.height as u64 * 16;
+        let staging = Buffer::new(
+            &self.ctx,
+            "image readback",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let device = &self.ctx.device;
+        self.ctx.submit_and_wait("readback", |cmd| {
+            let barrier = [vk::ImageMemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                .old_layout(vk::ImageLayout::GENERAL)
+                .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(self.image)
+                .subresource_range(color_range())];
+            let region = [vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(vk::Extent3D {
+                    width: self.width,
+                    height: self.height,
+                    depth: 1,
+                })];
+            let back = [vk::ImageMemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_READ)
+                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .old_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .new_layout(vk::ImageLayout::GENERAL)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(self.image)
+                .subresource_range(color_range())];
+            // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
+            unsafe {
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &barrier,
+                );
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    self.image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    staging.buffer,
+                    &region,
+                );
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &back,
+                );
+            }
+        })?;
+        Ok(bytemuck::pod_collect_to_vec(staging.read()?))
+    }
+}
+
+fn color_range() -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+impl Drop for StorageImage {
+    fn drop(&mut self) {
+        // SAFETY: users wait for the GPU before dropping; view before image before memory.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.ctx.device.destroy_image_view(self.view, None);
+            }
+            self.ctx.device.destroy_image(self.image, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.ctx.allocator().free(allocation);
+        }
+    }
+}

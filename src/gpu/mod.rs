@@ -1,0 +1,18 @@
+//! The only module that calls Vulkan (ash). Everything above it speaks in scenes, frames and
+//! passes; everything here owns raw handles and destroys them on drop.
+
+mod context;
+mod error;
+mod memory;
+mod pipeline;
+pub mod shaders;
+pub mod shared;
+mod timestamps;
+mod validation;
+
+pub use ash::vk;
+pub use context::{DeviceInfo, GpuContext, GpuOptions};
+pub use error::GpuError;
+pub use memory::{Buffer, StorageImage};
+pub use pipeline::{ComputePipeline, PipelineLayout};
+pub use timestamps::TimestampPool;

@@ -1,0 +1,232 @@
+//! The one descriptor-set layout every fovea compute shader uses (all of shared.h's bindings),
+//! its pipeline layout with the push constants, and compute pipelines with specialization
+//! constants.
+
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+use super::memory::{Buffer, StorageImage};
+use super::shared::*;
+use ash::vk;
+use std::sync::Arc;
+
+pub struct PipelineLayout {
+    ctx: Arc<GpuContext>,
+    pub(crate) set_layout: vk::DescriptorSetLayout,
+    pub(crate) layout: vk::PipelineLayout,
+    pool: vk::DescriptorPool,
+    pub(crate) set: vk::DescriptorSet,
+}
+
+impl PipelineLayout {
+    pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, GpuError> {
+        let device = &ctx.device;
+        let bindings: Vec<_> = (0..BINDING_COUNT)
+            .map(|b| {
+                let ty = if b == BINDING_OUTPUT {
+                    vk::DescriptorType::STORAGE_IMAGE
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                };
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b)
+                    .descriptor_type(ty)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid device and create info.
+        let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+            .vk("vkCreateDescriptorSetLayout")?;
+        let mut this = Self {
+            ctx: ctx.clone(),
+            set_layout,
+            layout: vk::PipelineLayout::null(),
+            pool: vk::DescriptorPool::null(),
+            set: vk::DescriptorSet::null(),
+        };
+        let ranges = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .size(std::mem::size_of::<PushConstants>() as u32)];
+        let layouts = [set_layout];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layouts)
+            .push_constant_ranges(&ranges);
+        // SAFETY: the set layout is alive.
+        this.layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: BINDING_COUNT,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_IMAGE,
+                descriptor_count: 1,
+            },
+        ];
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        // SAFETY: valid device and create info.
+        this.pool =
+            unsafe { device.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(this.pool)
+            .set_layouts(&layouts);
+        // SAFETY: the pool has room for exactly this set.
+        this.set =
+            unsafe { device.allocate_descriptor_sets(&info) }.vk("vkAllocateDescriptorSets")?[0];
+        Ok(this)
+    }
+
+    /// Points every buffer binding at `buffers[binding]` and the output binding at `image`.
+    pub fn bind(&self, buffers: &[(u32, &Buffer)], image: &StorageImage) {
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|(_, b)| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.buffer)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let image_info = [vk::DescriptorImageInfo::default()
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let mut writes: Vec<vk::WriteDescriptorSet> = buffers
+            .iter()
+            .zip(&infos)
+            .map(|((binding, _), info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(*binding)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        writes.push(
+            vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(BINDING_OUTPUT)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .image_info(&image_info),
+        );
+        // SAFETY: the set is not in use by a pending command buffer (callers wait per frame).
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        // SAFETY: no command buffer using these is pending; destroying the pool frees the set.
+        unsafe {
+            let d = &self.ctx.device;
+            d.destroy_descriptor_pool(self.pool, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+pub struct ComputePipeline {
+    ctx: Arc<GpuContext>,
+    pub(crate) pipeline: vk::Pipeline,
+    pub name: &'static str,
+}
+
+impl ComputePipeline {
+    /// Creates a pipeline from SPIR-V with `(constant_id, value)` specialization constants
+    /// (booleans as 0/1, all 32-bit).
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        layout: &PipelineLayout,
+        name: &'static str,
+        spirv: &[u8],
+        specialization: &[(u32, u32)],
+    ) -> Result<Self, GpuError> {
+        let device = &ctx.device;
+        let words: Vec<u32> = spirv
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: the SPIR-V was produced by shaderc at build time.
+        let module =
+            unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        let entries: Vec<vk::SpecializationMapEntry> = specialization
+            .iter()
+            .enumerate()
+            .map(|(i, (id, _))| vk::SpecializationMapEntry {
+                constant_id: *id,
+                offset: (i * 4) as u32,
+                size: 4,
+            })
+            .collect();
+        let data: Vec<u8> = specialization
+            .iter()
+            .flat_map(|(_, v)| v.to_le_bytes())
+            .collect();
+        let spec = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&data);
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main")
+            .specialization_info(&spec);
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.layout)];
+        // SAFETY: module and layout are alive; the create infos outlive the call.
+        let result =
+            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
+        // SAFETY: the module is no longer needed once the pipeline exists (or failed).
+        unsafe { device.destroy_shader_module(module, None) };
+        let pipeline = result.map_err(|(_, e)| e).vk("vkCreateComputePipelines")?[0];
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            name,
+        })
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending work uses the pipeline.
+        unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
+    }
+}
+
+impl ComputePipeline {
+    /// Records binding, push constants and a dispatch of `groups` workgroups.
+    pub(crate) fn cmd_dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        layout: &PipelineLayout,
+        push: &PushConstants,
+        groups: [u32; 3],
+    ) {
+        let d = &self.ctx.device;
+        // SAFETY: cmd is recording; pipeline, layout and set are alive until the submit completes.
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout.layout,
+                0,
+                &[layout.set],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                layout.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(push),
+            );
+            d.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
+        }
+    }
+}

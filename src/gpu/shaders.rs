@@ -1,0 +1,4 @@
+//! SPIR-V of glsl/*.comp, compiled by build.rs.
+
+pub const TRACE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace.spv"));
+pub const RAYCAST: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast.spv"));

@@ -1,0 +1,7 @@
+//! fovea: a foveated path tracer for eye-tracked VR headsets, on raw Vulkan (ash).
+//!
+//! `scene` describes what to render, `gpu` owns every Vulkan handle, `render` drives a frame.
+
+pub mod gpu;
+pub mod render;
+pub mod scene;

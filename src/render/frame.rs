@@ -1,0 +1,58 @@
+//! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
+
+/// Counters the shaders keep for every frame (shared.h's STAT_*), and GPU time per pass.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    /// Samples that came out NaN or infinite and were dropped.
+    pub nonfinite_samples: u64,
+    /// BVH traversals whose stack overflowed.
+    pub stack_overflows: u64,
+    /// Camera paths traced (pixels × spp).
+    pub paths: u64,
+    /// All rays traced: camera, bounce and shadow rays.
+    pub rays: u64,
+    /// GPU milliseconds per pass, from timestamp queries.
+    pub pass_ms: Vec<(String, f64)>,
+}
+
+impl FrameStats {
+    pub fn gpu_ms(&self) -> f64 {
+        self.pass_ms.iter().map(|(_, ms)| ms).sum()
+    }
+    /// Millions of camera paths (samples) per second of GPU time.
+    pub fn msamples_per_s(&self) -> f64 {
+        let ms = self.gpu_ms();
+        if ms > 0.0 {
+            self.paths as f64 / (ms * 1e3)
+        } else {
+            0.0
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB radiance, row-major from the top-left, 3 floats per pixel.
+    pub rgb: Vec<f32>,
+    pub stats: FrameStats,
+}
+
+impl Frame {
+    pub fn pixel(&self, x: u32, y: u32) -> [f32; 3] {
+        let i = 3 * (y as usize * self.width as usize + x as usize);
+        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+    /// Mean of each channel over the whole image.
+    pub fn mean(&self) -> [f64; 3] {
+        let mut sum = [0.0f64; 3];
+        for p in self.rgb.chunks_exact(3) {
+            for c in 0..3 {
+                sum[c] += p[c] as f64;
+            }
+        }
+        let n = (self.rgb.len() / 3).max(1) as f64;
+        sum.map(|s| s / n)
+    }
+}

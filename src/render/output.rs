@@ -1,0 +1,77 @@
+//! Writing frames as files a user can open: 8-bit sRGB PNG (clamped) and linear float EXR.
+
+use super::{Frame, RenderError};
+use std::path::{Path, PathBuf};
+
+fn output_error(path: &Path, problem: impl std::fmt::Display) -> RenderError {
+    RenderError::Output {
+        path: path.display().to_string(),
+        problem: problem.to_string(),
+    }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1].
+pub fn linear_to_srgb(v: f32) -> f32 {
+    let v = if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+pub fn write_png(frame: &Frame, path: &Path) -> Result<(), RenderError> {
+    let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), frame.width, frame.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    let mut writer = encoder.write_header().map_err(|e| output_error(path, e))?;
+    let bytes: Vec<u8> = frame
+        .rgb
+        .iter()
+        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
+        .collect();
+    writer
+        .write_image_data(&bytes)
+        .map_err(|e| output_error(path, e))?;
+    writer.finish().map_err(|e| output_error(path, e))
+}
+
+pub fn write_exr(frame: &Frame, path: &Path) -> Result<(), RenderError> {
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    exr::prelude::write_rgb_file(path, w, h, |x, y| {
+        let i = 3 * (y * w + x);
+        (frame.rgb[i], frame.rgb[i + 1], frame.rgb[i + 2])
+    })
+    .map_err(|e| output_error(path, e))
+}
+
+/// Writes `path` (.png or .exr). A PNG also gets a linear .exr beside it, so no precision is
+/// lost. Returns every file written.
+pub fn write_frame(frame: &Frame, path: &Path) -> Result<Vec<PathBuf>, RenderError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_lowercase);
+    match ext.as_deref() {
+        Some("exr") => {
+            write_exr(frame, path)?;
+            Ok(vec![path.to_path_buf()])
+        }
+        Some("png") => {
+            write_png(frame, path)?;
+            let exr = path.with_extension("exr");
+            write_exr(frame, &exr)?;
+            Ok(vec![path.to_path_buf(), exr])
+        }
+        _ => Err(output_error(
+            path,
+            "the output name must end in .png or .exr",
+        )),
+    }
+}

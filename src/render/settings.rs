@@ -1,0 +1,78 @@
+//! What one frame is asked to compute, validated before any GPU work.
+
+use crate::gpu::shared::{INTEGRATOR_PT, INTEGRATOR_SEED};
+
+/// Which estimator traces the paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Integrator {
+    /// Cosine/Phong importance sampling, next-event estimation with MIS, Russian roulette.
+    Pt,
+    /// The thesis' estimator (eqs. 3.4–3.16): uniform hemisphere, BRDF picked by p_S.
+    Seed,
+}
+
+impl Integrator {
+    pub fn id(self) -> u32 {
+        match self {
+            Integrator::Pt => INTEGRATOR_PT,
+            Integrator::Seed => INTEGRATOR_SEED,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub seed: u32,
+    pub integrator: Integrator,
+    pub max_bounces: u32,
+}
+
+/// Largest image side: 16384 is the minimum maxImageDimension2D guaranteed by Vulkan devices
+/// that fovea targets.
+pub const MAX_SIDE: u32 = 16384;
+/// More samples per pixel than this in one frame is almost certainly a typo (and would run
+/// for hours on lavapipe).
+pub const MAX_SPP: u32 = 1 << 20;
+/// Paths longer than this contribute nothing measurable and only cost time.
+pub const MAX_BOUNCES: u32 = 64;
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            spp: 16,
+            seed: 1,
+            integrator: Integrator::Pt,
+            max_bounces: 8,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Rejects sizes, sample counts and depths that cannot make a sensible image.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {
+            return Err(format!(
+                "image size {}x{} is out of range: width and height must be between 1 and {MAX_SIDE}",
+                self.width, self.height
+            ));
+        }
+        if self.spp == 0 || self.spp > MAX_SPP {
+            return Err(format!(
+                "--spp {} is out of range: use 1 to {MAX_SPP} samples per pixel",
+                self.spp
+            ));
+        }
+        if self.max_bounces > MAX_BOUNCES {
+            return Err(format!(
+                "--max-bounces {} is out of range: use 0 to {MAX_BOUNCES}",
+                self.max_bounces
+            ));
+        }
+        Ok(())
+    }
+}

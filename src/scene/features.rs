@@ -1,0 +1,57 @@
+//! What a scene needs from the shaders. Each flag becomes a specialization constant, so the
+//! driver compiles away the intersection and shading paths a scene never uses.
+
+use super::Scene;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneFeatures {
+    pub triangles: bool,
+    pub boxes: bool,
+    pub spheres: bool,
+    /// Any material with a Phong or mirror lobe (k_s > 0).
+    pub specular: bool,
+    /// Any emissive surface (next-event estimation has something to sample).
+    pub emitters: bool,
+}
+
+impl SceneFeatures {
+    pub fn of(scene: &Scene) -> Self {
+        let used = |m: u32| scene.materials.get(m as usize);
+        let materials = scene
+            .instances
+            .iter()
+            .map(|i| i.material)
+            .chain(scene.boxes.iter().map(|b| b.material))
+            .chain(scene.spheres.iter().map(|s| s.material))
+            .filter_map(used);
+        let (mut specular, mut emitters) = (false, false);
+        for m in materials {
+            specular |= m.is_specular();
+            emitters |= m.is_emissive();
+        }
+        Self {
+            triangles: scene.triangle_count() > 0,
+            boxes: !scene.boxes.is_empty(),
+            spheres: !scene.spheres.is_empty(),
+            specular,
+            emitters,
+        }
+    }
+
+    /// A short list for `fovea scenes`, e.g. "triangles boxes specular".
+    pub fn describe(&self) -> String {
+        let names = [
+            (self.triangles, "triangles"),
+            (self.boxes, "boxes"),
+            (self.spheres, "spheres"),
+            (self.specular, "specular"),
+            (self.emitters, "emitters"),
+        ];
+        let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
+        if on.is_empty() {
+            "background only".into()
+        } else {
+            on.join(" ")
+        }
+    }
+}

@@ -1,0 +1,417 @@
+//! Writing a [`Scene`] as a glTF 2.0 binary (`.glb`), the inverse of [`super::gltf_load`].
+//!
+//! Layout: one buffer (the GLB binary chunk); per [`Mesh`] used by an instance one POSITION
+//! accessor (f32 VEC3 with min/max) and one u32 index accessor; per (mesh, material) pair one
+//! glTF mesh (glTF puts materials on primitives, so a mesh placed with two materials becomes two
+//! glTF meshes sharing the same accessors); per [`Instance`] one node with its column-major
+//! matrix; one node with a perspective camera. All scene materials are written, in order.
+//!
+//! Not representable, hence not written: analytic boxes and spheres (a warning says how many),
+//! the environment, and asymmetric camera frusta (the camera is written symmetric with the same
+//! vertical extent and aspect ratio). Instance matrices with shear are written as they are;
+//! this loader reads them, but strict glTF readers expect TRS-decomposable matrices (a warning
+//! says so).
+//!
+//! # Material mapping (inverse of [`super::gltf_load::material_from_metallic_roughness`])
+//!
+//! The loader maps `(base, m, r)` to `k_s = 0.04(1−m) + m·base`, `k_d = 0.96(1−m)·base`,
+//! `α(r)`. Here `m` is solved from the channel means: with `U = mean(k_d)/0.96` and
+//! `K = mean(k_s)`, `K = 0.04(1−m) + U·m/(1−m)` has exactly one root in `(0, 1)` when
+//! `K > 0.04` (the right side is convex and 0.04 at `m = 0`), found by bisection; then
+//! `base = k_d / (0.96(1−m))`. `K ≤ 0.04` gives a dielectric (`m = 0`), `k_d = 0` a metal
+//! (`m = 1`, `base = k_s`). This is exact (up to rounding) for every material the loader
+//! produces; other materials are approximated: a pure Lambertian (`k_s = 0`) comes back with
+//! `k_s = 0.04`, coloured specular on a diffuse base comes back with the mean metalness, and a
+//! mirror that also has a diffuse part comes back with `α = 10⁶` instead of `∞`.
+//! Emission is written as `emissiveFactor`, with `KHR_materials_emissive_strength` carrying
+//! the maximum component when it exceeds 1.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::{Mat3, Quat, Vec3, Vec4};
+use serde_json::{json, Value};
+
+use super::gltf_load::{roughness_from_phong_alpha, DIELECTRIC_F0};
+use super::{Camera, Material, Scene, SceneError};
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_INT: u32 = 5125;
+/// Near plane written for the camera (glTF requires one; the path tracer has none).
+const CAMERA_ZNEAR: f32 = 0.01;
+
+/// Writes `scene` to `path` as a `.glb` (see the module docs for what is written).
+/// A write failure is reported as [`SceneError::Load`] naming `path`.
+pub fn write_glb(scene: &Scene, path: &Path) -> Result<(), SceneError> {
+    let bytes = glb_bytes(scene)?;
+    std::fs::write(path, bytes).map_err(|e| SceneError::Load {
+        path: path.to_path_buf(),
+        problem: format!("cannot write the .glb file: {e}"),
+    })
+}
+
+/// The `.glb` bytes of `scene` (see the module docs for what is written). Fails on dangling
+/// mesh/material references, out-of-range indices, non-finite values or a scene over 4 GiB.
+pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
+    let invalid = |problem: String| SceneError::Invalid {
+        scene: scene.name.clone(),
+        problem,
+    };
+    if !scene.boxes.is_empty() || !scene.spheres.is_empty() {
+        tracing::warn!(
+            "scene '{}': {} analytic boxes and {} spheres cannot be stored in glTF and are not \
+             written",
+            scene.name,
+            scene.boxes.len(),
+            scene.spheres.len()
+        );
+    }
+
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views: Vec<Value> = Vec::new();
+    let mut accessors: Vec<Value> = Vec::new();
+    // Scene mesh → (POSITION accessor, index accessor), written on first use.
+    let mut mesh_accessors: HashMap<u32, (usize, usize)> = HashMap::new();
+    // (scene mesh, material) → glTF mesh.
+    let mut pair_ids: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    let mut nodes: Vec<Value> = Vec::new();
+    let mut sheared = 0usize;
+
+    for (i, instance) in scene.instances.iter().enumerate() {
+        let mesh = scene.meshes.get(instance.mesh as usize).ok_or_else(|| {
+            invalid(format!(
+                "instance {i} refers to mesh {}, which does not exist",
+                instance.mesh
+            ))
+        })?;
+        if instance.material as usize >= scene.materials.len() {
+            return Err(invalid(format!(
+                "instance {i} refers to material {}, which does not exist",
+                instance.material
+            )));
+        }
+        if !instance.transform.is_finite() {
+            return Err(invalid(format!("instance {i} has a non-finite transform")));
+        }
+        if mesh.indices.is_empty() {
+            continue; // glTF accessors cannot be empty, and there is nothing to place
+        }
+        if !mesh_accessors.contains_key(&instance.mesh) {
+            let written = write_mesh_data(mesh, &mut bin, &mut views, &mut accessors)
+                .map_err(|p| invalid(format!("mesh '{}': {p}", mesh.name)))?;
+            mesh_accessors.insert(instance.mesh, written);
+        }
+        let key = (instance.mesh, instance.material);
+        let gltf_mesh = *pair_ids.entry(key).or_insert_with(|| {
+            pairs.push(key);
+            pairs.len() - 1
+        });
+        if !is_trs_decomposable(&instance.transform) {
+            sheared += 1;
+        }
+        nodes.push(json!({
+            "name": format!("instance {i}"),
+            "mesh": gltf_mesh,
+            "matrix": instance.transform.to_cols_array().to_vec(),
+        }));
+    }
+    if sheared > 0 {
+        tracing::warn!(
+            "scene '{}': {sheared} instance transforms have shear; they are written as matrices, \
+             which strict glTF readers may reject",
+            scene.name
+        );
+    }
+
+    let meshes: Vec<Value> = pairs
+        .iter()
+        .map(|&(mesh, material)| {
+            let (positions, indices) = mesh_accessors[&mesh];
+            let name = &scene.meshes[mesh as usize].name;
+            let uses = pairs.iter().filter(|(m, _)| *m == mesh).count();
+            json!({
+                "name": if uses > 1 { format!("{name} (material {material})") } else { name.clone() },
+                "primitives": [{
+                    "attributes": { "POSITION": positions },
+                    "indices": indices,
+                    "material": material,
+                    "mode": 4,
+                }],
+            })
+        })
+        .collect();
+
+    let mut uses_strength = false;
+    let materials = scene
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let (value, strength) =
+                material_json(i, m).map_err(|p| invalid(format!("material {i}: {p}")))?;
+            uses_strength |= strength;
+            Ok(value)
+        })
+        .collect::<Result<Vec<Value>, SceneError>>()?;
+
+    let (camera_node, camera) =
+        camera_json(&scene.camera).map_err(|p| invalid(format!("camera: {p}")))?;
+    nodes.push(camera_node);
+    let node_ids: Vec<usize> = (0..nodes.len()).collect();
+
+    let mut root = json!({
+        "asset": { "version": "2.0", "generator": "fovea glb_write" },
+        "scene": 0,
+        "scenes": [{ "name": scene.name, "nodes": node_ids }],
+        "nodes": nodes,
+        "cameras": [camera],
+    });
+    let object = root
+        .as_object_mut()
+        .ok_or_else(|| invalid("internal: root is not an object".into()))?;
+    if !materials.is_empty() {
+        object.insert("materials".into(), Value::Array(materials));
+    }
+    if !meshes.is_empty() {
+        object.insert("meshes".into(), Value::Array(meshes));
+        object.insert("accessors".into(), Value::Array(accessors));
+        object.insert("bufferViews".into(), Value::Array(views));
+        object.insert("buffers".into(), json!([{ "byteLength": bin.len() }]));
+    }
+    if uses_strength {
+        object.insert(
+            "extensionsUsed".into(),
+            json!(["KHR_materials_emissive_strength"]),
+        );
+    }
+
+    let json_text = serde_json::to_vec(&root)
+        .map_err(|e| invalid(format!("cannot encode the glTF JSON: {e}")))?;
+    assemble_glb(json_text, bin)
+        .ok_or_else(|| invalid("the scene is too large for a .glb (4 GiB)".into()))
+}
+
+/// Appends a mesh's positions and indices to the binary chunk with one buffer view and one
+/// accessor each; returns (POSITION accessor, index accessor).
+fn write_mesh_data(
+    mesh: &super::Mesh,
+    bin: &mut Vec<u8>,
+    views: &mut Vec<Value>,
+    accessors: &mut Vec<Value>,
+) -> Result<(usize, usize), String> {
+    let vertex_count = mesh.positions.len();
+    if let Some((i, p)) = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.is_finite())
+    {
+        return Err(format!("vertex {i} has a non-finite position {p}"));
+    }
+    if let Some((t, tri)) = mesh
+        .indices
+        .iter()
+        .enumerate()
+        .find(|(_, tri)| tri.iter().any(|&v| v as usize >= vertex_count))
+    {
+        return Err(format!(
+            "triangle {t} {tri:?} refers to a vertex beyond its {vertex_count}"
+        ));
+    }
+    let min = mesh
+        .positions
+        .iter()
+        .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+    let max = mesh
+        .positions
+        .iter()
+        .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+
+    // f32 and u32 data keep every view 4-byte aligned without padding.
+    let start = bin.len();
+    for p in &mesh.positions {
+        for c in p.to_array() {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    views.push(json!({
+        "buffer": 0, "byteOffset": start, "byteLength": bin.len() - start, "target": ARRAY_BUFFER,
+    }));
+    accessors.push(json!({
+        "bufferView": views.len() - 1, "componentType": FLOAT, "count": vertex_count,
+        "type": "VEC3", "min": min.to_array().to_vec(), "max": max.to_array().to_vec(),
+    }));
+    let positions = accessors.len() - 1;
+
+    let start = bin.len();
+    for v in mesh.indices.iter().flatten() {
+        bin.extend_from_slice(&v.to_le_bytes());
+    }
+    views.push(json!({
+        "buffer": 0, "byteOffset": start, "byteLength": bin.len() - start,
+        "target": ELEMENT_ARRAY_BUFFER,
+    }));
+    accessors.push(json!({
+        "bufferView": views.len() - 1, "componentType": UNSIGNED_INT,
+        "count": mesh.indices.len() * 3, "type": "SCALAR",
+    }));
+    Ok((positions, accessors.len() - 1))
+}
+
+/// True when the upper 3×3 has orthogonal columns and the last row is (0, 0, 0, 1), i.e. the
+/// matrix is translation · rotation · scale (possibly mirrored).
+fn is_trs_decomposable(m: &glam::Mat4) -> bool {
+    let (a, b, c) = (
+        m.x_axis.truncate(),
+        m.y_axis.truncate(),
+        m.z_axis.truncate(),
+    );
+    let orthogonal = |u: Vec3, v: Vec3| u.dot(v).abs() <= 1e-5 * u.length() * v.length();
+    m.row(3).abs_diff_eq(Vec4::W, 1e-6) && orthogonal(a, b) && orthogonal(b, c) && orthogonal(a, c)
+}
+
+/// Base colour, metallic and roughness for a material (see the module docs).
+pub fn metallic_roughness_from_material(m: &Material) -> (Vec3, f32, f32) {
+    let one_minus_f0 = 1.0 - DIELECTRIC_F0;
+    let u = m.kd.element_sum() / 3.0 / one_minus_f0;
+    let k = m.ks.element_sum() / 3.0;
+    let metallic = if k <= DIELECTRIC_F0 + 1e-6 {
+        0.0
+    } else if u <= 1e-7 {
+        1.0
+    } else {
+        // f(m) = F0(1−m) + U·m/(1−m) − K is convex with f(0) < 0 and f → ∞ as m → 1.
+        let f = |m: f64| DIELECTRIC_F0 as f64 * (1.0 - m) + u as f64 * m / (1.0 - m) - k as f64;
+        let (mut lo, mut hi) = (0.0f64, 1.0 - 1e-9);
+        if f(hi) <= 0.0 {
+            lo = hi;
+        }
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        (0.5 * (lo + hi)) as f32
+    };
+    let base = if metallic >= 1.0 {
+        m.ks
+    } else {
+        m.kd / (one_minus_f0 * (1.0 - metallic))
+    }
+    .clamp(Vec3::ZERO, Vec3::ONE);
+    let roughness = if m.alpha == f32::INFINITY {
+        0.0
+    } else {
+        roughness_from_phong_alpha(m.alpha)
+    };
+    (base, metallic, roughness)
+}
+
+/// A glTF material object; the flag says whether it uses KHR_materials_emissive_strength.
+fn material_json(index: usize, m: &Material) -> Result<(Value, bool), String> {
+    let finite =
+        m.kd.is_finite() && m.ks.is_finite() && m.emission.is_finite() && !m.alpha.is_nan();
+    if !finite
+        || m.kd.min_element() < 0.0
+        || m.ks.min_element() < 0.0
+        || m.emission.min_element() < 0.0
+    {
+        return Err("has a negative or non-finite value".into());
+    }
+    let (base, metallic, roughness) = metallic_roughness_from_material(m);
+    let mut value = json!({
+        "name": format!("material {index}"),
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [base.x, base.y, base.z, 1.0],
+            "metallicFactor": metallic,
+            "roughnessFactor": roughness,
+        },
+    });
+    let peak = m.emission.max_element();
+    let mut uses_strength = false;
+    if peak > 0.0 {
+        let object = value
+            .as_object_mut()
+            .ok_or("internal: material is not an object")?;
+        if peak > 1.0 {
+            object.insert(
+                "emissiveFactor".into(),
+                json!((m.emission / peak).to_array().to_vec()),
+            );
+            object.insert(
+                "extensions".into(),
+                json!({ "KHR_materials_emissive_strength": { "emissiveStrength": peak } }),
+            );
+            uses_strength = true;
+        } else {
+            object.insert(
+                "emissiveFactor".into(),
+                json!(m.emission.to_array().to_vec()),
+            );
+        }
+    }
+    Ok((value, uses_strength))
+}
+
+/// The camera node (looking down its −Z, +Y up) and a symmetric perspective camera with the
+/// same vertical extent and aspect ratio as `camera`'s (possibly asymmetric) frustum.
+fn camera_json(camera: &Camera) -> Result<(Value, Value), String> {
+    let (right, up, forward) = camera.basis();
+    let (tan_up, tan_down) = (camera.angle_up.tan(), camera.angle_down.tan());
+    let (tan_right, tan_left) = (camera.angle_right.tan(), camera.angle_left.tan());
+    let yfov = 2.0 * (0.5 * (tan_up - tan_down)).atan();
+    let aspect = (tan_right - tan_left) / (tan_up - tan_down);
+    let rotation = Quat::from_mat3(&Mat3::from_cols(right, up, -forward)).normalize();
+    let ok = camera.position.is_finite()
+        && rotation.is_finite()
+        && yfov.is_finite()
+        && yfov > 0.0
+        && aspect.is_finite()
+        && aspect > 0.0;
+    if !ok {
+        return Err("its position, orientation or field of view is degenerate".into());
+    }
+    let node = json!({
+        "name": "camera",
+        "camera": 0,
+        "translation": camera.position.to_array().to_vec(),
+        "rotation": rotation.to_array().to_vec(),
+    });
+    let perspective = json!({
+        "type": "perspective",
+        "perspective": { "yfov": yfov, "aspectRatio": aspect, "znear": CAMERA_ZNEAR },
+    });
+    Ok((node, perspective))
+}
+
+/// The GLB container: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with
+/// zeros (omitted when empty). `None` when the total exceeds the format's 4 GiB limit.
+fn assemble_glb(mut json_text: Vec<u8>, mut bin: Vec<u8>) -> Option<Vec<u8>> {
+    while json_text.len() % 4 != 0 {
+        json_text.push(b' ');
+    }
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let bin_chunk = if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let total = u32::try_from(12 + 8 + json_text.len() + bin_chunk).ok()?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&total.to_le_bytes());
+    out.extend_from_slice(&u32::try_from(json_text.len()).ok()?.to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json_text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&u32::try_from(bin.len()).ok()?.to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+    }
+    Some(out)
+}

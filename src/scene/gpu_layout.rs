@@ -1,0 +1,351 @@
+//! Scene → the flat arrays the shaders read: one CWBVH per mesh (BLAS, concatenated), one over
+//! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
+//! primitive index is a direct array index), materials, and the emitter list for NEE.
+
+use super::{Scene, SceneError, SceneFeatures};
+use crate::gpu::shared::*;
+use glam::{Mat4, Vec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
+use obvhs::cwbvh::CwBvh;
+use obvhs::triangle::Triangle;
+use obvhs::BvhBuildParams;
+use std::time::Duration;
+
+/// One 80-byte CWBVH node as the shaders read it (uvec4[5]).
+pub type GpuNode = [u32; 20];
+
+pub struct GpuScene {
+    pub blas_nodes: Vec<GpuNode>,
+    pub tlas_nodes: Vec<GpuNode>,
+    pub triangles: Vec<GpuTriangle>,
+    pub objects: Vec<GpuObject>,
+    pub materials: Vec<GpuMaterial>,
+    pub emitters: Vec<GpuEmitter>,
+    pub info: GpuSceneInfo,
+    pub features: SceneFeatures,
+}
+
+fn v4(v: Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+fn rows(m: Mat4) -> [[f32; 4]; 3] {
+    let t = m.transpose();
+    [
+        t.x_axis.to_array(),
+        t.y_axis.to_array(),
+        t.z_axis.to_array(),
+    ]
+}
+
+fn node_words(bvh: &CwBvh) -> Vec<GpuNode> {
+    bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect()
+}
+
+fn build_params() -> BvhBuildParams {
+    // PLOC with reinsertion: obvhs' "medium" preset, close to Embree's build time with faster
+    // traversal; leaves hold at most 3 primitives in a CWBVH.
+    BvhBuildParams::medium_build()
+}
+
+/// Phong selection probability p_S = a_s / (a_s + a_d) (thesis eqs. 3.9–3.11).
+fn specular_probability(kd: Vec3, ks: Vec3) -> f32 {
+    let a_s = ks.element_sum() / 3.0;
+    let a_d = kd.element_sum() / 3.0;
+    if a_s + a_d > 0.0 {
+        a_s / (a_s + a_d)
+    } else {
+        0.0
+    }
+}
+
+impl GpuScene {
+    pub fn build(scene: &Scene) -> Result<Self, SceneError> {
+        let invalid = |problem: String| SceneError::Invalid {
+            scene: scene.name.clone(),
+            problem,
+        };
+        let materials: Vec<GpuMaterial> = scene
+            .materials
+            .iter()
+            .map(|m| GpuMaterial {
+                kd: v4(m.kd, m.alpha),
+                ks: v4(m.ks, specular_probability(m.kd, m.ks)),
+                emission: v4(m.emission, 0.0),
+            })
+            .collect();
+        let check_material = |m: u32, what: &str| {
+            if (m as usize) < materials.len() {
+                Ok(())
+            } else {
+                Err(invalid(format!(
+                    "{what} uses material {m} but the scene has {}",
+                    materials.len()
+                )))
+            }
+        };
+
+        // BLAS per mesh, triangles stored in leaf order.
+        let mut blas_nodes = Vec::new();
+        let mut triangles = Vec::new();
+        let mut mesh_roots = Vec::with_capacity(scene.meshes.len());
+        for mesh in &scene.meshes {
+            let tris: Vec<Triangle> = mesh
+                .indices
+                .iter()
+                .map(|t| {
+                    let p = |i: u32| Vec3A::from(mesh.positions[i as usize]);
+                    Triangle {
+                        v0: p(t[0]),
+                        v1: p(t[1]),
+                        v2: p(t[2]),
+                    }
+                })
+                .collect();
+            if tris.is_empty() {
+                mesh_roots.push(None);
+                continue;
+            }
+            let bvh = build_cwbvh_from_tris(&tris, build_params(), &mut Duration::default());
+            let root = blas_nodes.len() as u32;
+            let base = triangles.len() as u32;
+            blas_nodes.extend(node_words(&bvh));
+            triangles.extend(bvh.primitive_indices.iter().map(|&i| {
+                let t = tris[i as usize];
+                GpuTriangle {
+                    v0: v4(t.v0.into(), 0.0),
+                    v1: v4(t.v1.into(), 0.0),
+                    v2: v4(t.v2.into(), 0.0),
+                }
+            }));
+            mesh_roots.push(Some((
+                root,
+                base,
+                bvh.primitive_indices.len() as u32,
+                bvh.total_aabb,
+            )));
+        }
+
+        // Objects in input order, with world-space bounds for the TLAS.
+        let mut objects = Vec::new();
+        let mut bounds = Vec::new();
+        for (i, inst) in scene.instances.iter().enumerate() {
+            check_material(inst.material, &format!("instance {i}"))?;
+            let Some(Some((root, base, count, aabb))) = mesh_roots.get(inst.mesh as usize) else {
+                if inst.mesh as usize >= scene.meshes.len() {
+                    return Err(invalid(format!(
+                        "instance {i} refers to mesh {} which does not exist",
+                        inst.mesh
+                    )));
+                }
+                continue; // an instance of an empty mesh has nothing to trace
+            };
+            let det = inst.transform.determinant();
+            if !det.is_finite() || det.abs() < 1e-30 {
+                return Err(invalid(format!(
+                    "instance {i} has a singular or non-finite transform"
+                )));
+            }
+            let to_world = rows(inst.transform);
+            let to_object = rows(inst.transform.inverse());
+            bounds.push(transform_aabb(aabb, inst.transform));
+            objects.push(GpuObject {
+                world_to_object0: to_object[0],
+                world_to_object1: to_object[1],
+                world_to_object2: to_object[2],
+                object_to_world0: to_world[0],
+                object_to_world1: to_world[1],
+                object_to_world2: to_world[2],
+                kind: KIND_INSTANCE,
+                material: inst.material,
+                blas_root: *root,
+                triangle_base: *base,
+                triangle_count: *count,
+                emitter: NO_EMITTER,
+                ..Default::default()
+            });
+        }
+        for (i, b) in scene.boxes.iter().enumerate() {
+            check_material(b.material, &format!("box {i}"))?;
+            if !(b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()) {
+                return Err(invalid(format!(
+                    "box {i} has min {} > max {} or a non-finite corner",
+                    b.min, b.max
+                )));
+            }
+            bounds.push(Aabb::new(b.min.into(), b.max.into()));
+            objects.push(GpuObject {
+                a: v4(b.min, 0.0),
+                b: v4(b.max, 0.0),
+                kind: KIND_BOX,
+                material: b.material,
+                emitter: NO_EMITTER,
+                ..identity_object()
+            });
+        }
+        for (i, s) in scene.spheres.iter().enumerate() {
+            check_material(s.material, &format!("sphere {i}"))?;
+            if !(s.center.is_finite() && s.radius.is_finite() && s.radius > 0.0) {
+                return Err(invalid(format!(
+                    "sphere {i} needs a finite centre and a radius > 0 (got {})",
+                    s.radius
+                )));
+            }
+            let r = Vec3A::splat(s.radius);
+            bounds.push(Aabb::new(
+                Vec3A::from(s.center) - r,
+                Vec3A::from(s.center) + r,
+            ));
+            objects.push(GpuObject {
+                a: v4(s.center, s.radius),
+                kind: KIND_SPHERE,
+                material: s.material,
+                emitter: NO_EMITTER,
+                ..identity_object()
+            });
+        }
+
+        // TLAS over objects; objects reordered into its leaf order.
+        let (tlas_nodes, objects) = if objects.is_empty() {
+            (Vec::new(), objects)
+        } else {
+            let tlas = build_cwbvh(&bounds, build_params(), &mut Duration::default());
+            let ordered: Vec<GpuObject> = tlas
+                .primitive_indices
+                .iter()
+                .map(|&i| objects[i as usize])
+                .collect();
+            (node_words(&tlas), ordered)
+        };
+        let mut objects = objects;
+        let emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
+
+        let env = &scene.environment;
+        let info = GpuSceneInfo {
+            sky_zenith: v4(env.zenith, 0.0),
+            sky_horizon: v4(env.horizon, 0.0),
+            sky_ground: v4(env.ground, 0.0),
+            emitter_count: emitters.len() as u32,
+            object_count: objects.len() as u32,
+            tlas_node_count: tlas_nodes.len() as u32,
+            pad0: 0,
+        };
+        let mut features = SceneFeatures::of(scene);
+        features.emitters = !emitters.is_empty();
+        Ok(Self {
+            blas_nodes,
+            tlas_nodes,
+            triangles,
+            objects,
+            materials,
+            emitters,
+            info,
+            features,
+        })
+    }
+
+    /// Bytes the scene occupies on the GPU.
+    pub fn byte_size(&self) -> u64 {
+        (std::mem::size_of_val(self.blas_nodes.as_slice())
+            + std::mem::size_of_val(self.tlas_nodes.as_slice())
+            + std::mem::size_of_val(self.triangles.as_slice())
+            + std::mem::size_of_val(self.objects.as_slice())
+            + std::mem::size_of_val(self.materials.as_slice())
+            + std::mem::size_of_val(self.emitters.as_slice())) as u64
+    }
+}
+
+fn identity_object() -> GpuObject {
+    let id = rows(Mat4::IDENTITY);
+    GpuObject {
+        world_to_object0: id[0],
+        world_to_object1: id[1],
+        world_to_object2: id[2],
+        object_to_world0: id[0],
+        object_to_world1: id[1],
+        object_to_world2: id[2],
+        ..Default::default()
+    }
+}
+
+fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
+    let mut out = Aabb::empty();
+    for i in 0..8 {
+        let corner = Vec3::new(
+            if i & 1 == 0 { aabb.min.x } else { aabb.max.x },
+            if i & 2 == 0 { aabb.min.y } else { aabb.max.y },
+            if i & 4 == 0 { aabb.min.z } else { aabb.max.z },
+        );
+        out.extend(m.transform_point3(corner).into());
+    }
+    out
+}
+
+/// Emissive objects become NEE emitters: every world-space triangle of an emissive instance
+/// (in the same leaf order as TRIANGLES, so hit triangle → emitter is an offset), and each
+/// emissive box or sphere. Sets `GpuObject::emitter` to the first emitter of each object.
+fn collect_emitters(
+    objects: &mut [GpuObject],
+    triangles: &[GpuTriangle],
+    materials: &[super::Material],
+) -> Vec<GpuEmitter> {
+    let mut emitters = Vec::new();
+    for (index, ob) in objects.iter_mut().enumerate() {
+        let m = &materials[ob.material as usize];
+        if !m.is_emissive() {
+            continue;
+        }
+        ob.emitter = emitters.len() as u32;
+        let emission = |area: f32| v4(m.emission, area);
+        match ob.kind {
+            KIND_INSTANCE => {
+                let to_world = Mat4::from_cols_array_2d(&[
+                    ob.object_to_world0,
+                    ob.object_to_world1,
+                    ob.object_to_world2,
+                    [0.0, 0.0, 0.0, 1.0],
+                ])
+                .transpose();
+                let first = ob.triangle_base as usize;
+                for t in &triangles[first..first + ob.triangle_count as usize] {
+                    let p = |v: [f32; 4]| to_world.transform_point3(Vec3::new(v[0], v[1], v[2]));
+                    let (a, b, c) = (p(t.v0), p(t.v1), p(t.v2));
+                    let area = 0.5 * (b - a).cross(c - a).length();
+                    emitters.push(GpuEmitter {
+                        p0: v4(a, 0.0),
+                        p1: v4(b, 0.0),
+                        p2: v4(c, 0.0),
+                        emission: emission(area.max(1e-30)),
+                        kind: KIND_TRIANGLE,
+                        object: index as u32,
+                        ..Default::default()
+                    });
+                }
+            }
+            KIND_BOX => {
+                let e = Vec3::from_slice(&ob.b[..3]) - Vec3::from_slice(&ob.a[..3]);
+                let area = 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
+                emitters.push(GpuEmitter {
+                    p0: ob.a,
+                    p1: ob.b,
+                    emission: emission(area.max(1e-30)),
+                    kind: KIND_BOX,
+                    object: index as u32,
+                    ..Default::default()
+                });
+            }
+            _ => {
+                let r = ob.a[3];
+                emitters.push(GpuEmitter {
+                    p0: ob.a,
+                    emission: emission(4.0 * std::f32::consts::PI * r * r),
+                    kind: KIND_SPHERE,
+                    object: index as u32,
+                    ..Default::default()
+                });
+            }
+        }
+    }
+    emitters
+}

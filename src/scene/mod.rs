@@ -1,0 +1,27 @@
+//! Scenes: the description (`types`), the built-in scenes, glTF loading, BVH construction and
+//! the GPU layout, and the feature flags that let shaders skip what a scene does not need.
+
+pub mod builtin;
+mod error;
+mod features;
+pub mod glb_write;
+pub mod gltf_load;
+pub mod gpu_layout;
+pub mod types;
+
+pub use error::SceneError;
+pub use features::SceneFeatures;
+pub use types::*;
+
+/// A built-in scene by name, or a .gltf/.glb file by path.
+pub fn load(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
+    let path = std::path::Path::new(name_or_path);
+    let is_file = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
+    if is_file {
+        gltf_load::load_gltf(path, aspect)
+    } else {
+        builtin::builtin(name_or_path, aspect)
+    }
+}
