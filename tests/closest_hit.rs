@@ -12,7 +12,10 @@ use glam::{DVec3, Vec3};
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
     fn unit(&mut self) -> DVec3 {
@@ -28,7 +31,11 @@ fn world_triangles(scene: &Scene) -> Vec<[DVec3; 3]> {
     for inst in &scene.instances {
         let mesh = &scene.meshes[inst.mesh as usize];
         for t in &mesh.indices {
-            out.push(t.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]).as_dvec3()));
+            out.push(t.map(|i| {
+                inst.transform
+                    .transform_point3(mesh.positions[i as usize])
+                    .as_dvec3()
+            }));
         }
     }
     out
@@ -82,9 +89,19 @@ fn check_scene(name: &str) {
     // Rays start around the scene's interesting region (the camera target area) and point in
     // random directions; half of them aim at a random triangle vertex or box corner so most hit.
     let mut targets: Vec<DVec3> = tris.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
-    targets.extend(scene.boxes.iter().filter(|b| (b.max - b.min).max_element() < 10.0).map(|b| ((b.min + b.max) * 0.5).as_dvec3()));
-    let lo = targets.iter().fold(DVec3::splat(f64::INFINITY), |a, b| a.min(*b));
-    let hi = targets.iter().fold(DVec3::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    targets.extend(
+        scene
+            .boxes
+            .iter()
+            .filter(|b| (b.max - b.min).max_element() < 10.0)
+            .map(|b| ((b.min + b.max) * 0.5).as_dvec3()),
+    );
+    let lo = targets
+        .iter()
+        .fold(DVec3::splat(f64::INFINITY), |a, b| a.min(*b));
+    let hi = targets
+        .iter()
+        .fold(DVec3::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length().max(1.0);
     let mut rng = Lcg(0x5eed ^ name.len() as u64);
@@ -98,7 +115,10 @@ fn check_scene(name: &str) {
             rng.unit()
         };
         let (of, df) = (o.as_vec3(), d.as_vec3());
-        rays.push(GpuProbeRay { origin: [of.x, of.y, of.z, 0.0], direction: [df.x, df.y, df.z, f32::INFINITY] });
+        rays.push(GpuProbeRay {
+            origin: [of.x, of.y, of.z, 0.0],
+            direction: [df.x, df.y, df.z, f32::INFINITY],
+        });
     }
     let ctx = common::context();
     let mut renderer = Renderer::new(&ctx, &scene).unwrap();
@@ -126,10 +146,16 @@ fn check_scene(name: &str) {
         }
     }
     eprintln!("{name}: {n} rays, {hit_count} hits, {mismatches} mismatches");
-    assert!(hit_count > n / 3, "too few rays hit ({hit_count}): the test would prove little");
+    assert!(
+        hit_count > n / 3,
+        "too few rays hit ({hit_count}): the test would prove little"
+    );
     // Rays grazing an edge or corner within float rounding may legitimately differ between
     // the f32 watertight test and the f64 reference; anything beyond 1 in 10 000 is a bug.
-    assert!(mismatches <= n / 10_000, "{mismatches} of {n} rays disagree with the CPU reference");
+    assert!(
+        mismatches <= n / 10_000,
+        "{mismatches} of {n} rays disagree with the CPU reference"
+    );
 }
 
 #[test]

@@ -24,7 +24,12 @@ fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
 fn quad() -> Mesh {
     Mesh {
         name: "quad".into(),
-        positions: vec![Vec3::new(-1.0, 0.0, -1.0), Vec3::new(-1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, -1.0)],
+        positions: vec![
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, -1.0),
+        ],
         indices: vec![[0, 1, 2], [0, 2, 3]],
     }
 }
@@ -35,7 +40,11 @@ fn plane_scene(material: Material, environment: Environment) -> Scene {
     let mut s = empty_scene("plane", camera, environment);
     s.meshes.push(quad());
     s.materials.push(material);
-    s.instances.push(Instance { mesh: 0, material: 0, transform: Mat4::from_scale(Vec3::new(50.0, 1.0, 50.0)) });
+    s.instances.push(Instance {
+        mesh: 0,
+        material: 0,
+        transform: Mat4::from_scale(Vec3::new(50.0, 1.0, 50.0)),
+    });
     s
 }
 
@@ -52,7 +61,11 @@ fn diffuse_plane_under_uniform_sky_shows_albedo_times_sky() {
             let expected = (a * l[c]) as f64;
             // Per-sample σ ≤ a·L for seed (uniform hemisphere weight 2cosθ); 262 144 samples
             // give a standard error < 0.2% of the value: 1% is > 5σ.
-            assert!((mean[c] - expected).abs() < 0.01 * expected, "{integrator:?} channel {c}: {} vs {expected}", mean[c]);
+            assert!(
+                (mean[c] - expected).abs() < 0.01 * expected,
+                "{integrator:?} channel {c}: {} vs {expected}",
+                mean[c]
+            );
         }
     }
 }
@@ -67,15 +80,24 @@ fn white_furnace_converges_to_the_bounce_limited_sum() {
         let expected = (e * (1.0 - a.powi(k as i32 + 1)) / (1.0 - a)) as f64;
         let camera = Camera::look_at(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), Vec3::Y, 60.0, 1.0);
         let mut scene = empty_scene("furnace", camera, Environment::black());
-        scene.materials.push(Material::emitter(Vec3::splat(a), Vec3::splat(e)));
-        scene.spheres.push(Sphere { center: Vec3::new(0.3, -0.2, 0.1), radius: 2.0, material: 0 });
+        scene
+            .materials
+            .push(Material::emitter(Vec3::splat(a), Vec3::splat(e)));
+        scene.spheres.push(Sphere {
+            center: Vec3::new(0.3, -0.2, 0.1),
+            radius: 2.0,
+            material: 0,
+        });
         for integrator in [Integrator::Pt, Integrator::Seed] {
             let mut s = common::settings(32, 32, 64, 5, integrator);
             s.max_bounces = k;
             let frame = common::render(&ctx, &scene, &s);
             let mean = frame.mean();
             for (c, m) in mean.iter().enumerate() {
-                assert!((m - expected).abs() < 0.01 * expected, "k={k} {integrator:?} channel {c}: {m} vs {expected}");
+                assert!(
+                    (m - expected).abs() < 0.01 * expected,
+                    "k={k} {integrator:?} channel {c}: {m} vs {expected}"
+                );
             }
         }
     }
@@ -106,8 +128,10 @@ fn perfect_mirror_reflects_the_sky_exactly() {
         for y in 0..h {
             for x in 0..w {
                 // The pixel centre's reflected direction; the sky varies little across a pixel.
-                let tx = cam.angle_left.tan() + (x as f32 + 0.5) / w as f32 * (cam.angle_right.tan() - cam.angle_left.tan());
-                let ty = cam.angle_up.tan() + (y as f32 + 0.5) / h as f32 * (cam.angle_down.tan() - cam.angle_up.tan());
+                let tx = cam.angle_left.tan()
+                    + (x as f32 + 0.5) / w as f32 * (cam.angle_right.tan() - cam.angle_left.tan());
+                let ty = cam.angle_up.tan()
+                    + (y as f32 + 0.5) / h as f32 * (cam.angle_down.tan() - cam.angle_up.tan());
                 let d = (f + tx * r + ty * u).normalize();
                 let reflected = Vec3::new(d.x, -d.y, d.z);
                 let expected = ks * sky(&env, reflected);

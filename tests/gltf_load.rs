@@ -12,12 +12,27 @@ use glam::{Mat4, Quat, Vec3};
 
 const ASPECT: f32 = 16.0 / 9.0;
 
-/// A fresh directory under the system temp dir, unique per process and test.
-fn temp_dir(test: &str) -> PathBuf {
+/// A fresh directory under the system temp dir, unique per process and test, removed on drop.
+struct TempDir(PathBuf);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn temp_dir(test: &str) -> TempDir {
     let dir = std::env::temp_dir().join(format!("fovea-gltf-{}-{test}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create temp dir");
-    dir
+    TempDir(dir)
 }
 
 /// Standard base64 with padding (enough for `data:` URIs in hand-written test files).
@@ -333,7 +348,6 @@ fn round_trip_preserves_geometry_materials_and_camera() {
         glb_bytes(&original).expect("bytes"),
         std::fs::read(&path).expect("read back")
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -607,4 +621,96 @@ fn mutated_glb_never_panics() {
         bytes[at] = replacement;
         let _ = mesh_from_glb_bytes(&bytes, "mutated.glb");
     }
+}
+
+/// Collects formatted log lines from the current thread.
+#[derive(Clone, Default)]
+struct LogBuffer(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+
+impl std::io::Write for LogBuffer {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0.lock().expect("log buffer").extend_from_slice(bytes);
+        Ok(bytes.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn ignored_features_warn_once_per_kind() {
+    let dir = temp_dir("warn-once");
+    let three = r#"[{ "attributes": { "POSITION": 0 }, "indices": 1, "mode": 1 },
+                    { "attributes": { "POSITION": 0 }, "indices": 1, "mode": 0 },
+                    { "attributes": { "POSITION": 0 }, "indices": 1, "mode": 4 }]"#;
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64(&geometry_bytes(&TRIANGLE, &[0, 1, 2]))
+    );
+    let text = gltf_text(
+        &TRIANGLE,
+        &[0, 1, 2],
+        4,
+        &uri,
+        r#"[{ "mesh": 0 }, { "mesh": 0 }]"#,
+        "[0, 1]",
+    )
+    .replace(
+        r#"[{ "attributes": { "POSITION": 0 }, "indices": 1, "mode": 4 }]"#,
+        three,
+    )
+    .replace(
+        r#""scene": 0,"#,
+        r#""scene": 0, "extensionsUsed": ["EXT_example_one", "EXT_example_two"],"#,
+    );
+    let path = dir.join("features.gltf");
+    std::fs::write(&path, text).unwrap();
+
+    let log = LogBuffer::default();
+    let writer = log.clone();
+    let subscriber = tracing_subscriber::fmt()
+        .with_writer(move || writer.clone())
+        .with_ansi(false)
+        .with_max_level(tracing::Level::WARN)
+        .finish();
+    let scene =
+        tracing::subscriber::with_default(subscriber, || load_gltf(&path, ASPECT)).expect("load");
+    assert_eq!(
+        scene.instances.len(),
+        2,
+        "the triangle primitive of both nodes"
+    );
+    assert_eq!(scene.meshes.len(), 1);
+
+    let text = String::from_utf8(log.0.lock().unwrap().clone()).unwrap();
+    let warnings: Vec<&str> = text.lines().filter(|l| l.contains("WARN")).collect();
+    assert_eq!(
+        warnings
+            .iter()
+            .filter(|l| l.contains("point and line"))
+            .count(),
+        1,
+        "{text}"
+    );
+    assert_eq!(
+        warnings
+            .iter()
+            .filter(|l| l.contains("EXT_example_one"))
+            .count(),
+        1,
+        "{text}"
+    );
+    assert_eq!(
+        warnings
+            .iter()
+            .filter(|l| l.contains("EXT_example_two"))
+            .count(),
+        1,
+        "{text}"
+    );
+    assert_eq!(warnings.len(), 3, "{text}");
+    assert!(
+        warnings.iter().all(|l| l.contains("features.gltf")),
+        "{text}"
+    );
 }

@@ -17,15 +17,20 @@ fn std430(ty: &str) -> (usize, usize) {
 
 /// struct name → [(field, offset)] and total size, from the header text.
 fn parse_header() -> HashMap<String, (Vec<(String, usize)>, usize)> {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
     let mut structs = HashMap::new();
     let mut current: Option<(String, Vec<(String, usize)>, usize, usize)> = None;
     for line in text.lines() {
         let line = line.split("//").next().unwrap().trim();
-        if let Some(name) = line.strip_prefix("struct ").and_then(|l| l.strip_suffix('{')) {
+        if let Some(name) = line
+            .strip_prefix("struct ")
+            .and_then(|l| l.strip_suffix('{'))
+        {
             current = Some((name.trim().to_string(), Vec::new(), 0, 4));
         } else if line.starts_with("};") {
-            let (name, fields, offset, align) = current.take().expect("closing brace without struct");
+            let (name, fields, offset, align) =
+                current.take().expect("closing brace without struct");
             structs.insert(name, (fields, offset.div_ceil(align) * align));
         } else if let Some((_, fields, offset, align)) = current.as_mut() {
             let words: Vec<_> = line.trim_end_matches(';').split_whitespace().collect();
@@ -54,21 +59,99 @@ macro_rules! check {
 fn rust_mirrors_match_shared_h_std430_layout() {
     let s = parse_header();
     check!(s, GpuTriangle { v0, v1, v2 });
-    check!(s, GpuObject { world_to_object0, world_to_object1, world_to_object2, object_to_world0, object_to_world1, object_to_world2, a, b, kind, material, blas_root, triangle_base, emitter, triangle_count, pad1, pad2 });
+    check!(
+        s,
+        GpuObject {
+            world_to_object0,
+            world_to_object1,
+            world_to_object2,
+            object_to_world0,
+            object_to_world1,
+            object_to_world2,
+            a,
+            b,
+            kind,
+            material,
+            blas_root,
+            triangle_base,
+            emitter,
+            triangle_count,
+            pad1,
+            pad2
+        }
+    );
     check!(s, GpuMaterial { kd, ks, emission });
-    check!(s, GpuEmitter { p0, p1, p2, emission, kind, object, pad0, pad1 });
-    check!(s, GpuSceneInfo { sky_zenith, sky_horizon, sky_ground, emitter_count, object_count, tlas_node_count, pad0 });
-    check!(s, PushConstants { cam_position, cam_right, cam_up, cam_forward, cam_tan, width, height, spp, seed, sample_offset, probe_count, pad0, pad1 });
+    check!(
+        s,
+        GpuEmitter {
+            p0,
+            p1,
+            p2,
+            emission,
+            kind,
+            object,
+            pad0,
+            pad1
+        }
+    );
+    check!(
+        s,
+        GpuSceneInfo {
+            sky_zenith,
+            sky_horizon,
+            sky_ground,
+            emitter_count,
+            object_count,
+            tlas_node_count,
+            pad0
+        }
+    );
+    check!(
+        s,
+        PushConstants {
+            cam_position,
+            cam_right,
+            cam_up,
+            cam_forward,
+            cam_tan,
+            width,
+            height,
+            spp,
+            seed,
+            sample_offset,
+            probe_count,
+            pad0,
+            pad1
+        }
+    );
     check!(s, GpuProbeRay { origin, direction });
-    check!(s, GpuProbeHit { t, object, primitive, overflow });
-    assert_eq!(s.len(), 8, "shared.h has a struct this test does not check: add it");
-    assert!(size_of::<PushConstants>() <= 128, "push constants must fit the guaranteed 128 bytes");
+    check!(
+        s,
+        GpuProbeHit {
+            t,
+            object,
+            primitive,
+            overflow
+        }
+    );
+    assert_eq!(
+        s.len(),
+        8,
+        "shared.h has a struct this test does not check: add it"
+    );
+    assert!(
+        size_of::<PushConstants>() <= 128,
+        "push constants must fit the guaranteed 128 bytes"
+    );
 }
 
 #[test]
 fn binding_numbers_come_from_shared_h() {
     // build.rs generates these from the header's #defines; spot-check two against the text.
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
     assert!(text.contains(&format!("#define BINDING_OUTPUT {BINDING_OUTPUT} ")));
-    assert!(text.contains(&format!("#define TRAVERSAL_STACK_SIZE {TRAVERSAL_STACK_SIZE}")));
+    assert!(text.contains(&format!(
+        "#define TRAVERSAL_STACK_SIZE {TRAVERSAL_STACK_SIZE}"
+    )));
 }

@@ -99,10 +99,11 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
         if mesh.indices.is_empty() {
             continue; // glTF accessors cannot be empty, and there is nothing to place
         }
-        if !mesh_accessors.contains_key(&instance.mesh) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = mesh_accessors.entry(instance.mesh)
+        {
             let written = write_mesh_data(mesh, &mut bin, &mut views, &mut accessors)
                 .map_err(|p| invalid(format!("mesh '{}': {p}", mesh.name)))?;
-            mesh_accessors.insert(instance.mesh, written);
+            slot.insert(written);
         }
         let key = (instance.mesh, instance.material);
         let gltf_mesh = *pair_ids.entry(key).or_insert_with(|| {
@@ -393,10 +394,10 @@ fn camera_json(camera: &Camera) -> Result<(Value, Value), String> {
 /// The GLB container: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with
 /// zeros (omitted when empty). `None` when the total exceeds the format's 4 GiB limit.
 fn assemble_glb(mut json_text: Vec<u8>, mut bin: Vec<u8>) -> Option<Vec<u8>> {
-    while json_text.len() % 4 != 0 {
+    while !json_text.len().is_multiple_of(4) {
         json_text.push(b' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let bin_chunk = if bin.is_empty() { 0 } else { 8 + bin.len() };

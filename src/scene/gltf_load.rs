@@ -1060,7 +1060,7 @@ fn build_primitive(
             .filter(|[a, b, c]| a != b && b != c && a != c)
             .collect(),
         _ => {
-            if indices.len() % 3 != 0 {
+            if !indices.len().is_multiple_of(3) {
                 warnings.add("incomplete triangles at the end of index lists");
             }
             indices

@@ -17,11 +17,28 @@ pub fn context() -> Arc<GpuContext> {
 /// Fails the calling test if the validation layer reported anything.
 pub fn assert_no_validation_messages(ctx: &GpuContext) {
     let messages = ctx.take_validation_messages();
-    assert!(messages.is_empty(), "validation messages:\n{}", messages.join("\n"));
+    assert!(
+        messages.is_empty(),
+        "validation messages:\n{}",
+        messages.join("\n")
+    );
 }
 
-pub fn settings(width: u32, height: u32, spp: u32, seed: u32, integrator: Integrator) -> RenderSettings {
-    RenderSettings { width, height, spp, seed, integrator, max_bounces: 8 }
+pub fn settings(
+    width: u32,
+    height: u32,
+    spp: u32,
+    seed: u32,
+    integrator: Integrator,
+) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        spp,
+        seed,
+        integrator,
+        max_bounces: 8,
+    }
 }
 
 /// Renders `scene` from its own camera and checks the frame is clean.
@@ -30,8 +47,19 @@ pub fn render(ctx: &Arc<GpuContext>, scene: &Scene, s: &RenderSettings) -> Frame
     let frame = renderer.render(&scene.camera, s).expect("render");
     drop(renderer);
     assert_no_validation_messages(ctx);
-    assert_eq!(frame.stats.stack_overflows, 0, "BVH stack overflows in {}", scene.name);
-    assert_eq!(frame.stats.nonfinite_samples, 0, "non-finite samples in {}", scene.name);
-    assert_eq!(frame.stats.paths, s.width as u64 * s.height as u64 * s.spp as u64);
+    assert_eq!(
+        frame.stats.stack_overflows, 0,
+        "BVH stack overflows in {}",
+        scene.name
+    );
+    assert_eq!(
+        frame.stats.nonfinite_samples, 0,
+        "non-finite samples in {}",
+        scene.name
+    );
+    assert_eq!(
+        frame.stats.paths,
+        s.width as u64 * s.height as u64 * s.spp as u64
+    );
     frame
 }
