@@ -15,12 +15,17 @@ fn std430(ty: &str) -> (usize, usize) {
     }
 }
 
+/// Fields of a struct with their byte offsets.
+type Fields = Vec<(String, usize)>;
+/// A struct being parsed: name, fields so far, next offset, largest alignment.
+type Open = (String, Fields, usize, usize);
+
 /// struct name → [(field, offset)] and total size, from the header text.
-fn parse_header() -> HashMap<String, (Vec<(String, usize)>, usize)> {
+fn parse_header() -> HashMap<String, (Fields, usize)> {
     let text =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
     let mut structs = HashMap::new();
-    let mut current: Option<(String, Vec<(String, usize)>, usize, usize)> = None;
+    let mut current: Option<Open> = None;
     for line in text.lines() {
         let line = line.split("//").next().unwrap().trim();
         if let Some(name) = line

@@ -122,9 +122,11 @@ impl GpuContext {
         } else {
             None
         };
-        match Self::with_instance(entry, instance, debug, validation_log, options) {
+        // The entry (the loaded library) must outlive the instance on the error path too.
+        match Self::with_instance(entry.clone(), instance, debug, validation_log, options) {
             Ok(ctx) => Ok(ctx),
-            Err((e, instance, debug)) => {
+            Err(failed) => {
+                let (e, instance, debug) = *failed;
                 // SAFETY: nothing was created from the instance but the messenger.
                 unsafe {
                     if let Some((loader, messenger)) = debug {
@@ -137,24 +139,18 @@ impl GpuContext {
         }
     }
 
-    #[allow(clippy::type_complexity)]
+    /// Finishes set-up on a created instance; on failure hands the instance (and messenger)
+    /// back so the caller destroys them.
     fn with_instance(
         entry: ash::Entry,
         instance: ash::Instance,
         debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
         validation_log: Box<ValidationLog>,
         options: &GpuOptions,
-    ) -> Result<
-        Self,
-        (
-            GpuError,
-            ash::Instance,
-            Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-        ),
-    > {
+    ) -> Result<Self, Box<PartialInstance>> {
         let picked = match pick_device(&instance, options.device.as_deref()) {
             Ok(p) => p,
-            Err(e) => return Err((e, instance, debug)),
+            Err(e) => return Err(Box::new((e, instance, debug))),
         };
         let (physical_device, queue_family, info) = picked;
         let priorities = [1.0f32];
@@ -169,14 +165,14 @@ impl GpuContext {
         let device = match unsafe { instance.create_device(physical_device, &device_info, None) } {
             Ok(d) => d,
             Err(result) => {
-                return Err((
+                return Err(Box::new((
                     GpuError::Vulkan {
                         call: "vkCreateDevice",
                         result,
                     },
                     instance,
                     debug,
-                ))
+                )));
             }
         };
         // SAFETY: queue 0 of a family we requested.
@@ -190,14 +186,14 @@ impl GpuContext {
             Err(result) => {
                 // SAFETY: the device has no child objects yet.
                 unsafe { device.destroy_device(None) };
-                return Err((
+                return Err(Box::new((
                     GpuError::Vulkan {
                         call: "vkCreateCommandPool",
                         result,
                     },
                     instance,
                     debug,
-                ));
+                )));
             }
         };
         let allocator = match Allocator::new(&AllocatorCreateDesc {
@@ -220,7 +216,7 @@ impl GpuContext {
                     what: "allocator".into(),
                     detail: e.to_string(),
                 };
-                return Err((err, instance, debug));
+                return Err(Box::new((err, instance, debug)));
             }
         };
         tracing::info!(
@@ -313,6 +309,13 @@ impl GpuContext {
         }
     }
 }
+
+/// An instance (and its debug messenger) whose device set-up failed, with the reason.
+type PartialInstance = (
+    GpuError,
+    ash::Instance,
+    Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+);
 
 type Picked = (vk::PhysicalDevice, u32, DeviceInfo);
 
