@@ -63,8 +63,9 @@ uint octant_inv4(vec3 d) {
 }
 
 // Closest triangle of one mesh's BLAS along an object-space ray; updates t_max and hit.
+// With any_hit, returns at the first hit (shadow rays need no closest one).
 void traverse_blas(uint root, uint tri_base, vec3 o, vec3 d, float t_min, inout float t_max,
-                   uint object, inout Hit hit) {
+                   uint object, bool any_hit, inout Hit hit) {
     d = safe_direction(d);
     vec3 inv_d = 1.0 / d;
     uint oct = octant_inv4(d);
@@ -85,6 +86,7 @@ void traverse_blas(uint root, uint tri_base, vec3 o, vec3 d, float t_min, inout 
                 hit.t = t;
                 hit.object = object;
                 hit.primitive = tri;
+                if (any_hit) return;
             }
         }
         if ((cur.y & 0xff000000u) != 0u) {
@@ -124,13 +126,14 @@ vec3 linear(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
     return vec3(dot(r0.xyz, v), dot(r1.xyz, v), dot(r2.xyz, v));
 }
 
-void intersect_object(uint index, vec3 o, vec3 d, vec3 inv_d, float t_min, inout float t_max, inout Hit hit) {
+void intersect_object(uint index, vec3 o, vec3 d, vec3 inv_d, float t_min, inout float t_max, bool any_hit,
+                      inout Hit hit) {
     GpuObject ob = objects[index];
     if (HAS_TRIANGLES && ob.kind == KIND_INSTANCE) {
         // The object-space direction is not renormalised, so t is the same in both spaces.
         vec3 lo = affine(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, o);
         vec3 ld = linear(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, d);
-        traverse_blas(ob.blas_root, ob.triangle_base, lo, ld, t_min, t_max, index, hit);
+        traverse_blas(ob.blas_root, ob.triangle_base, lo, ld, t_min, t_max, index, any_hit, hit);
     } else if (HAS_BOXES && ob.kind == KIND_BOX) {
         float t = intersect_box(o, inv_d, ob.a.xyz, ob.b.xyz, t_min, t_max);
         if (t < t_max) {
@@ -148,8 +151,9 @@ void intersect_object(uint index, vec3 o, vec3 d, vec3 inv_d, float t_min, inout
     }
 }
 
-// Closest hit in the whole scene along o + t*d, t in (t_min, t_max).
-Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max) {
+// Closest hit in the whole scene along o + t*d, t in (t_min, t_max); with any_hit, the first
+// hit found (for shadow rays).
+Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     Hit hit;
     hit.t = INF;
     hit.object = NO_EMITTER;
@@ -167,8 +171,8 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max) {
         while (prim.y != 0u) {
             uint local = uint(findMSB(prim.y));
             prim.y &= ~(1u << local);
-            intersect_object(prim.x + local, o, d, inv_d, t_min, t_max, hit);
-            if (hit.overflow) return hit;
+            intersect_object(prim.x + local, o, d, inv_d, t_min, t_max, any_hit, hit);
+            if (hit.overflow || (any_hit && hit.t != INF)) return hit;
         }
         if ((cur.y & 0xff000000u) != 0u) {
             uint hits_imask = cur.y;
@@ -202,7 +206,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max) {
 
 // True when nothing blocks the segment o + t*d, t in (0, t_max) - for shadow rays.
 bool unoccluded(vec3 o, vec3 d, float t_max, inout bool overflow) {
-    Hit h = trace_scene(o, d, 0.0, t_max);
+    Hit h = trace_scene(o, d, 0.0, t_max, true);
     overflow = overflow || h.overflow;
     return h.t == INF;
 }

@@ -53,7 +53,7 @@ vec3 trace_seed(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overf
     vec3 L = vec3(0.0);
     vec3 energy = vec3(1.0);
     for (uint bounce = 0u; bounce <= MAX_BOUNCES; ++bounce) {
-        Hit h = trace_scene(o, d, 0.0, INF);
+        Hit h = trace_scene(o, d, 0.0, INF, false);
         rays++;
         overflow = overflow || h.overflow;
         if (h.t == INF) {
@@ -111,7 +111,7 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
     bool prev_delta = true; // camera rays and mirror bounces cannot be found by NEE
     vec3 prev_p = o;
     for (uint bounce = 0u; bounce <= MAX_BOUNCES; ++bounce) {
-        Hit h = trace_scene(o, d, 0.0, INF);
+        Hit h = trace_scene(o, d, 0.0, INF, false);
         rays++;
         overflow = overflow || h.overflow;
         if (h.t == INF) {

@@ -10,7 +10,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.probe_count) return;
     GpuProbeRay r = probe_rays[i];
-    Hit h = trace_scene(r.origin.xyz, r.direction.xyz, r.origin.w, r.direction.w);
+    Hit h = trace_scene(r.origin.xyz, r.direction.xyz, r.origin.w, r.direction.w, false);
     GpuProbeHit out_hit;
     out_hit.t = h.t;
     out_hit.object = h.object;
