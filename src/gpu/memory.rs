@@ -210,15 +210,11 @@ impl StorageImage {
 
     /// Records a transition from UNDEFINED to GENERAL (contents discarded) for compute writes.
     pub(crate) fn cmd_prepare_for_write(&self, cmd: vk::CommandBuffer) {
-        let barrier = [vk::ImageMemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::empty())
-            .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .old_layout(vk::ImageLayout::UNDEFINED)
-            .new_layout(vk::ImageLayout::GENERAL)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(self.image)
-            .subresource_range(color_range())];
+        let barrier = transition(
+            self.image,
+            (vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
+            (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
+        );
         // SAFETY: cmd is recording; the barrier names this image.
         unsafe {
             self.ctx.device.cmd_pipeline_barrier(
@@ -245,15 +241,14 @@ impl StorageImage {
         )?;
         let device = &self.ctx.device;
         self.ctx.submit_and_wait("readback", |cmd| {
-            let barrier = [vk::ImageMemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
-                .old_layout(vk::ImageLayout::GENERAL)
-                .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(self.image)
-                .subresource_range(color_range())];
+            let barrier = transition(
+                self.image,
+                (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
+                (
+                    vk::AccessFlags::TRANSFER_READ,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                ),
+            );
             let region = [vk::BufferImageCopy::default()
                 .image_subresource(vk::ImageSubresourceLayers {
                     aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -266,15 +261,14 @@ impl StorageImage {
                     height: self.height,
                     depth: 1,
                 })];
-            let back = [vk::ImageMemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_READ)
-                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .old_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-                .new_layout(vk::ImageLayout::GENERAL)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(self.image)
-                .subresource_range(color_range())];
+            let back = transition(
+                self.image,
+                (
+                    vk::AccessFlags::TRANSFER_READ,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                ),
+                (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
+            );
             // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
             unsafe {
                 device.cmd_pipeline_barrier(
@@ -306,6 +300,23 @@ impl StorageImage {
         })?;
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }
+}
+
+/// A layout transition of the whole colour image between two accesses.
+fn transition(
+    image: vk::Image,
+    (src, old): (vk::AccessFlags, vk::ImageLayout),
+    (dst, new): (vk::AccessFlags, vk::ImageLayout),
+) -> [vk::ImageMemoryBarrier<'static>; 1] {
+    [vk::ImageMemoryBarrier::default()
+        .src_access_mask(src)
+        .dst_access_mask(dst)
+        .old_layout(old)
+        .new_layout(new)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(color_range())]
 }
 
 fn color_range() -> vk::ImageSubresourceRange {
