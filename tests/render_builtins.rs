@@ -60,3 +60,25 @@ fn same_seed_gives_identical_image_and_another_seed_a_different_one() {
         "another seed changed only {differing} values"
     );
 }
+
+#[test]
+fn destroying_everything_leaves_the_validation_layer_silent() {
+    // Leaked Vulkan objects are reported while the device is destroyed, after every
+    // resource's owner is gone: read the log once the context itself has been dropped.
+    let ctx = common::context();
+    let log = ctx.validation_log();
+    let scene = builtin("mirror-room", 1.0).unwrap();
+    common::render(
+        &ctx,
+        &scene,
+        &common::settings(16, 16, 1, 1, Integrator::Pt),
+    );
+    assert_eq!(std::sync::Arc::strong_count(&ctx), 1, "a resource still holds the context");
+    drop(ctx);
+    let messages = log.take();
+    assert!(
+        messages.is_empty(),
+        "validation messages at exit:\n{}",
+        messages.join("\n")
+    );
+}

@@ -7,7 +7,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use std::ffi::{c_char, CStr};
 use std::mem::ManuallyDrop;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -46,7 +46,7 @@ pub struct GpuContext {
     _entry: ash::Entry,
     pub(crate) instance: ash::Instance,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-    validation_log: Box<ValidationLog>,
+    validation_log: Arc<ValidationLog>,
     pub(crate) device: ash::Device,
     pub(crate) queue: vk::Queue,
     pub(crate) command_pool: vk::CommandPool,
@@ -101,7 +101,7 @@ impl GpuContext {
             .enabled_extension_names(&extensions);
         // SAFETY: the create info and the arrays it points to live until the call returns.
         let instance = unsafe { entry.create_instance(&create, None) }.vk("vkCreateInstance")?;
-        let validation_log = Box::<ValidationLog>::default();
+        let validation_log = Arc::<ValidationLog>::default();
         let debug = if options.validation {
             let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
             let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
@@ -114,8 +114,8 @@ impl GpuContext {
                         | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
                 )
                 .pfn_user_callback(Some(debug_callback))
-                .user_data(&*validation_log as *const ValidationLog as *mut std::ffi::c_void);
-            // SAFETY: the log is boxed and owned by the context, which destroys the messenger first.
+                .user_data(Arc::as_ptr(&validation_log) as *mut std::ffi::c_void);
+            // SAFETY: the context holds an Arc of the log and destroys the messenger before dropping it.
             let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
                 .vk("vkCreateDebugUtilsMessengerEXT")?;
             Some((loader, messenger))
@@ -145,7 +145,7 @@ impl GpuContext {
         entry: ash::Entry,
         instance: ash::Instance,
         debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-        validation_log: Box<ValidationLog>,
+        validation_log: Arc<ValidationLog>,
         options: &GpuOptions,
     ) -> Result<Self, Box<PartialInstance>> {
         let picked = match pick_device(&instance, options.device.as_deref()) {
@@ -242,6 +242,12 @@ impl GpuContext {
     /// Every validation message reported since the last call (empty without validation).
     pub fn take_validation_messages(&self) -> Vec<String> {
         self.validation_log.take()
+    }
+
+    /// The log itself, which outlives the context: messages reported while the context is
+    /// destroyed (leaked objects) can be read after it is gone.
+    pub fn validation_log(&self) -> Arc<ValidationLog> {
+        self.validation_log.clone()
     }
 
     pub fn validation_enabled(&self) -> bool {

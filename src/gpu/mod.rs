@@ -9,6 +9,7 @@ pub mod shaders;
 pub mod shared;
 mod timestamps;
 mod validation;
+pub use validation::ValidationLog;
 
 pub use ash::vk;
 pub use context::{DeviceInfo, GpuContext, GpuOptions};

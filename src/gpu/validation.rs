@@ -25,7 +25,7 @@ impl ValidationLog {
 }
 
 /// Called by the validation layer on its own thread of control; `user_data` is the
-/// `ValidationLog` owned (boxed, so it does not move) by the GPU context.
+/// `ValidationLog` the GPU context holds an `Arc` of until after the messenger is destroyed.
 pub(crate) unsafe extern "system" fn debug_callback(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     kind: vk::DebugUtilsMessageTypeFlagsEXT,
@@ -33,7 +33,7 @@ pub(crate) unsafe extern "system" fn debug_callback(
     user_data: *mut std::ffi::c_void,
 ) -> vk::Bool32 {
     // SAFETY: the layer passes a valid callback-data pointer for the duration of the call,
-    // and user_data is the boxed ValidationLog that outlives the messenger.
+    // and user_data is the ValidationLog that outlives the messenger.
     let (message, log) = unsafe {
         let message = if data.is_null() || (*data).p_message.is_null() {
             String::from("(no message)")
