@@ -73,7 +73,11 @@ fn destroying_everything_leaves_the_validation_layer_silent() {
         &scene,
         &common::settings(16, 16, 1, 1, Integrator::Pt),
     );
-    assert_eq!(std::sync::Arc::strong_count(&ctx), 1, "a resource still holds the context");
+    assert_eq!(
+        std::sync::Arc::strong_count(&ctx),
+        1,
+        "a resource still holds the context"
+    );
     drop(ctx);
     let messages = log.take();
     assert!(
