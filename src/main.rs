@@ -165,6 +165,17 @@ fn bench(ctx: &Arc<GpuContext>, settings: &RenderSettings) -> Result<()> {
     for (name, _) in BUILTIN_SCENES {
         let scene = scene::builtin::builtin(name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene)?;
+        // Drivers may finish compiling a pipeline lazily at its first dispatch: a tiny warm-up
+        // frame keeps any such cost out of the measurement.
+        let warm_up = RenderSettings {
+            width: 8,
+            height: 8,
+            spp: 1,
+            ..*settings
+        };
+        renderer
+            .render(&scene.camera, &warm_up)
+            .with_context(|| format!("warming up {name}"))?;
         let frame = renderer
             .render(&scene.camera, settings)
             .with_context(|| format!("rendering {name}"))?;
