@@ -507,16 +507,13 @@ fn load_buffers(
                      (truncated or corrupt file)"
                 ))
             })?,
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                gltf::buffer::Data::from_source(buffer.source(), None)
-                    .map_err(|e| {
-                        origin.load(format!(
-                            "buffer #{i}: its data: URI cannot be decoded ({e}); \
-                             it must be base64 (data:application/octet-stream;base64,...)"
-                        ))
-                    })?
-                    .0
-            }
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => decode_data_uri(uri)
+                .map_err(|e| {
+                    origin.load(format!(
+                        "buffer #{i}: its data: URI cannot be decoded ({e}); \
+                         it must be base64 (data:application/octet-stream;base64,...)"
+                    ))
+                })?,
             gltf::buffer::Source::Uri(uri) => {
                 let file = external_path(uri, base_dir)
                     .map_err(|p| origin.load(format!("buffer #{i} ('{}'): {p}", short(uri))))?;
@@ -1259,4 +1256,16 @@ fn read_accessor<T: Copy>(
         }
     }
     Ok(values)
+}
+
+/// The bytes of a base64 `data:` URI (the only encoding glTF allows for buffers).
+fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
+    use base64::Engine;
+    let (header, payload) = uri.split_once(',').ok_or("no ',' after the media type")?;
+    if !header.ends_with(";base64") {
+        return Err("not base64-encoded".into());
+    }
+    base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .map_err(|e| e.to_string())
 }
