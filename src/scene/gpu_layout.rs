@@ -307,10 +307,18 @@ fn collect_emitters(
                     [0.0, 0.0, 0.0, 1.0],
                 ])
                 .transpose();
+                let mirrored = to_world.determinant() < 0.0;
                 let first = ob.triangle_base as usize;
                 for t in &triangles[first..first + ob.triangle_count as usize] {
                     let p = |v: [f32; 4]| to_world.transform_point3(Vec3::new(v[0], v[1], v[2]));
-                    let (a, b, c) = (p(t.v0), p(t.v1), p(t.v2));
+                    // A mirroring transform reverses the winding; swap two vertices so the
+                    // emitter's front side stays the image of the object's front side, as the
+                    // shaders' inverse-transpose normals (and glTF's winding rule) have it.
+                    let (a, b, c) = if mirrored {
+                        (p(t.v0), p(t.v2), p(t.v1))
+                    } else {
+                        (p(t.v0), p(t.v1), p(t.v2))
+                    };
                     let area = 0.5 * (b - a).cross(c - a).length();
                     emitters.push(GpuEmitter {
                         p0: v4(a, 0.0),
@@ -348,4 +356,63 @@ fn collect_emitters(
         }
     }
     emitters
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Camera, Environment, Instance, Material, Mesh};
+
+    fn emissive_triangle_scene(transform: Mat4) -> Scene {
+        Scene {
+            name: "t".into(),
+            meshes: vec![Mesh {
+                name: "tri".into(),
+                positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+                indices: vec![[0, 1, 2]],
+            }],
+            instances: vec![Instance {
+                mesh: 0,
+                material: 0,
+                transform,
+            }],
+            boxes: vec![],
+            spheres: vec![],
+            materials: vec![Material::emitter(Vec3::ZERO, Vec3::ONE)],
+            camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0, 1.0),
+            environment: Environment::black(),
+        }
+    }
+
+    fn emitter_normal(e: &GpuEmitter) -> Vec3 {
+        let p = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
+        (p(e.p1) - p(e.p0)).cross(p(e.p2) - p(e.p0)).normalize()
+    }
+
+    #[test]
+    fn emitter_front_side_follows_the_inverse_transpose_normal_even_when_mirrored() {
+        // Object-space front normal is +Z. A mirror in z maps the front side to -Z.
+        for (transform, expected) in [
+            (Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0)), Vec3::Z),
+            (Mat4::from_scale(Vec3::new(1.0, 1.0, -1.0)), -Vec3::Z),
+            (Mat4::from_scale(Vec3::new(-2.0, 1.0, 1.0)), Vec3::Z),
+        ] {
+            let gpu = GpuScene::build(&emissive_triangle_scene(transform)).unwrap();
+            assert_eq!(gpu.emitters.len(), 1);
+            let n = emitter_normal(&gpu.emitters[0]);
+            let shader_normal = transform
+                .inverse()
+                .transpose()
+                .transform_vector3(Vec3::Z)
+                .normalize();
+            assert!((shader_normal - expected).length() < 1e-6, "{transform:?}");
+            assert!(
+                (n - expected).length() < 1e-6,
+                "{transform:?}: emitter normal {n}, expected {expected}"
+            );
+            assert!(
+                (gpu.emitters[0].emission[3] - 0.5 * transform.determinant().abs()).abs() < 1e-6
+            );
+        }
+    }
 }
