@@ -149,7 +149,6 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
             if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
                 float light_pdf = ls.area_pdf * dist2 / cos_l;
                 vec3 f = brdf_eval(s.m, wo, wi, n);
-                if (mirror) f = s.m.kd.xyz * (1.0 / PI);
                 float bpdf = brdf_pdf(s.m, wo, wi, n);
                 // Shadow ray to just short of the light's surface.
                 vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l));
@@ -177,9 +176,10 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
             }
             float cos_i = dot(wi, n);
             if (cos_i <= 0.0) break; // the Phong lobe dipped below the surface: absorbed
-            vec3 f = mirror ? s.m.kd.xyz * (1.0 / PI) : brdf_eval(s.m, wo, wi, n);
+            // brdf_eval and brdf_pdf cover only the non-delta lobes, so a mirror's diffuse
+            // part needs no special case here.
+            vec3 f = brdf_eval(s.m, wo, wi, n);
             float pdf = brdf_pdf(s.m, wo, wi, n);
-            if (mirror) pdf = (1.0 - p_s) * cos_i / PI;
             if (!(pdf > 0.0)) break;
             throughput *= f * cos_i / pdf;
             prev_pdf = pdf;

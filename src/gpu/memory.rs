@@ -63,14 +63,13 @@ impl Buffer {
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
         let bound =
             unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
-        let mut this = Self {
+        let this = Self {
             ctx: ctx.clone(),
             buffer,
             allocation: Some(allocation),
             size,
         };
         bound.vk("vkBindBufferMemory")?;
-        this.size = size;
         Ok(this)
     }
 
