@@ -2,6 +2,7 @@
 //!
 //! `scene` describes what to render, `gpu` owns every Vulkan handle, `render` drives a frame.
 
+pub mod foveation;
 pub mod gpu;
 pub mod render;
 pub mod scene;

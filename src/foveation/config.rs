@@ -1,0 +1,700 @@
+//! Foveation configuration: the layers around the gaze, their lattice spacing and samples per
+//! pixel, the blend band between layers and the optional occlusion mask.
+//!
+//! A config comes from code ([`FoveationConfig::thesis`], [`FoveationConfig::regular`]), from a
+//! TOML file ([`FoveationConfig::load`], see `assets/foveation/`), or from the `--foveation` CLI
+//! value ([`FoveationConfig::from_arg`]). Every path into a config validates it, so the renderer
+//! can rely on the rules in [`FoveationConfig::validate`].
+
+use std::path::{Path, PathBuf};
+
+/// The most layers a config may have; the GPU side sizes its per-layer tables by this.
+pub const MAX_LAYERS: usize = 8;
+/// The thesis config's occlusion radius in degrees (see [`FoveationConfig::thesis`]).
+pub const THESIS_OCCLUSION_DEG: f32 = 56.0;
+/// The coarsest lattice spacing, in pixels, a layer may use.
+pub const MAX_SPACING: u32 = 64;
+/// The most samples per target pixel a layer may take.
+pub const MAX_LAYER_SPP: u32 = 1 << 20;
+
+/// Samples per target pixel when a TOML layer leaves out `spp` (the thesis' value).
+const DEFAULT_SPP: u32 = 4;
+/// Blend band width when a TOML file leaves out `blend_deg` (the same as [`FoveationConfig::thesis`]).
+const DEFAULT_BLEND_DEG: f32 = 1.0;
+
+/// What `--foveation` accepts, for error messages.
+const ACCEPTED_ARGS: &str = "'off' (regular rendering), 'thesis' (the thesis' evaluation config) \
+     or the path of a foveation TOML file (examples in assets/foveation/)";
+
+/// One foveation layer: target pixels on a lattice of `spacing` pixels, `spp` samples each.
+#[derive(Clone, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Layer {
+    /// Angular radius around the gaze in degrees; `None` = the background layer (covers the rest of the screen).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_deg: Option<f32>,
+    /// Lattice spacing in pixels: one target pixel per `spacing` x `spacing` block.
+    pub spacing: u32,
+    /// Samples per target pixel.
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+}
+
+/// serde's `default = "..."` needs a function path.
+fn default_spp() -> u32 {
+    DEFAULT_SPP
+}
+
+/// serde's `default = "..."` needs a function path.
+fn default_blend_deg() -> f32 {
+    DEFAULT_BLEND_DEG
+}
+
+/// A complete foveation setup: layers from the gaze outward, blend band and occlusion mask.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoveationConfig {
+    /// Innermost first; the last one is the background layer (radius None).
+    pub layers: Vec<Layer>,
+    /// Width in degrees of the linear blend band just inside each finite layer radius (thesis eq. 3.18).
+    pub blend_deg: f32,
+    /// Optional occlusion mask: pixels more than this many degrees from the view axis are neither traced nor shown (black). None = no mask.
+    pub occlusion_deg: Option<f32>,
+}
+
+/// The TOML file layout. Kept apart from [`FoveationConfig`] so the file's table name (`layer`,
+/// singular, as each `[[layer]]` reads) and defaults do not leak into the in-memory type.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConfigFile {
+    #[serde(default = "default_blend_deg")]
+    blend_deg: f32,
+    #[serde(default)]
+    occlusion_deg: Option<f32>,
+    // Defaulted so that a file without layers reaches `validate`, whose message says what to add.
+    #[serde(default)]
+    layer: Vec<Layer>,
+}
+
+/// Why a foveation config was rejected. Every message says what was wrong and what to do.
+#[derive(Debug, thiserror::Error)]
+pub enum FoveationError {
+    /// The `--foveation` value is neither a keyword nor an existing file.
+    #[error("--foveation '{arg}': no such file; use {ACCEPTED_ARGS}")]
+    UnknownArg { arg: String },
+    /// The config file could not be read.
+    #[error("cannot read foveation config '{}': {source}; check the path and its permissions", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The text is not TOML of the expected layout (syntax error, wrong type, unknown field).
+    #[error("cannot parse foveation config '{origin}': {message}\n(see assets/foveation/thesis.toml for the format)")]
+    Parse { origin: String, message: String },
+    /// The config breaks a rule of [`FoveationConfig::validate`].
+    #[error("invalid foveation config: {problem}")]
+    Invalid { problem: String },
+    /// A config read from `origin` breaks a rule of [`FoveationConfig::validate`].
+    #[error("invalid foveation config '{origin}': {problem}")]
+    InvalidIn { origin: String, problem: String },
+}
+
+impl FoveationConfig {
+    /// The thesis' evaluation config (Axblad 2020 §3.1.2): radii 6°, 10°, 20° + background; spacings 1, 2, 3, 4; 4 spp per target pixel; blend 1° (our choice: the thesis shows blend bands but never gives their width); an occlusion mask of 56° around the view axis. The thesis masks with layer zero's radius (§3.2.1) without giving it; 56° is the Vive Pro Eye's vertical half-field rounded up, a circle that keeps every edge midpoint and hides the image corners its lens does not show. It changes nothing at the built-in scenes' desktop fields of view (under 56° from the axis everywhere).
+    pub fn thesis() -> Self {
+        let layer = |radius_deg, spacing| Layer {
+            radius_deg,
+            spacing,
+            spp: DEFAULT_SPP,
+        };
+        Self {
+            layers: vec![
+                layer(Some(6.0), 1),
+                layer(Some(10.0), 2),
+                layer(Some(20.0), 3),
+                layer(None, 4),
+            ],
+            blend_deg: DEFAULT_BLEND_DEG,
+            occlusion_deg: Some(THESIS_OCCLUSION_DEG),
+        }
+    }
+
+    /// Regular (non-foveated) rendering as a config: one background layer, spacing 1, `spp` samples.
+    pub fn regular(spp: u32) -> Self {
+        Self {
+            layers: vec![Layer {
+                radius_deg: None,
+                spacing: 1,
+                spp,
+            }],
+            // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
+            blend_deg: 0.0,
+            occlusion_deg: None,
+        }
+    }
+
+    /// The same config with every layer's spp replaced.
+    pub fn with_spp(mut self, spp: u32) -> Self {
+        for layer in &mut self.layers {
+            layer.spp = spp;
+        }
+        self
+    }
+
+    /// True for exactly one layer with spacing 1 (what `regular` builds).
+    pub fn is_regular(&self) -> bool {
+        matches!(self.layers.as_slice(), [only] if only.spacing == 1)
+    }
+
+    /// Checks every rule the renderer relies on; the error names the layer (1-based) and field.
+    ///
+    /// Rules: 1..=[`MAX_LAYERS`] layers; exactly the last layer has no radius (the background
+    /// layer, so the whole screen is covered); finite radii in (0, 180) degrees, strictly growing
+    /// outward; `blend_deg` finite and >= 0, and no blend band overlapping the previous one or
+    /// the gaze point; spacing in 1..=[`MAX_SPACING`], never decreasing outward; spp in
+    /// 1..=[`MAX_LAYER_SPP`]; `occlusion_deg`, if given, finite in (0, 180].
+    pub fn validate(&self) -> Result<(), FoveationError> {
+        self.check()
+            .map_err(|problem| FoveationError::Invalid { problem })
+    }
+
+    /// The rules of [`Self::validate`], returning the bare problem so callers can add the origin.
+    fn check(&self) -> Result<(), String> {
+        let count = self.layers.len();
+        if count == 0 {
+            return Err(
+                "no layers: add at least one [[layer]]; the last one, without radius_deg, \
+                 is the background layer covering the rest of the screen"
+                    .to_owned(),
+            );
+        }
+        if count > MAX_LAYERS {
+            return Err(format!(
+                "{count} layers, at most {MAX_LAYERS} are supported: merge some layers"
+            ));
+        }
+
+        // Fields of each layer on its own.
+        for (index, layer) in self.layers.iter().enumerate() {
+            let n = index + 1;
+            let is_last = n == count;
+            match layer.radius_deg {
+                None if !is_last => {
+                    return Err(format!(
+                        "layer {n} has no radius_deg but is not the last layer: only the last \
+                         layer (the background layer) may leave out radius_deg; give layer {n} \
+                         a radius_deg or move it last"
+                    ));
+                }
+                Some(radius) if is_last => {
+                    return Err(format!(
+                        "the last layer (layer {n}) has radius_deg = {radius}, so nothing covers \
+                         the screen beyond {radius} degrees: add a background layer without \
+                         radius_deg after it, or remove its radius_deg"
+                    ));
+                }
+                Some(radius) if !(radius.is_finite() && radius > 0.0 && radius < 180.0) => {
+                    return Err(format!(
+                        "layer {n}: radius_deg = {radius} must be a finite angle greater than 0 \
+                         and less than 180 degrees"
+                    ));
+                }
+                _ => {}
+            }
+            if !(1..=MAX_SPACING).contains(&layer.spacing) {
+                return Err(format!(
+                    "layer {n}: spacing = {} must be in 1..={MAX_SPACING} pixels",
+                    layer.spacing
+                ));
+            }
+            if !(1..=MAX_LAYER_SPP).contains(&layer.spp) {
+                return Err(format!(
+                    "layer {n}: spp = {} must be in 1..={MAX_LAYER_SPP} samples per target pixel",
+                    layer.spp
+                ));
+            }
+        }
+
+        // Relations between neighbouring layers.
+        for (index, pair) in self.layers.windows(2).enumerate() {
+            let (inner, outer) = (&pair[0], &pair[1]);
+            let (p, n) = (index + 1, index + 2);
+            if let (Some(inner_r), Some(outer_r)) = (inner.radius_deg, outer.radius_deg) {
+                if outer_r <= inner_r {
+                    return Err(format!(
+                        "layer {n}: radius_deg = {outer_r} must be larger than layer {p}'s \
+                         radius_deg = {inner_r}: list layers innermost first with growing radii"
+                    ));
+                }
+            }
+            if outer.spacing < inner.spacing {
+                return Err(format!(
+                    "layer {n}: spacing = {} is finer than layer {p}'s spacing = {}: spacing must \
+                     not decrease outward (a coarser inner layer makes no sense); raise layer \
+                     {n}'s spacing or lower layer {p}'s",
+                    outer.spacing, inner.spacing
+                ));
+            }
+        }
+
+        let blend = self.blend_deg;
+        if !(blend.is_finite() && blend >= 0.0) {
+            return Err(format!(
+                "blend_deg = {blend} must be a finite width of 0 degrees or more (0 turns \
+                 blending off)"
+            ));
+        }
+        // Each band lies just inside its layer's radius, so it needs that much room inward.
+        let mut previous: Option<f32> = None;
+        for (index, layer) in self.layers.iter().enumerate() {
+            let n = index + 1;
+            let Some(radius) = layer.radius_deg else {
+                continue;
+            };
+            match previous {
+                None if radius < blend => {
+                    return Err(format!(
+                        "layer {n}: radius_deg = {radius} is smaller than blend_deg = {blend}, so \
+                         its blend band would reach past the gaze point: raise radius_deg or \
+                         lower blend_deg"
+                    ));
+                }
+                Some(prev) if radius - prev < blend => {
+                    return Err(format!(
+                        "layer {n}: radius_deg = {radius} is only {} degrees beyond layer {}'s \
+                         radius_deg = {prev}, less than blend_deg = {blend}, so the blend bands \
+                         would overlap: widen the gap between the radii or lower blend_deg",
+                        radius - prev,
+                        index
+                    ));
+                }
+                _ => {}
+            }
+            previous = Some(radius);
+        }
+
+        if let Some(occlusion) = self.occlusion_deg {
+            if !(occlusion.is_finite() && occlusion > 0.0 && occlusion <= 180.0) {
+                return Err(format!(
+                    "occlusion_deg = {occlusion} must be a finite angle greater than 0 and at \
+                     most 180 degrees; leave it out for no occlusion mask"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Parses TOML text (format below), then validates. `origin` names the source in error messages (a path or `"<inline>"`).
+    ///
+    /// ```toml
+    /// blend_deg = 1.0          # optional, default 1.0
+    /// occlusion_deg = 55.0     # optional, default: no mask
+    /// [[layer]]
+    /// radius_deg = 6.0
+    /// spacing = 1
+    /// spp = 4                  # optional, default 4
+    /// [[layer]]                # no radius_deg: the background layer
+    /// spacing = 4
+    /// ```
+    ///
+    /// Unknown fields are errors, so a misspelt field is reported rather than silently ignored.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, FoveationError> {
+        let file: ConfigFile = toml::from_str(text).map_err(|error| FoveationError::Parse {
+            origin: origin.to_owned(),
+            message: error.to_string().trim_end().to_owned(),
+        })?;
+        let config = Self {
+            layers: file.layer,
+            blend_deg: file.blend_deg,
+            occlusion_deg: file.occlusion_deg,
+        };
+        config
+            .check()
+            .map_err(|problem| FoveationError::InvalidIn {
+                origin: origin.to_owned(),
+                problem,
+            })?;
+        Ok(config)
+    }
+
+    /// Reads and parses a TOML file; the error names the path.
+    pub fn load(path: &Path) -> Result<Self, FoveationError> {
+        let text = std::fs::read_to_string(path).map_err(|source| FoveationError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// The CLI value of `--foveation`: "off" → None (regular rendering), "thesis" → Some(thesis()), anything else is a TOML file path → Some(load(path)). A path that does not exist gives an error that lists the accepted values.
+    pub fn from_arg(arg: &str) -> Result<Option<Self>, FoveationError> {
+        match arg {
+            "off" => Ok(None),
+            "thesis" => Ok(Some(Self::thesis())),
+            path => {
+                let path = Path::new(path);
+                // A typo such as "thesiss" lands here; listing the keywords helps more than an
+                // io "not found".
+                if !path.exists() {
+                    return Err(FoveationError::UnknownArg {
+                        arg: arg.to_owned(),
+                    });
+                }
+                Self::load(path).map(Some)
+            }
+        }
+    }
+
+    /// TOML text for this config (round-trips through from_toml_str).
+    ///
+    /// Written by hand rather than through `toml::to_string` so it cannot fail and keeps the
+    /// field order and comments of the files in `assets/foveation/`.
+    pub fn to_toml(&self) -> String {
+        let mut lines = vec![
+            "# fovea foveation config (format: see assets/foveation/thesis.toml)".to_owned(),
+            format!("blend_deg = {}", toml_float(self.blend_deg)),
+        ];
+        match self.occlusion_deg {
+            Some(occlusion) => lines.push(format!("occlusion_deg = {}", toml_float(occlusion))),
+            None => lines.push("# no occlusion_deg: no occlusion mask".to_owned()),
+        }
+        for layer in &self.layers {
+            lines.push(String::new());
+            lines.push("[[layer]]".to_owned());
+            match layer.radius_deg {
+                Some(radius) => lines.push(format!("radius_deg = {}", toml_float(radius))),
+                None => lines.push("# no radius_deg: the background layer".to_owned()),
+            }
+            lines.push(format!("spacing = {}", layer.spacing));
+            lines.push(format!("spp = {}", layer.spp));
+        }
+        lines.push(String::new());
+        lines.join("\n")
+    }
+}
+
+/// An `f32` as a TOML float that parses back to the same value.
+///
+/// `{:?}` prints the shortest text that round-trips and always marks a float ("6.0", "1e-7"),
+/// which TOML accepts; only the non-finite spellings differ between Rust and TOML.
+fn toml_float(value: f32) -> String {
+    if value.is_nan() {
+        "nan".to_owned()
+    } else if value.is_infinite() {
+        if value > 0.0 { "inf" } else { "-inf" }.to_owned()
+    } else {
+        format!("{value:?}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const THESIS_TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/foveation/thesis.toml");
+    const WIDE_TOML: &str = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/foveation/wide-fovea.toml"
+    );
+
+    /// The validation problem of `config`, as text; panics if it validates.
+    fn problem(config: &FoveationConfig) -> String {
+        match config.validate() {
+            Ok(()) => panic!("config should be rejected: {config:?}"),
+            Err(error) => error.to_string(),
+        }
+    }
+
+    /// Asserts that `config` is rejected with a message containing every one of `needles`.
+    fn assert_rejected(config: &FoveationConfig, needles: &[&str]) {
+        let message = problem(config);
+        for needle in needles {
+            assert!(
+                message.contains(needle),
+                "message {message:?} lacks {needle:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn thesis_values() {
+        let config = FoveationConfig::thesis();
+        let radii: Vec<_> = config.layers.iter().map(|l| l.radius_deg).collect();
+        assert_eq!(radii, [Some(6.0), Some(10.0), Some(20.0), None]);
+        let spacings: Vec<_> = config.layers.iter().map(|l| l.spacing).collect();
+        assert_eq!(spacings, [1, 2, 3, 4]);
+        assert!(config.layers.iter().all(|l| l.spp == 4));
+        assert_eq!(config.blend_deg, 1.0);
+        assert_eq!(config.occlusion_deg, Some(56.0));
+        assert!(!config.is_regular());
+    }
+
+    #[test]
+    fn thesis_validates() {
+        FoveationConfig::thesis().validate().unwrap();
+    }
+
+    #[test]
+    fn regular_validates_and_is_regular() {
+        let config = FoveationConfig::regular(4);
+        config.validate().unwrap();
+        assert!(config.is_regular());
+        assert_eq!(
+            config.layers,
+            [Layer {
+                radius_deg: None,
+                spacing: 1,
+                spp: 4
+            }]
+        );
+        // One layer that is coarser than 1 is not regular rendering.
+        let mut coarse = config;
+        coarse.layers[0].spacing = 2;
+        assert!(!coarse.is_regular());
+    }
+
+    #[test]
+    fn with_spp_replaces_every_layer() {
+        let config = FoveationConfig::thesis().with_spp(16);
+        assert!(config.layers.iter().all(|l| l.spp == 16));
+        let spacings: Vec<_> = config.layers.iter().map(|l| l.spacing).collect();
+        assert_eq!(spacings, [1, 2, 3, 4]);
+        assert_eq!(FoveationConfig::regular(4).with_spp(1).layers[0].spp, 1);
+    }
+
+    #[test]
+    fn thesis_asset_is_thesis() {
+        let config = FoveationConfig::load(Path::new(THESIS_TOML)).unwrap();
+        assert_eq!(config, FoveationConfig::thesis());
+    }
+
+    #[test]
+    fn wide_fovea_asset_parses() {
+        let config = FoveationConfig::load(Path::new(WIDE_TOML)).unwrap();
+        config.validate().unwrap();
+        let radii: Vec<_> = config.layers.iter().map(|l| l.radius_deg).collect();
+        assert_eq!(radii, [Some(10.0), Some(20.0), Some(30.0), None]);
+        let spacings: Vec<_> = config.layers.iter().map(|l| l.spacing).collect();
+        assert_eq!(spacings, [1, 2, 3, 4]);
+        assert!(config.layers.iter().all(|l| l.spp == 4));
+        assert_eq!(config.blend_deg, 2.0);
+        assert_eq!(config.occlusion_deg, Some(60.0));
+    }
+
+    #[test]
+    fn to_toml_round_trips() {
+        let mut odd = FoveationConfig::thesis().with_spp(7);
+        odd.blend_deg = 0.1;
+        odd.occlusion_deg = Some(55.3);
+        odd.layers[0].radius_deg = Some(1.0e-1 + 6.0);
+        for config in [
+            FoveationConfig::thesis(),
+            FoveationConfig::regular(1),
+            FoveationConfig::load(Path::new(WIDE_TOML)).unwrap(),
+            odd,
+        ] {
+            let text = config.to_toml();
+            let back = FoveationConfig::from_toml_str(&text, "<inline>").unwrap();
+            assert_eq!(back, config, "round trip through:\n{text}");
+        }
+    }
+
+    #[test]
+    fn toml_defaults_and_integer_angles() {
+        let config = FoveationConfig::from_toml_str(
+            "[[layer]]\nradius_deg = 6\nspacing = 1\n[[layer]]\nspacing = 2\n",
+            "<inline>",
+        )
+        .unwrap();
+        assert_eq!(config.blend_deg, 1.0);
+        assert_eq!(config.occlusion_deg, None);
+        assert_eq!(config.layers[0].radius_deg, Some(6.0));
+        assert!(config.layers.iter().all(|l| l.spp == 4));
+    }
+
+    #[test]
+    fn rejects_layer_count() {
+        let mut empty = FoveationConfig::thesis();
+        empty.layers.clear();
+        assert_rejected(&empty, &["layer"]);
+
+        let mut many = FoveationConfig::regular(1);
+        many.blend_deg = 0.0;
+        many.layers = (1..=MAX_LAYERS)
+            .map(|i| Layer {
+                radius_deg: Some(i as f32),
+                spacing: 1,
+                spp: 1,
+            })
+            .collect();
+        many.layers.push(Layer {
+            radius_deg: None,
+            spacing: 1,
+            spp: 1,
+        });
+        assert_rejected(&many, &["9 layers", "8"]);
+        // Exactly MAX_LAYERS is fine.
+        many.layers.remove(0);
+        many.validate().unwrap();
+    }
+
+    #[test]
+    fn rejects_missing_background_layer() {
+        let mut config = FoveationConfig::thesis();
+        config.layers.pop();
+        assert_rejected(&config, &["layer 3", "radius_deg", "background"]);
+    }
+
+    #[test]
+    fn rejects_background_layer_not_last() {
+        let mut config = FoveationConfig::thesis();
+        config.layers.swap(2, 3);
+        assert_rejected(&config, &["layer 3", "radius_deg", "last"]);
+    }
+
+    #[test]
+    fn rejects_bad_radius() {
+        for bad in [0.0, -1.0, 180.0, 400.0, f32::NAN, f32::INFINITY] {
+            let mut config = FoveationConfig::thesis();
+            config.layers[2].radius_deg = Some(bad);
+            assert_rejected(&config, &["layer 3", "radius_deg"]);
+        }
+    }
+
+    #[test]
+    fn rejects_radii_not_growing() {
+        let mut config = FoveationConfig::thesis();
+        config.layers[1].radius_deg = Some(6.0);
+        assert_rejected(&config, &["layer 2", "radius_deg", "larger"]);
+        config.layers[1].radius_deg = Some(3.0);
+        assert_rejected(&config, &["layer 2", "radius_deg"]);
+    }
+
+    #[test]
+    fn rejects_bad_blend() {
+        for bad in [-0.5, f32::NAN, f32::INFINITY] {
+            let mut config = FoveationConfig::thesis();
+            config.blend_deg = bad;
+            assert_rejected(&config, &["blend_deg"]);
+        }
+    }
+
+    #[test]
+    fn rejects_overlapping_blend_bands() {
+        // Innermost radius smaller than the band.
+        let mut config = FoveationConfig::thesis();
+        config.blend_deg = 4.0;
+        config.layers[0].radius_deg = Some(3.0);
+        assert_rejected(&config, &["layer 1", "radius_deg", "blend_deg"]);
+        // Gap 6 -> 10 is 4 degrees, less than a 5 degree band.
+        let mut config = FoveationConfig::thesis();
+        config.blend_deg = 5.0;
+        assert_rejected(&config, &["layer 2", "blend_deg", "overlap"]);
+        // A gap exactly as wide as the band is allowed.
+        config.blend_deg = 4.0;
+        config.validate().unwrap();
+    }
+
+    #[test]
+    fn rejects_bad_spacing() {
+        for bad in [0, MAX_SPACING + 1] {
+            let mut config = FoveationConfig::thesis();
+            config.layers[3].spacing = bad;
+            assert_rejected(&config, &["layer 4", "spacing"]);
+        }
+    }
+
+    #[test]
+    fn rejects_spacing_decreasing_outward() {
+        let mut config = FoveationConfig::thesis();
+        config.layers[0].spacing = 3;
+        assert_rejected(&config, &["layer 2", "spacing", "decrease"]);
+        // Equal spacings are fine.
+        config.layers[0].spacing = 2;
+        config.validate().unwrap();
+    }
+
+    #[test]
+    fn rejects_bad_spp() {
+        for bad in [0, MAX_LAYER_SPP + 1] {
+            let mut config = FoveationConfig::thesis();
+            config.layers[1].spp = bad;
+            assert_rejected(&config, &["layer 2", "spp"]);
+        }
+        FoveationConfig::thesis()
+            .with_spp(MAX_LAYER_SPP)
+            .validate()
+            .unwrap();
+    }
+
+    #[test]
+    fn rejects_bad_occlusion() {
+        for bad in [0.0, -10.0, 180.5, f32::NAN, f32::INFINITY] {
+            let mut config = FoveationConfig::thesis();
+            config.occlusion_deg = Some(bad);
+            assert_rejected(&config, &["occlusion_deg"]);
+        }
+        let mut config = FoveationConfig::thesis();
+        config.occlusion_deg = Some(180.0);
+        config.validate().unwrap();
+    }
+
+    #[test]
+    fn invalid_toml_names_origin() {
+        let error =
+            FoveationConfig::from_toml_str("[[layer]]\nradius_deg = 6.0\nspacing = 1\n", "my.toml")
+                .unwrap_err()
+                .to_string();
+        assert!(error.contains("my.toml"), "{error}");
+        assert!(error.contains("background"), "{error}");
+    }
+
+    #[test]
+    fn rejects_unknown_field() {
+        let error = FoveationConfig::from_toml_str(
+            "[[layer]]\nradius = 6.0\nspacing = 1\n[[layer]]\nspacing = 2\n",
+            "<inline>",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(error.contains("radius"), "{error}");
+        assert!(error.contains("unknown field"), "{error}");
+
+        let error =
+            FoveationConfig::from_toml_str("blend = 1.0\n[[layer]]\nspacing = 1\n", "top.toml")
+                .unwrap_err()
+                .to_string();
+        assert!(error.contains("`blend`"), "{error}");
+        assert!(error.contains("top.toml"), "{error}");
+    }
+
+    #[test]
+    fn from_arg_keywords() {
+        assert_eq!(FoveationConfig::from_arg("off").unwrap(), None);
+        assert_eq!(
+            FoveationConfig::from_arg("thesis").unwrap(),
+            Some(FoveationConfig::thesis())
+        );
+        assert_eq!(
+            FoveationConfig::from_arg(WIDE_TOML).unwrap(),
+            Some(FoveationConfig::load(Path::new(WIDE_TOML)).unwrap())
+        );
+    }
+
+    #[test]
+    fn from_arg_missing_path_lists_accepted_values() {
+        let error = FoveationConfig::from_arg("/no/such/foveation.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("/no/such/foveation.toml"), "{error}");
+        assert!(error.contains("'off'"), "{error}");
+        assert!(error.contains("'thesis'"), "{error}");
+    }
+
+    #[test]
+    fn load_error_names_path() {
+        // A directory exists, so from_arg goes on to read it and fails there.
+        let dir = env!("CARGO_MANIFEST_DIR");
+        let error = FoveationConfig::from_arg(dir).unwrap_err().to_string();
+        assert!(error.contains(dir), "{error}");
+    }
+}

@@ -1,0 +1,18 @@
+//! Foveation without a GPU: layer configs, the eye's image geometry, gaze points, the ray
+//! buffer built once per config and resolution, and the per-frame plan of which of its rays
+//! are traced (thesis §3.2.1). Also CPU references of the fill (eq. 3.17) and blend
+//! (eq. 3.18) that the GPU passes are tested against.
+
+pub mod blend;
+pub mod catmull_rom;
+pub mod config;
+pub mod gaze;
+pub mod plan;
+pub mod ray_buffer;
+pub mod view;
+
+pub use config::*;
+pub use gaze::{Gaze, GazeChoice};
+pub use plan::{EyePlan, LayerPlan, Span};
+pub use ray_buffer::RayBuffer;
+pub use view::{EyeFov, ImageGeometry};
