@@ -23,6 +23,11 @@ layout(set = 0, binding = BINDING_OUTPUT, rgba32f) uniform image2D out_image;
 layout(std430, set = 0, binding = BINDING_PROBE_RAYS) readonly buffer ProbeRays { GpuProbeRay probe_rays[]; };
 layout(std430, set = 0, binding = BINDING_PROBE_HITS) writeonly buffer ProbeHits { GpuProbeHit probe_hits[]; };
 
+layout(set = 0, binding = BINDING_LAYER_IMAGES, rgba32f) uniform image2DArray layer_images;
+layout(std430, set = 0, binding = BINDING_RAY_BUFFER) readonly buffer RayBufferBuf { uint ray_offsets[]; };
+layout(std430, set = 0, binding = BINDING_SPANS) readonly buffer Spans { GpuSpan spans[]; };
+layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
+
 layout(push_constant) uniform Push { PushConstants pc; };
 
 #endif

@@ -16,10 +16,14 @@
 #define BINDING_EMITTERS 5     // GpuEmitter[]
 #define BINDING_SCENE_INFO 6   // GpuSceneInfo
 #define BINDING_STATS 7        // uint counters, STAT_*
-#define BINDING_OUTPUT 8       // rgba32f storage image: the traced frame
+#define BINDING_OUTPUT 8       // rgba32f storage image: the merged frame, eyes side by side
 #define BINDING_PROBE_RAYS 9   // GpuProbeRay[] (raycast.comp only)
 #define BINDING_PROBE_HITS 10  // GpuProbeHit[] (raycast.comp only)
-#define BINDING_COUNT 11
+#define BINDING_LAYER_IMAGES 11 // rgba32f 2D array image: one full-size layer per (eye, layer)
+#define BINDING_RAY_BUFFER 12  // uint[]: target-pixel offsets, two int16 (dx low, dy high)
+#define BINDING_SPANS 13       // GpuSpan[]: this frame's traced index ranges of the ray buffer
+#define BINDING_LAYERS 14      // GpuLayer[]: this frame's layers, eye-major
+#define BINDING_COUNT 15
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
 #define SPEC_HAS_TRIANGLES 0
@@ -48,12 +52,21 @@
 #define STAT_RAYS 3            // all rays traced (camera, bounce and shadow)
 #define STAT_COUNT 4
 
+// ---- debug views (PushConstants.debug) -------------------------------------------------------
+#define DEBUG_NONE 0
+#define DEBUG_LAYERS 1 // tint each pixel by the layer it comes from; blend bands darkened
+
+// Angles in GpuLayer that are "no limit" (the background's radius, the fovea's inner edge).
+#define NO_LIMIT 1.0e9
+
 // Traversal stack depth per BVH level. CWBVH trees are shallow (8-wide); an overflow is
 // counted in STAT_STACK_OVERFLOW, never silently ignored.
 #define TRAVERSAL_STACK_SIZE 32
 #define WORKGROUP_SIZE_X 8
 #define WORKGROUP_SIZE_Y 8
 #define PROBE_WORKGROUP_SIZE 64
+#define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the frame's spans
+#define MAX_GROUPS_X 65535 // the guaranteed maxComputeWorkGroupCount[0]; larger dispatches use y
 
 struct GpuTriangle {
     vec4 v0;
@@ -122,8 +135,41 @@ struct PushConstants {
     uint seed;
     uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
     uint probe_count;
-    uint pad0;
-    uint pad1;
+    uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
+    uint layer; // interpolate.comp: index into LAYERS of the layer to fill
+    uint span_first; // trace.comp: this eye's spans are SPANS[span_first .. span_first+span_count]
+    uint span_count;
+    uint debug; // DEBUG_*
+    uint layer_count; // layers per eye; this eye's are LAYERS[eye*layer_count ..]
+};
+
+// A run of consecutive ray-buffer entries, all traced by one layer this frame.
+struct GpuSpan {
+    uint first; // index into RAY_BUFFER
+    uint count;
+    uint prefix; // sum of count over this eye's earlier spans: the first thread of the span
+    uint layer; // index into LAYERS
+};
+
+// One layer of one eye for this frame. Angles are radians from the gaze direction.
+struct GpuLayer {
+    vec4 gaze; // xy: the gaze's tangent-space point; z: one pixel's largest angle; w: blend band
+    int anchor_x; // pixel the ray-buffer offsets are relative to
+    int anchor_y;
+    int spacing;
+    uint spp;
+    int lattice_min_x; // first and last lattice pixels on the image (taps clamp to these)
+    int lattice_min_y;
+    int lattice_max_x;
+    int lattice_max_y;
+    int fill_min_x; // interpolate.comp visits [fill_min, fill_max)
+    int fill_min_y;
+    int fill_max_x;
+    int fill_max_y;
+    float outer; // shown where angle < outer (NO_LIMIT: background)
+    float inner; // ... and angle > inner (-NO_LIMIT: innermost layer)
+    float occlusion; // angle from the view axis beyond which nothing is shown
+    uint image_layer; // layer of LAYER_IMAGES holding this layer's image
 };
 
 struct GpuProbeRay {

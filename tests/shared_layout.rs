@@ -125,8 +125,43 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             seed,
             sample_offset,
             probe_count,
-            pad0,
-            pad1
+            eye,
+            layer,
+            span_first,
+            span_count,
+            debug,
+            layer_count
+        }
+    );
+    check!(
+        s,
+        GpuSpan {
+            first,
+            count,
+            prefix,
+            layer
+        }
+    );
+    check!(
+        s,
+        GpuLayer {
+            gaze,
+            anchor_x,
+            anchor_y,
+            spacing,
+            spp,
+            lattice_min_x,
+            lattice_min_y,
+            lattice_max_x,
+            lattice_max_y,
+            fill_min_x,
+            fill_min_y,
+            fill_max_x,
+            fill_max_y,
+            outer,
+            inner,
+            occlusion,
+            image_layer
         }
     );
     check!(s, GpuProbeRay { origin, direction });
@@ -141,7 +176,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        8,
+        10,
         "shared.h has a struct this test does not check: add it"
     );
     assert!(
@@ -159,4 +194,11 @@ fn binding_numbers_come_from_shared_h() {
     assert!(text.contains(&format!(
         "#define TRAVERSAL_STACK_SIZE {TRAVERSAL_STACK_SIZE}"
     )));
+    // NO_LIMIT is a float, which build.rs does not generate: the Rust copy must match.
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("#define NO_LIMIT "))
+        .expect("NO_LIMIT in shared.h");
+    let value: f32 = line.split_whitespace().nth(2).unwrap().parse().unwrap();
+    assert_eq!(value, NO_LIMIT);
 }

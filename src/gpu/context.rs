@@ -260,6 +260,26 @@ impl GpuContext {
 
     /// Records commands with `record`, submits them and waits for completion. `pass` names the
     /// work, so a device loss can say which pass was running.
+    /// Records a barrier that makes every compute-shader write before it visible to every
+    /// compute-shader read or write after it (images stay in GENERAL layout between passes).
+    pub fn cmd_compute_barrier(&self, cmd: vk::CommandBuffer) {
+        let barrier = [vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE)];
+        // SAFETY: cmd is a recording command buffer of this device, outside any render pass.
+        unsafe {
+            self.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &barrier,
+                &[],
+                &[],
+            )
+        };
+    }
+
     pub fn submit_and_wait(
         &self,
         pass: &str,

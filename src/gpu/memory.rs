@@ -132,7 +132,8 @@ impl Drop for Buffer {
     }
 }
 
-/// An RGBA32F storage image, the target of a traced frame.
+/// An RGBA32F storage image: a frame (`new`, a 2D view) or a stack of equally sized layer
+/// images (`new_array`, a 2D-array view).
 pub struct StorageImage {
     ctx: Arc<GpuContext>,
     pub(crate) image: vk::Image,
@@ -140,6 +141,7 @@ pub struct StorageImage {
     allocation: Option<Allocation>,
     pub width: u32,
     pub height: u32,
+    pub layers: u32,
 }
 
 impl StorageImage {
@@ -151,6 +153,35 @@ impl StorageImage {
         width: u32,
         height: u32,
     ) -> Result<Self, GpuError> {
+        Self::create(ctx, name, width, height, 1, vk::ImageViewType::TYPE_2D)
+    }
+
+    /// `layers` images of `width × height` behind one 2D-array view.
+    pub fn new_array(
+        ctx: &Arc<GpuContext>,
+        name: &str,
+        width: u32,
+        height: u32,
+        layers: u32,
+    ) -> Result<Self, GpuError> {
+        Self::create(
+            ctx,
+            name,
+            width,
+            height,
+            layers,
+            vk::ImageViewType::TYPE_2D_ARRAY,
+        )
+    }
+
+    fn create(
+        ctx: &Arc<GpuContext>,
+        name: &str,
+        width: u32,
+        height: u32,
+        layers: u32,
+        view_type: vk::ImageViewType,
+    ) -> Result<Self, GpuError> {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(Self::FORMAT)
@@ -160,10 +191,14 @@ impl StorageImage {
                 depth: 1,
             })
             .mip_levels(1)
-            .array_layers(1)
+            .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
-            .usage(vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC)
+            .usage(
+                vk::ImageUsageFlags::STORAGE
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST,
+            )
             .initial_layout(vk::ImageLayout::UNDEFINED);
         let device = &ctx.device;
         // SAFETY: valid device and create info.
@@ -191,6 +226,7 @@ impl StorageImage {
             allocation: None,
             width,
             height,
+            layers,
         };
         // SAFETY: the allocation satisfies the image's requirements.
         unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
@@ -198,7 +234,7 @@ impl StorageImage {
         this.allocation = Some(allocation);
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
-            .view_type(vk::ImageViewType::TYPE_2D)
+            .view_type(view_type)
             .format(Self::FORMAT)
             .subresource_range(color_range());
         // SAFETY: the image is bound to memory.
@@ -228,9 +264,10 @@ impl StorageImage {
         };
     }
 
-    /// Copies the image (in GENERAL layout after compute writes) to the host: RGBA f32 rows.
+    /// Copies the image (in GENERAL layout after compute writes) to the host: RGBA f32 rows,
+    /// layer after layer.
     pub fn read_back(&self) -> Result<Vec<f32>, GpuError> {
-        let bytes = self.width as u64 * self.height as u64 * 16;
+        let bytes = self.width as u64 * self.height as u64 * 16 * self.layers as u64;
         let staging = Buffer::new(
             &self.ctx,
             "image readback",
@@ -253,7 +290,7 @@ impl StorageImage {
                     aspect_mask: vk::ImageAspectFlags::COLOR,
                     mip_level: 0,
                     base_array_layer: 0,
-                    layer_count: 1,
+                    layer_count: self.layers,
                 })
                 .image_extent(vk::Extent3D {
                     width: self.width,
@@ -299,6 +336,93 @@ impl StorageImage {
         })?;
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }
+
+    /// Replaces the whole image (all layers, RGBA f32 rows) with `rgba` and leaves it in
+    /// GENERAL layout for compute reads and writes.
+    pub fn upload(&self, rgba: &[f32]) -> Result<(), GpuError> {
+        let expected = self.width as usize * self.height as usize * 4 * self.layers as usize;
+        if rgba.len() != expected {
+            return Err(GpuError::Limit(format!(
+                "image upload of {} floats into a {}x{}x{} RGBA image ({expected} floats)",
+                rgba.len(),
+                self.width,
+                self.height,
+                self.layers
+            )));
+        }
+        let staging = Buffer::new(
+            &self.ctx,
+            "image upload",
+            (rgba.len() * 4) as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut staging = staging;
+        staging.write(0, bytemuck::cast_slice(rgba))?;
+        let device = &self.ctx.device;
+        self.ctx.submit_and_wait("upload", |cmd| {
+            let to_dst = transition(
+                self.image,
+                (vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
+                (
+                    vk::AccessFlags::TRANSFER_WRITE,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                ),
+            );
+            let region = [vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: self.layers,
+                })
+                .image_extent(vk::Extent3D {
+                    width: self.width,
+                    height: self.height,
+                    depth: 1,
+                })];
+            let to_general = transition(
+                self.image,
+                (
+                    vk::AccessFlags::TRANSFER_WRITE,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                ),
+                (
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                    vk::ImageLayout::GENERAL,
+                ),
+            );
+            // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
+            unsafe {
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TOP_OF_PIPE,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &to_dst,
+                );
+                device.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.buffer,
+                    self.image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &region,
+                );
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &to_general,
+                );
+            }
+        })?;
+        Ok(())
+    }
 }
 
 /// A layout transition of the whole colour image between two accesses.
@@ -324,7 +448,7 @@ fn color_range() -> vk::ImageSubresourceRange {
         base_mip_level: 0,
         level_count: 1,
         base_array_layer: 0,
-        layer_count: 1,
+        layer_count: vk::REMAINING_ARRAY_LAYERS,
     }
 }
 

@@ -9,6 +9,13 @@ use super::shared::*;
 use ash::vk;
 use std::sync::Arc;
 
+/// The bindings that are storage images; all others are storage buffers.
+const IMAGE_BINDINGS: [u32; 2] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES];
+
+fn is_image_binding(binding: u32) -> bool {
+    IMAGE_BINDINGS.contains(&binding)
+}
+
 pub struct PipelineLayout {
     ctx: Arc<GpuContext>,
     pub(crate) set_layout: vk::DescriptorSetLayout,
@@ -22,7 +29,7 @@ impl PipelineLayout {
         let device = &ctx.device;
         let bindings: Vec<_> = (0..BINDING_COUNT)
             .map(|b| {
-                let ty = if b == BINDING_OUTPUT {
+                let ty = if is_image_binding(b) {
                     vk::DescriptorType::STORAGE_IMAGE
                 } else {
                     vk::DescriptorType::STORAGE_BUFFER
@@ -62,7 +69,7 @@ impl PipelineLayout {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_IMAGE,
-                descriptor_count: 1,
+                descriptor_count: IMAGE_BINDINGS.len() as u32,
             },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
@@ -80,8 +87,8 @@ impl PipelineLayout {
         Ok(this)
     }
 
-    /// Points every buffer binding at `buffers[binding]` and the output binding at `image`.
-    pub fn bind(&self, buffers: &[(u32, &Buffer)], image: &StorageImage) {
+    /// Points each listed buffer and image binding at its resource.
+    pub fn bind(&self, buffers: &[(u32, &Buffer)], images: &[(u32, &StorageImage)]) {
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
             .map(|(_, b)| {
@@ -90,9 +97,14 @@ impl PipelineLayout {
                     .range(vk::WHOLE_SIZE)]
             })
             .collect();
-        let image_info = [vk::DescriptorImageInfo::default()
-            .image_view(image.view)
-            .image_layout(vk::ImageLayout::GENERAL)];
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = images
+            .iter()
+            .map(|(_, image)| {
+                [vk::DescriptorImageInfo::default()
+                    .image_view(image.view)
+                    .image_layout(vk::ImageLayout::GENERAL)]
+            })
+            .collect();
         let mut writes: Vec<vk::WriteDescriptorSet> = buffers
             .iter()
             .zip(&infos)
@@ -104,13 +116,13 @@ impl PipelineLayout {
                     .buffer_info(info)
             })
             .collect();
-        writes.push(
+        writes.extend(images.iter().zip(&image_infos).map(|((binding, _), info)| {
             vk::WriteDescriptorSet::default()
                 .dst_set(self.set)
-                .dst_binding(BINDING_OUTPUT)
+                .dst_binding(*binding)
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&image_info),
-        );
+                .image_info(info)
+        }));
         // SAFETY: the set is not in use by a pending command buffer (callers wait per frame).
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
     }

@@ -82,9 +82,47 @@ pub struct PushConstants {
     pub seed: u32,
     pub sample_offset: u32,
     pub probe_count: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub eye: u32,
+    pub layer: u32,
+    pub span_first: u32,
+    pub span_count: u32,
+    pub debug: u32,
+    pub layer_count: u32,
 }
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuSpan {
+    pub first: u32,
+    pub count: u32,
+    pub prefix: u32,
+    pub layer: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuLayer {
+    pub gaze: [f32; 4],
+    pub anchor_x: i32,
+    pub anchor_y: i32,
+    pub spacing: i32,
+    pub spp: u32,
+    pub lattice_min_x: i32,
+    pub lattice_min_y: i32,
+    pub lattice_max_x: i32,
+    pub lattice_max_y: i32,
+    pub fill_min_x: i32,
+    pub fill_min_y: i32,
+    pub fill_max_x: i32,
+    pub fill_max_y: i32,
+    pub outer: f32,
+    pub inner: f32,
+    pub occlusion: f32,
+    pub image_layer: u32,
+}
+
+/// shared.h's `NO_LIMIT` (a float, so build.rs does not generate it).
+pub const NO_LIMIT: f32 = 1.0e9;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]

@@ -13,6 +13,10 @@ pub struct FrameStats {
     pub rays: u64,
     /// GPU milliseconds per pass, from timestamp queries.
     pub pass_ms: Vec<(String, f64)>,
+    /// Camera paths planned per foveation layer (innermost first), summed over the eyes.
+    pub layer_samples: Vec<u64>,
+    /// CPU milliseconds spent planning the frame (gaze → traced spans).
+    pub plan_ms: f64,
 }
 
 impl FrameStats {
@@ -36,6 +40,8 @@ pub struct Frame {
     pub height: u32,
     /// Linear RGB radiance, row-major from the top-left, 3 floats per pixel.
     pub rgb: Vec<f32>,
+    /// Per eye: the gaze pixel used and whether the requested gaze had to be fixed.
+    pub gazes: Vec<([f64; 2], crate::foveation::gaze::GazeFix)>,
     pub stats: FrameStats,
 }
 

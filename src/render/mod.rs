@@ -3,11 +3,14 @@
 mod frame;
 pub mod output;
 mod renderer;
+mod request;
 mod settings;
+mod targets;
 
 pub use frame::{Frame, FrameStats};
 pub use renderer::Renderer;
-pub use settings::{Integrator, RenderSettings};
+pub use request::{DebugView, EyeView, FrameRequest};
+pub use settings::{Integrator, RenderSettings, MAX_SIDE};
 
 use crate::gpu::GpuError;
 use crate::scene::SceneError;

@@ -1,18 +1,25 @@
-//! The per-frame driver: scene buffers uploaded once, pipelines specialised per scene and
-//! integrator, one timed trace pass per frame, stats read back with the image.
+//! The per-frame driver. Scene buffers are uploaded once and pipelines specialised per scene
+//! and integrator. Every frame, of every layer config (regular rendering is the one-layer
+//! config), runs the same passes per eye: trace (the planned rays of every layer), fill
+//! (Catmull-Rom for layers with spacing > 1) and merge (blend masks), each timed.
 
 use super::frame::{Frame, FrameStats};
+use super::request::{DebugView, EyeView, FrameRequest};
 use super::settings::RenderSettings;
+use super::targets::{FrameTargets, TargetKey};
 use super::RenderError;
+use crate::foveation::gaze::GazeFix;
+use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer};
 use crate::gpu::shared::*;
 use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, StorageImage, TimestampPool,
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, TimestampPool,
 };
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use gpu_allocator::MemoryLocation;
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Instant;
 
 /// Static scene data on the GPU, one buffer per binding.
 struct SceneBuffers {
@@ -25,12 +32,23 @@ struct SceneBuffers {
     info: Buffer,
 }
 
+/// One eye's planned frame, ready to record.
+struct EyeFrame {
+    push: PushConstants,
+    /// Threads of the trace dispatch (target pixels).
+    threads: u64,
+    /// `(layer index in LAYERS, fill size)` of every layer with pixels to fill.
+    fills: Vec<(u32, [u32; 2])>,
+}
+
 pub struct Renderer {
     // Field order is drop order: every resource before the context it borrows.
-    pipelines: HashMap<(u32, u32), ComputePipeline>,
+    trace: HashMap<(u32, u32), ComputePipeline>,
+    interpolate: Option<ComputePipeline>,
+    merge: Option<ComputePipeline>,
     raycast: Option<ComputePipeline>,
     timestamps: TimestampPool,
-    image: Option<StorageImage>,
+    targets: Option<FrameTargets>,
     probe: Option<(Buffer, Buffer)>,
     stats: Buffer,
     buffers: SceneBuffers,
@@ -38,6 +56,9 @@ pub struct Renderer {
     features: SceneFeatures,
     ctx: Arc<GpuContext>,
 }
+
+/// Timed passes per frame: trace, fill and merge for each of two eyes, with room to spare.
+const TIMED_PASSES: u32 = 16;
 
 impl Renderer {
     /// Builds the BVHs and uploads the scene once.
@@ -77,10 +98,12 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         Ok(Self {
-            pipelines: HashMap::new(),
+            trace: HashMap::new(),
+            interpolate: None,
+            merge: None,
             raycast: None,
-            timestamps: TimestampPool::new(ctx, 8)?,
-            image: None,
+            timestamps: TimestampPool::new(ctx, TIMED_PASSES)?,
+            targets: None,
             probe: None,
             stats,
             buffers,
@@ -111,8 +134,38 @@ impl Renderer {
         ]
     }
 
-    fn bind(&self, image: &StorageImage) {
+    fn ensure_pipelines(&mut self, settings: &RenderSettings) -> Result<(), RenderError> {
+        let key = (settings.integrator.id(), settings.max_bounces);
+        if !self.trace.contains_key(&key) {
+            let spec = self.specialization(key.0, key.1);
+            let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", shaders::TRACE, &spec)?;
+            self.trace.insert(key, p);
+        }
+        if self.interpolate.is_none() {
+            self.interpolate = Some(ComputePipeline::new(
+                &self.ctx,
+                &self.layout,
+                "interpolate",
+                shaders::INTERPOLATE,
+                &[],
+            )?);
+        }
+        if self.merge.is_none() {
+            self.merge = Some(ComputePipeline::new(
+                &self.ctx,
+                &self.layout,
+                "merge",
+                shaders::MERGE,
+                &[],
+            )?);
+        }
+        Ok(())
+    }
+
+    /// Points every binding at this renderer's buffers and the current targets.
+    fn bind(&self) {
         let b = &self.buffers;
+        let t = self.targets.as_ref().expect("targets are ensured before binding");
         let mut list: Vec<(u32, &Buffer)> = vec![
             (BINDING_BLAS_NODES, &b.blas_nodes),
             (BINDING_TLAS_NODES, &b.tlas_nodes),
@@ -122,6 +175,9 @@ impl Renderer {
             (BINDING_EMITTERS, &b.emitters),
             (BINDING_SCENE_INFO, &b.info),
             (BINDING_STATS, &self.stats),
+            (BINDING_RAY_BUFFER, &t.ray_buffer),
+            (BINDING_SPANS, &t.spans),
+            (BINDING_LAYERS, &t.layers),
         ];
         // The probe bindings must be valid even for trace.comp; reuse the stats buffer until
         // raycast() creates real ones.
@@ -134,17 +190,19 @@ impl Renderer {
                 (BINDING_PROBE_HITS, &self.stats),
             ]),
         }
-        self.layout.bind(&list, image);
+        self.layout.bind(
+            &list,
+            &[
+                (BINDING_OUTPUT, &t.output),
+                (BINDING_LAYER_IMAGES, &t.layer_images),
+            ],
+        );
     }
 
-    fn ensure_image(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
-        if self
-            .image
-            .as_ref()
-            .is_none_or(|i| i.width != width || i.height != height)
-        {
-            self.image = None;
-            self.image = Some(StorageImage::new(&self.ctx, "frame", width, height)?);
+    fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
+        if self.targets.as_ref().is_none_or(|t| t.key != key) {
+            self.targets = None;
+            self.targets = Some(FrameTargets::new(&self.ctx, key)?);
         }
         Ok(())
     }
@@ -161,58 +219,233 @@ impl Renderer {
         Ok(out)
     }
 
-    /// Renders one frame of `camera` and reads it back.
+    /// Renders one regular (non-foveated) mono frame of `camera`: the one-layer config with
+    /// `settings.spp` samples per pixel, through the same passes as a foveated frame.
     pub fn render(
         &mut self,
         camera: &Camera,
         settings: &RenderSettings,
     ) -> Result<Frame, RenderError> {
-        settings.validate().map_err(RenderError::Settings)?;
-        let key = (settings.integrator.id(), settings.max_bounces);
-        if !self.pipelines.contains_key(&key) {
-            let spec = self.specialization(key.0, key.1);
-            let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", shaders::TRACE, &spec)?;
-            self.pipelines.insert(key, p);
+        let config = FoveationConfig::regular(settings.spp);
+        let eyes = [EyeView {
+            camera: *camera,
+            gaze: Gaze::Forward,
+        }];
+        self.render_frame(&FrameRequest {
+            settings: *settings,
+            foveation: &config,
+            eyes: &eyes,
+            debug: DebugView::None,
+        })
+    }
+
+    /// Renders one frame, foveated by `request.foveation`, for one or two eyes (side by side).
+    pub fn render_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
+        self.run_frame(request, None).map(|(frame, _)| frame)
+    }
+
+    /// Runs only the fill and merge passes of `request` on layer images given by the caller
+    /// (`eyes × layers` RGBA images of the eye's size, eye-major) instead of traced ones, and
+    /// returns the frame and the filled layer images. For testing the passes against CPU
+    /// references on data with known answers.
+    pub fn compose(
+        &mut self,
+        request: &FrameRequest,
+        layer_rgba: &[f32],
+    ) -> Result<(Frame, Vec<f32>), RenderError> {
+        let (frame, layers) = self.run_frame(request, Some(layer_rgba))?;
+        Ok((frame, layers.unwrap_or_default()))
+    }
+
+    fn run_frame(
+        &mut self,
+        request: &FrameRequest,
+        given_layers: Option<&[f32]>,
+    ) -> Result<(Frame, Option<Vec<f32>>), RenderError> {
+        let s = &request.settings;
+        s.validate().map_err(RenderError::Settings)?;
+        request
+            .foveation
+            .validate()
+            .map_err(|e| RenderError::Settings(e.to_string()))?;
+        if request.eyes.is_empty() || request.eyes.len() > 2 {
+            return Err(RenderError::Settings(format!(
+                "a frame has one or two eyes, not {}",
+                request.eyes.len()
+            )));
         }
-        self.ensure_image(settings.width, settings.height)?;
+        if s.width as u64 * request.eyes.len() as u64 > super::settings::MAX_SIDE as u64 {
+            return Err(RenderError::Settings(format!(
+                "two eyes of width {} do not fit one {}-pixel-wide image; use a smaller --width",
+                s.width,
+                super::settings::MAX_SIDE
+            )));
+        }
+        self.ensure_pipelines(s)?;
+        self.ensure_targets(TargetKey {
+            config: request.foveation.clone(),
+            width: s.width,
+            height: s.height,
+            fovs: request.eyes.iter().map(|e| e.fov()).collect(),
+        })?;
+
+        // Plan every eye on the CPU: gaze → spans of the ray buffer, layer parameters.
+        let planning = Instant::now();
+        let targets = self.targets.as_ref().expect("ensured above");
+        let layer_count = targets.buffer.layers.len() as u32;
+        let mut spans = Vec::new();
+        let mut layers = Vec::new();
+        let mut eyes = Vec::new();
+        let mut gazes = Vec::new();
+        let mut layer_samples = vec![0u64; layer_count as usize];
+        for (e, eye) in request.eyes.iter().enumerate() {
+            let image = &targets.images[e];
+            let (gaze_px, fix) = eye.gaze.resolve(image);
+            match fix {
+                GazeFix::None => {}
+                GazeFix::NotFinite => tracing::warn!(
+                    "eye {e}: gaze {:?} is not finite; foveating around the view axis",
+                    eye.gaze
+                ),
+                GazeFix::Clamped => tracing::info!(
+                    "eye {e}: gaze {:?} is off the image; clamped to its border",
+                    eye.gaze
+                ),
+            }
+            gazes.push((gaze_px, fix));
+            let plan = EyePlan::new(&targets.buffer, image, gaze_px);
+            for (k, l) in plan.layers.iter().enumerate() {
+                layer_samples[k] += l.targets * targets.buffer.layers[k].spp as u64;
+            }
+            let span_first = spans.len() as u32;
+            let mut prefix = 0u32;
+            for span in &plan.spans {
+                spans.push(GpuSpan {
+                    first: span.first,
+                    count: span.count,
+                    prefix,
+                    layer: e as u32 * layer_count + span.layer,
+                });
+                prefix += span.count;
+            }
+            let base = e as u32 * layer_count;
+            layers.extend(gpu_layers(&targets.buffer, &plan, image, request.foveation, base));
+            let fills = plan
+                .layers
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| !l.fill_is_empty())
+                .map(|(k, l)| {
+                    (
+                        base + k as u32,
+                        [
+                            (l.fill_max[0] - l.fill_min[0]) as u32,
+                            (l.fill_max[1] - l.fill_min[1]) as u32,
+                        ],
+                    )
+                })
+                .collect();
+            let mut push = push_constants(&eye.camera, s);
+            push.eye = e as u32;
+            push.span_first = span_first;
+            push.span_count = plan.spans.len() as u32;
+            push.layer_count = layer_count;
+            push.debug = request.debug.id();
+            eyes.push(EyeFrame {
+                push,
+                threads: prefix as u64,
+                fills,
+            });
+        }
+        let plan_ms = planning.elapsed().as_secs_f64() * 1e3;
+        let targets = self.targets.as_mut().expect("ensured above");
+        targets.write_frame(&self.ctx, &spans, &layers)?;
+        if let Some(rgba) = given_layers {
+            targets.layer_images.upload(rgba)?;
+        }
         self.reset_stats()?;
-        let image = self.image.as_ref().expect("ensured above");
-        self.bind(image);
-        let push = push_constants(camera, settings);
-        let groups = [
-            settings.width.div_ceil(WORKGROUP_SIZE_X),
-            settings.height.div_ceil(WORKGROUP_SIZE_Y),
-            1,
-        ];
-        let pipeline = &self.pipelines[&key];
+        self.bind();
+
+        let targets = self.targets.as_ref().expect("ensured above");
+        let trace = &self.trace[&(s.integrator.id(), s.max_bounces)];
+        let interpolate = self.interpolate.as_ref().expect("ensured above");
+        let merge = self.merge.as_ref().expect("ensured above");
         let timestamps = &mut self.timestamps;
         let layout = &self.layout;
-        self.ctx.submit_and_wait("trace", |cmd| {
+        let ctx = &self.ctx;
+        let stereo = eyes.len() == 2;
+        let name = |e: usize, pass: &str| match (stereo, e) {
+            (false, _) => pass.to_string(),
+            (true, 0) => format!("left {pass}"),
+            (true, _) => format!("right {pass}"),
+        };
+        ctx.submit_and_wait("frame", |cmd| {
             timestamps.cmd_reset(cmd);
-            image.cmd_prepare_for_write(cmd);
-            timestamps.cmd_timed(cmd, "trace", || {
-                pipeline.cmd_dispatch(cmd, layout, &push, groups)
-            });
+            if given_layers.is_none() {
+                targets.layer_images.cmd_prepare_for_write(cmd);
+            }
+            targets.output.cmd_prepare_for_write(cmd);
+            for (e, eye) in eyes.iter().enumerate() {
+                if given_layers.is_none() && eye.threads > 0 {
+                    timestamps.cmd_timed(cmd, &name(e, "trace"), || {
+                        trace.cmd_dispatch(cmd, layout, &eye.push, groups_1d(eye.threads))
+                    });
+                    ctx.cmd_compute_barrier(cmd);
+                }
+                if !eye.fills.is_empty() {
+                    timestamps.cmd_timed(cmd, &name(e, "fill"), || {
+                        for (layer, size) in &eye.fills {
+                            let push = PushConstants {
+                                layer: *layer,
+                                ..eye.push
+                            };
+                            let groups = [
+                                size[0].div_ceil(WORKGROUP_SIZE_X),
+                                size[1].div_ceil(WORKGROUP_SIZE_Y),
+                                1,
+                            ];
+                            interpolate.cmd_dispatch(cmd, layout, &push, groups);
+                        }
+                    });
+                    ctx.cmd_compute_barrier(cmd);
+                }
+                timestamps.cmd_timed(cmd, &name(e, "merge"), || {
+                    let groups = [
+                        s.width.div_ceil(WORKGROUP_SIZE_X),
+                        s.height.div_ceil(WORKGROUP_SIZE_Y),
+                        1,
+                    ];
+                    merge.cmd_dispatch(cmd, layout, &eye.push, groups)
+                });
+            }
         })?;
         let pass_ms = self.timestamps.read_ms()?;
         let counters = self.read_stats()?;
-        let rgba = image.read_back()?;
+        let rgba = targets.output.read_back()?;
+        let layer_images = match given_layers {
+            Some(_) => Some(targets.layer_images.read_back()?),
+            None => None,
+        };
         let rgb = rgba
             .chunks_exact(4)
             .flat_map(|p| [p[0], p[1], p[2]])
             .collect();
-        Ok(Frame {
-            width: settings.width,
-            height: settings.height,
+        let frame = Frame {
+            width: s.width * request.eyes.len() as u32,
+            height: s.height,
             rgb,
+            gazes,
             stats: FrameStats {
                 nonfinite_samples: counters[STAT_NONFINITE as usize] as u64,
                 stack_overflows: counters[STAT_STACK_OVERFLOW as usize] as u64,
                 paths: counters[STAT_PATHS as usize] as u64,
                 rays: counters[STAT_RAYS as usize] as u64,
                 pass_ms,
+                layer_samples,
+                plan_ms,
             },
-        })
+        };
+        Ok((frame, layer_images))
     }
 
     /// Closest hits of arbitrary rays through the GPU traversal (for tests and tools).
@@ -242,10 +475,22 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         self.probe = Some((ray_buffer, hit_buffer));
-        self.ensure_image(1, 1)?;
+        // Every binding must be valid: any targets will do, the smallest if there are none.
+        if self.targets.is_none() {
+            self.ensure_targets(TargetKey {
+                config: FoveationConfig::regular(1),
+                width: 1,
+                height: 1,
+                fovs: vec![crate::foveation::EyeFov {
+                    left: -0.5,
+                    right: 0.5,
+                    up: 0.5,
+                    down: -0.5,
+                }],
+            })?;
+        }
         self.reset_stats()?;
-        let image = self.image.as_ref().expect("ensured above");
-        self.bind(image);
+        self.bind();
         let push = PushConstants {
             probe_count: rays.len() as u32,
             ..Default::default()
@@ -254,7 +499,6 @@ impl Renderer {
         let pipeline = self.raycast.as_ref().expect("created above");
         let layout = &self.layout;
         self.ctx.submit_and_wait("raycast", |cmd| {
-            image.cmd_prepare_for_write(cmd);
             pipeline.cmd_dispatch(cmd, layout, &push, groups)
         })?;
         let overflows = self.read_stats()?[STAT_STACK_OVERFLOW as usize] as u64;
@@ -262,6 +506,59 @@ impl Renderer {
         let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
         Ok((hits, overflows))
     }
+}
+
+/// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
+fn groups_1d(threads: u64) -> [u32; 3] {
+    let groups = threads.div_ceil(TRACE_WORKGROUP_SIZE as u64);
+    let x = groups.min(MAX_GROUPS_X as u64);
+    [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
+}
+
+/// Clamps an angle to the range the shaders use for "no limit".
+fn angle(a: f64) -> f32 {
+    a.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32
+}
+
+/// The GPU's view of one eye's layers for this frame.
+fn gpu_layers(
+    buffer: &RayBuffer,
+    plan: &EyePlan,
+    image: &crate::foveation::ImageGeometry,
+    config: &FoveationConfig,
+    base: u32,
+) -> Vec<GpuLayer> {
+    let gaze = [
+        plan.gaze_tan[0] as f32,
+        plan.gaze_tan[1] as f32,
+        image.max_radians_per_pixel() as f32,
+        (config.blend_deg as f64).to_radians() as f32,
+    ];
+    buffer
+        .layers
+        .iter()
+        .zip(&plan.layers)
+        .enumerate()
+        .map(|(k, (l, p))| GpuLayer {
+            gaze,
+            anchor_x: p.anchor[0],
+            anchor_y: p.anchor[1],
+            spacing: l.spacing as i32,
+            spp: l.spp,
+            lattice_min_x: p.lattice_min[0],
+            lattice_min_y: p.lattice_min[1],
+            lattice_max_x: p.lattice_max[0],
+            lattice_max_y: p.lattice_max[1],
+            fill_min_x: p.fill_min[0],
+            fill_min_y: p.fill_min[1],
+            fill_max_x: p.fill_max[0],
+            fill_max_y: p.fill_max[1],
+            outer: angle(l.outer),
+            inner: angle(l.inner),
+            occlusion: angle(buffer.occlusion),
+            image_layer: base + k as u32,
+        })
+        .collect()
 }
 
 fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
@@ -283,9 +580,6 @@ fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
         height: s.height,
         spp: s.spp,
         seed: s.seed,
-        sample_offset: 0,
-        probe_count: 0,
-        pad0: 0,
-        pad1: 0,
+        ..Default::default()
     }
 }

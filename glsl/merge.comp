@@ -1,0 +1,51 @@
+#version 460
+// The merge pass (thesis 3.2.4): each pixel takes the innermost layer whose radius contains
+// it, F1, and inside that radius's blend band mixes in the next layer out, F0, by eq. 3.18:
+// (1 - v) F0 + v F1 with v rising linearly from 0 at the radius to 1 one band-width inside.
+// Where v is 1 the pixel is F1 exactly (no arithmetic), so the fovea of a foveated frame is
+// bit-identical to a regular frame. Outside the occlusion mask the pixel is black.
+#extension GL_GOOGLE_include_directive : require
+#include "view.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+// Overlay colours of the layers, innermost first (thesis fig. 3.5's role).
+const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1), vec3(0.3, 0.9, 0.3),
+                                      vec3(0.25, 0.5, 1.0), vec3(0.7, 0.35, 1.0), vec3(0.2, 0.9, 0.9),
+                                      vec3(0.9, 0.9, 0.9), vec3(0.6, 0.6, 0.6));
+
+vec3 layer_value(GpuLayer L, ivec2 p, uint k) {
+    vec3 c = imageLoad(layer_images, ivec3(p, L.image_layer)).rgb;
+    if (pc.debug == DEBUG_LAYERS) {
+        float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
+        return LAYER_COLOURS[min(k, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
+    }
+    return c;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= int(pc.width) || p.y >= int(pc.height)) return;
+    ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
+    uint base = pc.eye * pc.layer_count;
+    GpuLayer first = layers[base];
+    vec2 t = pixel_tan(vec2(p) + 0.5);
+    if (angle_between(t, vec2(0.0)) >= first.occlusion) {
+        imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    float theta = angle_between(t, first.gaze.xy);
+    float band = first.gaze.w;
+    uint k = 0u;
+    while (k + 1u < pc.layer_count && theta >= layers[base + k].outer) k++;
+    GpuLayer inner = layers[base + k];
+    float v = band > 0.0 ? clamp((inner.outer - theta) / band, 0.0, 1.0) : 1.0;
+    vec3 c = layer_value(inner, p, k);
+    if (v < 1.0 && k + 1u < pc.layer_count) {
+        c = mix(layer_value(layers[base + k + 1u], p, k + 1u), c, v);
+    }
+    if (pc.debug == DEBUG_LAYERS && v < 1.0) {
+        c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
+    }
+    imageStore(out_image, out_pixel, vec4(c, 1.0));
+}
