@@ -29,17 +29,22 @@ void main() {
     ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
     uint base = pc.eye * pc.layer_count;
     GpuLayer first = layers[base];
-    vec2 t = pixel_tan(vec2(p) + 0.5);
-    if (angle_between(t, vec2(0.0)) >= first.occlusion) {
+    vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), first.occlusion)) {
         imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
         return;
     }
-    float theta = angle_between(t, first.gaze.xy);
+    // The innermost layer whose radius contains the pixel (cosine tests, no trig).
+    vec3 gaze = tan_direction(first.gaze.xy);
     float band = first.gaze.w;
     uint k = 0u;
-    while (k + 1u < pc.layer_count && theta >= layers[base + k].outer) k++;
+    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].outer)) k++;
     GpuLayer inner = layers[base + k];
-    float v = band > 0.0 ? clamp((inner.outer - theta) / band, 0.0, 1.0) : 1.0;
+    // The blend weight needs the angle itself, but only inside the band.
+    float v = 1.0;
+    if (band > 0.0 && !within_angle(u, gaze, inner.outer - band)) {
+        v = clamp((inner.outer - angle_of(u, gaze)) / band, 0.0, 1.0);
+    }
     vec3 c = layer_value(inner, p, k);
     if (v < 1.0 && k + 1u < pc.layer_count) {
         c = mix(layer_value(layers[base + k + 1u], p, k + 1u), c, v);

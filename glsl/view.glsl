@@ -10,12 +10,20 @@ vec2 pixel_tan(vec2 p) {
     return vec2(mix(pc.cam_tan.x, pc.cam_tan.y, uv.x), mix(pc.cam_tan.z, pc.cam_tan.w, uv.y));
 }
 
-// Angle in radians between the directions of two tangent-space points; atan2 of the cross
-// and dot products stays accurate for small angles, where acos does not.
-float angle_between(vec2 a, vec2 b) {
-    vec3 u = normalize(vec3(a, 1.0));
-    vec3 v = normalize(vec3(b, 1.0));
+// Unit direction of a tangent-space point.
+vec3 tan_direction(vec2 t) {
+    return normalize(vec3(t, 1.0));
+}
+
+// Angle in radians between two unit directions (atan2 form, accurate for small angles).
+float angle_of(vec3 u, vec3 v) {
     return atan(length(cross(u, v)), dot(u, v));
+}
+
+// Is the angle between unit directions u and v below `limit` radians? cos is decreasing on
+// [0, pi], so comparing cosines answers it with one dot product and no trig per pixel.
+bool within_angle(vec3 u, vec3 v, float limit) {
+    return limit >= NO_LIMIT || (limit > 0.0 && dot(u, v) > cos(limit));
 }
 
 // Floor division for lattice coordinates that may be negative.

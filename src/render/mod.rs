@@ -9,7 +9,7 @@ mod targets;
 
 pub use frame::{Frame, FrameStats};
 pub use renderer::Renderer;
-pub use request::{DebugView, EyeView, FrameRequest};
+pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
 pub use settings::{Integrator, RenderSettings, MAX_SIDE};
 
 use crate::gpu::GpuError;

@@ -56,3 +56,68 @@ pub struct FrameRequest<'a> {
     pub eyes: &'a [EyeView],
     pub debug: DebugView,
 }
+
+/// Whose field of view the eyes get.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum FovChoice {
+    /// The scene camera's (symmetric; horizontal extent fitted to the image aspect).
+    #[default]
+    Scene,
+    /// The HTC Vive Pro Eye's per-eye asymmetric field of view (about 105° × 111°).
+    ViveProEye,
+}
+
+/// Distance between the eyes in scene units (metres): a typical adult IPD.
+pub const IPD: f32 = 0.063;
+
+/// The eyes of a frame looking where `camera` looks: one at the camera (mono), or two
+/// `IPD` apart along its right vector (stereo). `gaze` gives each eye's gaze.
+pub fn eye_views(
+    camera: &Camera,
+    aspect: f32,
+    fov: FovChoice,
+    stereo: bool,
+    gaze: crate::foveation::GazeChoice,
+) -> Vec<EyeView> {
+    let with_fov = |mut c: Camera, f: EyeFov| {
+        c.angle_left = f.left;
+        c.angle_right = f.right;
+        c.angle_up = f.up;
+        c.angle_down = f.down;
+        c
+    };
+    let (left_fov, right_fov) = match fov {
+        FovChoice::Scene => {
+            let c = camera.with_aspect(aspect);
+            let f = EyeFov {
+                left: c.angle_left,
+                right: c.angle_right,
+                up: c.angle_up,
+                down: c.angle_down,
+            };
+            (f, f)
+        }
+        FovChoice::ViveProEye => (EyeFov::VIVE_PRO_EYE_LEFT, EyeFov::VIVE_PRO_EYE_RIGHT),
+    };
+    if !stereo {
+        return vec![EyeView {
+            camera: with_fov(*camera, left_fov),
+            gaze: gaze.left,
+        }];
+    }
+    let (right, _, _) = camera.basis();
+    let eye = |side: f32, f: EyeFov, gaze: Gaze| EyeView {
+        camera: with_fov(
+            Camera {
+                position: camera.position + right * (side * IPD * 0.5),
+                ..*camera
+            },
+            f,
+        ),
+        gaze,
+    };
+    vec![
+        eye(-1.0, left_fov, gaze.left),
+        eye(1.0, right_fov, gaze.right),
+    ]
+}

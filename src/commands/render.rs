@@ -1,0 +1,262 @@
+//! `fovea render`: one frame, mono or stereo, regular or foveated, written as PNG + EXR; or,
+//! with `--bench`, timings of every built-in scene.
+
+use super::{check_validation, gpu_context, GpuArgs};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use fovea::foveation::{FoveationConfig, GazeChoice};
+use fovea::render::{
+    eye_views, output, DebugView, FovChoice, Frame, FrameRequest, Integrator, RenderSettings,
+    Renderer,
+};
+use fovea::scene;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DebugArg {
+    /// Colour each pixel by the layer it comes from (blend bands darkened).
+    Layers,
+    /// The absolute difference between the foveated frame and a regular one (same seed).
+    Diff,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// A built-in scene (see `fovea scenes`) or a .gltf/.glb file.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Width of one eye's image in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    #[arg(long, default_value_t = 512)]
+    pub height: u32,
+    /// Samples per target pixel. Default: 16 without foveation, each layer's own (4 in the
+    /// thesis config) with it; given with foveation, it replaces every layer's.
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Random seed: the same seed gives a bit-identical image.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    #[arg(long, value_enum, default_value_t = Integrator::Pt)]
+    pub integrator: Integrator,
+    /// Maximum number of bounces after the camera ray's hit.
+    #[arg(long, default_value_t = 8)]
+    pub max_bounces: u32,
+    /// Foveation layers: off (regular rendering), thesis (6°/10°/20° + background, spacings
+    /// 1-4, 4 spp), or a TOML file (see assets/foveation/).
+    #[arg(long, default_value = "off")]
+    pub foveation: String,
+    /// Gaze: forward (the view axis), corner (top left) or X,Y in pixels; LEFT:RIGHT per eye.
+    #[arg(long, default_value = "forward")]
+    pub gaze: GazeChoice,
+    /// Render both eyes (IPD 63 mm), side by side in one image.
+    #[arg(long)]
+    pub stereo: bool,
+    /// Field of view of the eyes: the scene camera's, or the Vive Pro Eye's per-eye one.
+    #[arg(long, value_enum, default_value_t = FovChoice::Scene)]
+    pub fov: FovChoice,
+    /// A debug view instead of the image.
+    #[arg(long, value_enum)]
+    pub debug: Option<DebugArg>,
+    /// Output image: .png (an .exr with linear radiance is written beside it) or .exr.
+    #[arg(long, default_value = "fovea.png")]
+    pub out: PathBuf,
+    /// Instead of one image, time every built-in scene: regular, and with --foveation other
+    /// than off also forward and corner gaze.
+    #[arg(long)]
+    pub bench: bool,
+    /// Frames timed per scene and mode in --bench (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    pub bench_frames: u32,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+impl RenderArgs {
+    /// The layer config asked for, with --spp applied.
+    pub fn foveation(&self) -> Result<FoveationConfig> {
+        let config = match FoveationConfig::from_arg(&self.foveation)? {
+            None => FoveationConfig::regular(self.spp.unwrap_or(16)),
+            Some(c) => match self.spp {
+                Some(spp) => c.with_spp(spp),
+                None => c,
+            },
+        };
+        config.validate()?;
+        Ok(config)
+    }
+
+    pub fn settings(&self, config: &FoveationConfig) -> RenderSettings {
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            // A regular frame compared with this one uses the innermost layer's spp.
+            spp: config.layers[0].spp,
+            seed: self.seed,
+            integrator: self.integrator,
+            max_bounces: self.max_bounces,
+        }
+    }
+}
+
+pub fn run(args: &RenderArgs) -> Result<()> {
+    let config = args.foveation()?;
+    let settings = args.settings(&config);
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let ctx = gpu_context(&args.gpu)?;
+    println!(
+        "device: {} ({}; {})",
+        ctx.info.name, ctx.info.kind, ctx.info.driver
+    );
+    if args.bench {
+        return super::render_bench::run(&ctx, args, &config, &settings);
+    }
+    let aspect = settings.width as f32 / settings.height as f32;
+    let scene = scene::load(&args.scene, aspect)?;
+    let started = Instant::now();
+    let mut renderer = Renderer::new(&ctx, &scene)?;
+    let setup = started.elapsed();
+    println!(
+        "scene {}: {} triangles, {} boxes, {} spheres ({}); BVH build + upload {:.1} ms",
+        scene.name,
+        scene.triangle_count(),
+        scene.boxes.len(),
+        scene.spheres.len(),
+        renderer.features().describe(),
+        setup.as_secs_f64() * 1e3
+    );
+    let eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, args.gaze);
+    let request = FrameRequest {
+        settings,
+        foveation: &config,
+        eyes: &eyes,
+        debug: match args.debug {
+            Some(DebugArg::Layers) => DebugView::Layers,
+            _ => DebugView::None,
+        },
+    };
+    let mut frame = renderer.render_frame(&request)?;
+    report(&frame, &config, &settings);
+    if args.debug == Some(DebugArg::Diff) {
+        let regular_config = FoveationConfig::regular(settings.spp);
+        let regular = renderer.render_frame(&FrameRequest {
+            foveation: &regular_config,
+            ..request
+        })?;
+        let diff = difference(&frame, &regular);
+        println!(
+            "difference from a regular frame at {} spp (same seed): mean |Δ| {:.5}, {:.1}% of pixels identical",
+            settings.spp,
+            diff.mean().iter().sum::<f64>() / 3.0,
+            100.0 * identical_fraction(&frame, &regular)
+        );
+        frame.rgb = diff.rgb;
+    }
+    let written = output::write_frame(&frame, &args.out)?;
+    for path in written {
+        println!("wrote {}", path.display());
+    }
+    drop(renderer);
+    check_validation(&ctx)?;
+    let s = &frame.stats;
+    if s.stack_overflows > 0 {
+        bail!(
+            "{} BVH traversals overflowed their stack: the image is missing geometry",
+            s.stack_overflows
+        );
+    }
+    Ok(())
+}
+
+/// Prints what the frame traced, per layer, and what it cost.
+fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
+    let s = &frame.stats;
+    for (e, (gaze, fix)) in frame.gazes.iter().enumerate() {
+        let which = match (frame.gazes.len(), e) {
+            (1, _) => "eye",
+            (_, 0) => "left eye",
+            _ => "right eye",
+        };
+        println!(
+            "{which}: gaze at pixel ({:.1}, {:.1}){}",
+            gaze[0],
+            gaze[1],
+            match fix {
+                fovea::foveation::gaze::GazeFix::None => "",
+                fovea::foveation::gaze::GazeFix::NotFinite => " (requested gaze not finite: view axis used)",
+                fovea::foveation::gaze::GazeFix::Clamped => " (requested gaze off the image: clamped to its border)",
+            }
+        );
+    }
+    println!(
+        "{:<6} {:>8} {:>8} {:>5} {:>12}",
+        "layer", "radius", "spacing", "spp", "samples"
+    );
+    for (k, (layer, samples)) in config.layers.iter().zip(&s.layer_samples).enumerate() {
+        let radius = layer
+            .radius_deg
+            .map_or("rest".to_string(), |r| format!("{r}°"));
+        println!(
+            "{:<6} {:>8} {:>8} {:>5} {:>12}",
+            k + 1,
+            radius,
+            layer.spacing,
+            layer.spp,
+            samples
+        );
+    }
+    let planned: u64 = s.layer_samples.iter().sum();
+    let full = frame.width as u64 * frame.height as u64 * settings.spp as u64;
+    println!(
+        "samples traced: {planned} ({:.2}% of a regular frame's {full}); frame planned in {:.2} ms",
+        100.0 * planned as f64 / full as f64,
+        s.plan_ms
+    );
+    for (pass, ms) in &s.pass_ms {
+        println!("gpu pass {pass}: {ms:.2} ms");
+    }
+    println!(
+        "{}x{} {:?}: {:.2} ms GPU, {:.2} Msamples/s, {} rays ({:.2} Mrays/s)",
+        frame.width,
+        frame.height,
+        settings.integrator,
+        s.gpu_ms(),
+        s.msamples_per_s(),
+        s.rays,
+        s.rays as f64 / (s.gpu_ms() * 1e3).max(1e-9)
+    );
+    println!(
+        "non-finite samples dropped: {}, BVH stack overflows: {}",
+        s.nonfinite_samples, s.stack_overflows
+    );
+}
+
+/// |a - b| per channel.
+fn difference(a: &Frame, b: &Frame) -> Frame {
+    Frame {
+        rgb: a.rgb.iter().zip(&b.rgb).map(|(x, y)| (x - y).abs()).collect(),
+        ..a.clone()
+    }
+}
+
+fn identical_fraction(a: &Frame, b: &Frame) -> f64 {
+    let same = a
+        .rgb
+        .chunks_exact(3)
+        .zip(b.rgb.chunks_exact(3))
+        .filter(|(x, y)| x == y)
+        .count();
+    same as f64 / (a.rgb.len() / 3).max(1) as f64
+}
+
+/// Renders one frame and names the scene on failure.
+pub fn render_named(
+    renderer: &mut Renderer,
+    request: &FrameRequest,
+    name: &str,
+) -> Result<Frame> {
+    renderer
+        .render_frame(request)
+        .with_context(|| format!("rendering {name}"))
+}

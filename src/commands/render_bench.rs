@@ -1,0 +1,161 @@
+//! `fovea render --bench`: GPU time of every built-in scene at the given size, regular and —
+//! when a foveation config is given — foveated with forward and corner gaze, measured in one
+//! run with the modes interleaved frame by frame (this machine's speed drifts). Reports the
+//! ray-count ratio (the ideal speed-up) beside the measured GPU-time ratio.
+
+use super::check_validation;
+use super::render::{render_named, RenderArgs};
+use anyhow::Result;
+use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
+use fovea::gpu::GpuContext;
+use fovea::render::{eye_views, DebugView, FrameRequest, RenderSettings, Renderer};
+use fovea::scene::{self, builtin::BUILTIN_SCENES};
+use std::sync::Arc;
+
+/// One way of rendering a scene, and what its frames cost.
+struct Mode {
+    name: &'static str,
+    config: FoveationConfig,
+    gaze: Gaze,
+    gpu_ms: Vec<f64>,
+    trace_ms: Vec<f64>,
+    samples: u64,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+pub fn run(
+    ctx: &Arc<GpuContext>,
+    args: &RenderArgs,
+    config: &FoveationConfig,
+    settings: &RenderSettings,
+) -> Result<()> {
+    let foveated = !config.is_regular();
+    println!(
+        "{}x{} per eye, {} eye(s), fov {:?}, {} frames per mode (median), {:?}, depth {}",
+        settings.width,
+        settings.height,
+        if args.stereo { 2 } else { 1 },
+        args.fov,
+        args.bench_frames,
+        settings.integrator,
+        settings.max_bounces
+    );
+    if foveated {
+        println!(
+            "{:<12} {:>10} {:>10} {:>10} | {:>8} {:>8} {:>5} | {:>8} {:>8} {:>5}",
+            "scene", "regular", "forward", "corner", "ideal", "measured", "eff", "ideal", "measured", "eff"
+        );
+    } else {
+        println!(
+            "{:<12} {:>10} {:>10} {:>12}",
+            "scene", "gpu ms", "Msamples/s", "Mrays/s"
+        );
+    }
+    let aspect = settings.width as f32 / settings.height as f32;
+    for (name, _) in BUILTIN_SCENES {
+        let scene = scene::builtin::builtin(name, aspect)?;
+        let mut renderer = Renderer::new(ctx, &scene)?;
+        let mut modes = vec![Mode {
+            name: "regular",
+            config: FoveationConfig::regular(settings.spp),
+            gaze: Gaze::Forward,
+            gpu_ms: Vec::new(),
+            trace_ms: Vec::new(),
+            samples: 0,
+        }];
+        if foveated {
+            for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
+                modes.push(Mode {
+                    name,
+                    config: config.clone(),
+                    gaze,
+                    gpu_ms: Vec::new(),
+                    trace_ms: Vec::new(),
+                    samples: 0,
+                });
+            }
+        }
+        let mut rays = 0;
+        // Frame 0 of each mode is a warm-up (pipeline compilation, first-touch memory).
+        for frame_index in 0..=args.bench_frames {
+            for mode in &mut modes {
+                let gaze = GazeChoice {
+                    left: mode.gaze,
+                    right: mode.gaze,
+                };
+                let eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, gaze);
+                let request = FrameRequest {
+                    settings: *settings,
+                    foveation: &mode.config,
+                    eyes: &eyes,
+                    debug: DebugView::None,
+                };
+                let frame = render_named(&mut renderer, &request, name)?;
+                if frame_index == 0 {
+                    continue;
+                }
+                let s = &frame.stats;
+                mode.gpu_ms.push(s.gpu_ms());
+                mode.trace_ms.push(
+                    s.pass_ms
+                        .iter()
+                        .filter(|(p, _)| p.ends_with("trace"))
+                        .map(|(_, ms)| ms)
+                        .sum(),
+                );
+                mode.samples = s.paths;
+                if mode.name == "regular" {
+                    rays = s.rays;
+                }
+            }
+        }
+        let ms: Vec<f64> = modes.iter().map(|m| median(&m.gpu_ms)).collect();
+        if foveated {
+            let ratio = |m: &Mode| modes[0].samples as f64 / m.samples.max(1) as f64;
+            let (fwd, cor) = (&modes[1], &modes[2]);
+            println!(
+                "{:<12} {:>10.1} {:>10.1} {:>10.1} | {:>8.2} {:>8.2} {:>4.0}% | {:>8.2} {:>8.2} {:>4.0}%",
+                name,
+                ms[0],
+                ms[1],
+                ms[2],
+                ratio(fwd),
+                ms[0] / ms[1],
+                100.0 * ms[0] / ms[1] / ratio(fwd),
+                ratio(cor),
+                ms[0] / ms[2],
+                100.0 * ms[0] / ms[2] / ratio(cor),
+            );
+            for m in &modes[1..] {
+                println!(
+                    "{:<12}   {:<8} samples {:>10} (regular {}), trace {:.1} ms, fill+merge {:.1} ms",
+                    "",
+                    m.name,
+                    m.samples,
+                    modes[0].samples,
+                    median(&m.trace_ms),
+                    median(&m.gpu_ms) - median(&m.trace_ms)
+                );
+            }
+        } else {
+            let m = &modes[0];
+            println!(
+                "{:<12} {:>10.1} {:>10.2} {:>12.2}",
+                name,
+                ms[0],
+                m.samples as f64 / (ms[0] * 1e3).max(1e-9),
+                rays as f64 / (ms[0] * 1e3).max(1e-9)
+            );
+        }
+    }
+    check_validation(ctx)
+}
