@@ -56,9 +56,8 @@ void main() {
     // one pixel of slack for float differences.
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
     vec3 gaze = tan_direction(L.gaze.xy);
-    float slack = L.gaze.z;
-    if (!within_angle(u, gaze, L.outer + slack) || within_angle(u, gaze, L.inner - slack)) return;
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), L.occlusion + slack)) return;
+    if (!within_angle(u, gaze, L.fill_cos.x) || within_angle(u, gaze, L.fill_cos.y)) return;
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), L.fill_cos.z)) return;
 
     ivec2 k = cell - 1 - first_cell; // this pixel's first tap within the tile
     vec2 f = vec2(within) / float(d);

@@ -30,7 +30,7 @@ void main() {
     uint base = pc.eye * pc.layer_count;
     GpuLayer first = layers[base];
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), first.occlusion)) {
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), first.merge_cos.z)) {
         imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
         return;
     }
@@ -38,11 +38,11 @@ void main() {
     vec3 gaze = tan_direction(first.gaze.xy);
     float band = first.gaze.w;
     uint k = 0u;
-    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].outer)) k++;
+    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].merge_cos.x)) k++;
     GpuLayer inner = layers[base + k];
     // The blend weight needs the angle itself, but only inside the band.
     float v = 1.0;
-    if (band > 0.0 && !within_angle(u, gaze, inner.outer - band)) {
+    if (band > 0.0 && !within_angle(u, gaze, inner.merge_cos.y)) {
         v = clamp((inner.outer - angle_of(u, gaze)) / band, 0.0, 1.0);
     }
     vec3 c = layer_value(inner, p, k);

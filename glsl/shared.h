@@ -154,6 +154,10 @@ struct GpuSpan {
 // One layer of one eye for this frame. Angles are radians from the gaze direction.
 struct GpuLayer {
     vec4 gaze; // xy: the gaze's tangent-space point; z: one pixel's largest angle; w: blend band
+    // Cosines of the angle limits, so per-pixel tests are one dot product (a pixel is within
+    // a limit when dot(direction, centre) > cos). -2: no limit; 2: nothing is within.
+    vec4 fill_cos; // x: outer + slack, y: inner - slack, z: occlusion + slack (from the gaze / axis)
+    vec4 merge_cos; // x: outer, y: outer - band, z: occlusion
     int anchor_x; // pixel the ray-buffer offsets are relative to
     int anchor_y;
     int spacing;
@@ -166,10 +170,10 @@ struct GpuLayer {
     int fill_min_y;
     int fill_max_x;
     int fill_max_y;
-    float outer; // shown where angle < outer (NO_LIMIT: background)
-    float inner; // ... and angle > inner (-NO_LIMIT: innermost layer)
-    float occlusion; // angle from the view axis beyond which nothing is shown
+    float outer; // radius: shown where angle < outer (NO_LIMIT: background); blends inside it
     uint image_layer; // layer of LAYER_IMAGES holding this layer's image
+    uint pad0;
+    uint pad1;
 };
 
 struct GpuProbeRay {

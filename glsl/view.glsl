@@ -20,10 +20,10 @@ float angle_of(vec3 u, vec3 v) {
     return atan(length(cross(u, v)), dot(u, v));
 }
 
-// Is the angle between unit directions u and v below `limit` radians? cos is decreasing on
-// [0, pi], so comparing cosines answers it with one dot product and no trig per pixel.
-bool within_angle(vec3 u, vec3 v, float limit) {
-    return limit >= NO_LIMIT || (limit > 0.0 && dot(u, v) > cos(limit));
+// Is the angle between unit directions u and v below the limit whose cosine is `cos_limit`?
+// cos is decreasing on [0, pi], so one dot product answers it (GpuLayer's *_cos fields).
+bool within_angle(vec3 u, vec3 v, float cos_limit) {
+    return dot(u, v) > cos_limit;
 }
 
 // Floor division for lattice coordinates that may be negative.

@@ -65,6 +65,13 @@ fn render_writes_png_and_exr_and_reports_time_and_counters() {
 
 #[test]
 fn bad_input_gets_a_clear_error_and_nonzero_exit() {
+    // A layer config whose inner layer is coarser than the background.
+    let bad_layers = std::env::temp_dir().join(format!("fovea-bad-{}.toml", std::process::id()));
+    std::fs::write(
+        &bad_layers,
+        "[[layer]]\nradius_deg = 6.0\nspacing = 4\n[[layer]]\nspacing = 2\n",
+    )
+    .unwrap();
     let cases: &[(&[&str], &str)] = &[
         (
             &["render", "--width", "0", "--out", "/tmp/x.png"],
@@ -107,6 +114,16 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
             &["render", "--device", "no-such-gpu", "--out", "/tmp/x.png"],
             "no Vulkan device matches",
         ),
+        (
+            &["render", "--foveation", "/nonexistent/layers.toml"],
+            "'thesis'",
+        ),
+        (&["render", "--gaze", "up"], "forward, corner or X,Y"),
+        (&["render", "--gaze", "1,x"], "not a number"),
+        (
+            &["render", "--foveation", bad_layers.to_str().unwrap()],
+            "spacing",
+        ),
     ];
     for (args, expected) in cases {
         let (ok, text) = fovea(args);
@@ -116,4 +133,75 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
             "fovea {args:?}: expected '{expected}' in:\n{text}"
         );
     }
+}
+
+#[test]
+fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
+    let dir = std::env::temp_dir().join(format!("fovea-cli-fov-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("layers.png");
+    let (ok, text) = fovea(&[
+        "render",
+        "--scene",
+        "bunny-low",
+        "--width",
+        "40",
+        "--height",
+        "44",
+        "--foveation",
+        "thesis",
+        "--spp",
+        "1",
+        "--stereo",
+        "--fov",
+        "vive-pro-eye",
+        "--gaze",
+        "10,12:corner",
+        "--debug",
+        "layers",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("left eye: gaze at pixel (10.0, 12.0)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("right eye: gaze at pixel (0.5, 0.5)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("left trace") && text.contains("right merge"),
+        "{text}"
+    );
+    assert!(text.contains("samples traced:"), "{text}");
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (80, 44));
+
+    let (ok, text) = fovea(&[
+        "render",
+        "--scene",
+        "control",
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--foveation",
+        "thesis",
+        "--debug",
+        "diff",
+        "--out",
+        dir.join("diff.png").to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    let identical: f64 = text
+        .split("% of pixels identical")
+        .next()
+        .and_then(|t| t.rsplit(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no identical-pixel share in:\n{text}"));
+    // The fovea is identical to the regular frame, the periphery is not.
+    assert!(identical > 0.5 && identical < 100.0, "{text}");
 }

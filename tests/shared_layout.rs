@@ -146,6 +146,8 @@ fn rust_mirrors_match_shared_h_std430_layout() {
         s,
         GpuLayer {
             gaze,
+            fill_cos,
+            merge_cos,
             anchor_x,
             anchor_y,
             spacing,
@@ -159,9 +161,9 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             fill_max_x,
             fill_max_y,
             outer,
-            inner,
-            occlusion,
-            image_layer
+            image_layer,
+            pad0,
+            pad1
         }
     );
     check!(s, GpuProbeRay { origin, direction });

@@ -76,6 +76,15 @@ pub struct RenderArgs {
 impl RenderArgs {
     /// The layer config asked for, with --spp applied.
     pub fn foveation(&self) -> Result<FoveationConfig> {
+        if let Some(spp) = self.spp {
+            // The same range and message as any frame's settings.
+            RenderSettings {
+                spp,
+                ..RenderSettings::default()
+            }
+            .validate()
+            .map_err(anyhow::Error::msg)?;
+        }
         let config = match FoveationConfig::from_arg(&self.foveation)? {
             None => FoveationConfig::regular(self.spp.unwrap_or(16)),
             Some(c) => match self.spp {
@@ -184,8 +193,10 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
             gaze[1],
             match fix {
                 fovea::foveation::gaze::GazeFix::None => "",
-                fovea::foveation::gaze::GazeFix::NotFinite => " (requested gaze not finite: view axis used)",
-                fovea::foveation::gaze::GazeFix::Clamped => " (requested gaze off the image: clamped to its border)",
+                fovea::foveation::gaze::GazeFix::NotFinite =>
+                    " (requested gaze not finite: view axis used)",
+                fovea::foveation::gaze::GazeFix::Clamped =>
+                    " (requested gaze off the image: clamped to its border)",
             }
         );
     }
@@ -235,7 +246,12 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
 /// |a - b| per channel.
 fn difference(a: &Frame, b: &Frame) -> Frame {
     Frame {
-        rgb: a.rgb.iter().zip(&b.rgb).map(|(x, y)| (x - y).abs()).collect(),
+        rgb: a
+            .rgb
+            .iter()
+            .zip(&b.rgb)
+            .map(|(x, y)| (x - y).abs())
+            .collect(),
         ..a.clone()
     }
 }
@@ -251,11 +267,7 @@ fn identical_fraction(a: &Frame, b: &Frame) -> f64 {
 }
 
 /// Renders one frame and names the scene on failure.
-pub fn render_named(
-    renderer: &mut Renderer,
-    request: &FrameRequest,
-    name: &str,
-) -> Result<Frame> {
+pub fn render_named(renderer: &mut Renderer, request: &FrameRequest, name: &str) -> Result<Frame> {
     renderer
         .render_frame(request)
         .with_context(|| format!("rendering {name}"))

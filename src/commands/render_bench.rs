@@ -52,7 +52,16 @@ pub fn run(
     if foveated {
         println!(
             "{:<12} {:>10} {:>10} {:>10} | {:>8} {:>8} {:>5} | {:>8} {:>8} {:>5}",
-            "scene", "regular", "forward", "corner", "ideal", "measured", "eff", "ideal", "measured", "eff"
+            "scene",
+            "regular",
+            "forward",
+            "corner",
+            "ideal",
+            "measured",
+            "eff",
+            "ideal",
+            "measured",
+            "eff"
         );
     } else {
         println!(

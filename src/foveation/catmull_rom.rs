@@ -33,9 +33,7 @@ impl Lattice {
         let (cx, cy) = (rx.div_euclid(d), ry.div_euclid(d));
         let tx = (rx - cx * d) as f32 / d as f32;
         let ty = (ry - cy * d) as f32 / d as f32;
-        let tap = |c: i32, k: usize| {
-            (self.anchor[k] + c * d).clamp(self.min[k], self.max[k])
-        };
+        let tap = |c: i32, k: usize| (self.anchor[k] + c * d).clamp(self.min[k], self.max[k]);
         let rows: [f32; 4] = std::array::from_fn(|j| {
             let yy = tap(cy + j as i32 - 1, 1);
             cubic(
@@ -76,7 +74,11 @@ mod tests {
         for y in 4..26 {
             for x in 5..27 {
                 let got = lattice.interpolate(x, y, f);
-                assert!((got - f(x, y)).abs() < 1e-5, "({x},{y}): {got} vs {}", f(x, y));
+                assert!(
+                    (got - f(x, y)).abs() < 1e-5,
+                    "({x},{y}): {got} vs {}",
+                    f(x, y)
+                );
             }
         }
         assert!(lattice.contains(5, 7) && !lattice.contains(6, 7));

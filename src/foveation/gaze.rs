@@ -114,7 +114,10 @@ mod tests {
         assert_eq!(pair.right, Gaze::Pixel(10.5, 20.0));
         for bad in ["", "up", "1,2,3", "x,2", "1;2"] {
             let e = bad.parse::<GazeChoice>().unwrap_err();
-            assert!(e.contains("forward, corner or X,Y") || e.contains("not a number"), "{e}");
+            assert!(
+                e.contains("forward, corner or X,Y") || e.contains("not a number"),
+                "{e}"
+            );
         }
     }
 
@@ -131,7 +134,11 @@ mod tests {
     #[test]
     fn bad_gazes_become_safe_points() {
         let g = image();
-        for (x, y) in [(f64::NAN, 3.0), (1.0, f64::INFINITY), (f64::NEG_INFINITY, f64::NAN)] {
+        for (x, y) in [
+            (f64::NAN, 3.0),
+            (1.0, f64::INFINITY),
+            (f64::NEG_INFINITY, f64::NAN),
+        ] {
             let (p, fix) = Gaze::Pixel(x, y).resolve(&g);
             assert_eq!(fix, GazeFix::NotFinite);
             assert_eq!(p, Gaze::Forward.resolve(&g).0);

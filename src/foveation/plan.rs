@@ -142,8 +142,14 @@ impl EyePlan {
             // Lattice indices whose pixels are on the image, within the buffer's extent.
             let lo = |a: i32| (-a).div_euclid(d) + i32::from((-a).rem_euclid(d) != 0);
             let hi = |a: i32, size: i32| (size - 1 - a).div_euclid(d);
-            let (i0, i1) = (lo(anchor[0]).max(l.col_min), hi(anchor[0], w).min(l.col_max));
-            let (j0, j1) = (lo(anchor[1]).max(l.row_min), hi(anchor[1], h).min(l.row_max));
+            let (i0, i1) = (
+                lo(anchor[0]).max(l.col_min),
+                hi(anchor[0], w).min(l.col_max),
+            );
+            let (j0, j1) = (
+                lo(anchor[1]).max(l.row_min),
+                hi(anchor[1], h).min(l.row_max),
+            );
             let mut targets = 0u64;
             let (mut min, mut max) = ([i32::MAX; 2], [i32::MIN; 2]);
             for j in j0..=j1 {
@@ -185,7 +191,10 @@ impl EyePlan {
                 anchor,
                 targets,
                 lattice_min: [anchor[0] + lo(anchor[0]) * d, anchor[1] + lo(anchor[1]) * d],
-                lattice_max: [anchor[0] + hi(anchor[0], w) * d, anchor[1] + hi(anchor[1], h) * d],
+                lattice_max: [
+                    anchor[0] + hi(anchor[0], w) * d,
+                    anchor[1] + hi(anchor[1], h) * d,
+                ],
                 fill_min,
                 fill_max,
             });
@@ -264,7 +273,12 @@ mod tests {
             blend_deg: 3.0,
             occlusion_deg: None,
         };
-        vec![FoveationConfig::thesis(), occluded, two, FoveationConfig::regular(2)]
+        vec![
+            FoveationConfig::thesis(),
+            occluded,
+            two,
+            FoveationConfig::regular(2),
+        ]
     }
 
     #[test]
@@ -280,7 +294,11 @@ mod tests {
                     let (g, _) = gaze.resolve(&image);
                     let plan = EyePlan::new(&buffer, &image, g);
                     let planned: Vec<u64> = plan.layers.iter().map(|l| l.targets).collect();
-                    assert_eq!(planned, brute_force(&buffer, &image, g), "{config:?} {gaze:?}");
+                    assert_eq!(
+                        planned,
+                        brute_force(&buffer, &image, g),
+                        "{config:?} {gaze:?}"
+                    );
                     let spans: u64 = plan.spans.iter().map(|s| s.count as u64).sum();
                     assert_eq!(spans, planned.iter().sum::<u64>());
                 }

@@ -75,7 +75,10 @@ pub fn pack_offset(dx: i32, dy: i32) -> u32 {
 }
 
 pub fn unpack_offset(v: u32) -> (i32, i32) {
-    ((v & 0xffff) as u16 as i16 as i32, (v >> 16) as u16 as i16 as i32)
+    (
+        (v & 0xffff) as u16 as i16 as i32,
+        (v >> 16) as u16 as i16 as i32,
+    )
 }
 
 impl RayBuffer {
@@ -221,7 +224,10 @@ mod tests {
         let b = RayBuffer::build(&FoveationConfig::regular(3), &[g]);
         assert_eq!(b.offsets.len(), 37 * 23);
         assert_eq!(b.layers.len(), 1);
-        assert_eq!(unpack_offset(b.offsets[b.layers[0].index(36, 22) as usize]), (36, 22));
+        assert_eq!(
+            unpack_offset(b.offsets[b.layers[0].index(36, 22) as usize]),
+            (36, 22)
+        );
     }
 
     #[test]

@@ -158,7 +158,10 @@ mod tests {
         };
         let centre = at(axis[0]);
         let edge = at(2.0);
-        assert!(edge > 1.8 * centre, "edge {edge} px/deg, centre {centre} px/deg");
+        assert!(
+            edge > 1.8 * centre,
+            "edge {edge} px/deg, centre {centre} px/deg"
+        );
         // And never more radians per pixel than the bound says.
         assert!(1.0 / centre <= g.max_radians_per_pixel().to_degrees() * (1.0 + 1e-9));
     }

@@ -103,6 +103,8 @@ pub struct GpuSpan {
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuLayer {
     pub gaze: [f32; 4],
+    pub fill_cos: [f32; 4],
+    pub merge_cos: [f32; 4],
     pub anchor_x: i32,
     pub anchor_y: i32,
     pub spacing: i32,
@@ -116,9 +118,9 @@ pub struct GpuLayer {
     pub fill_max_x: i32,
     pub fill_max_y: i32,
     pub outer: f32,
-    pub inner: f32,
-    pub occlusion: f32,
     pub image_layer: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 /// shared.h's `NO_LIMIT` (a float, so build.rs does not generate it).

@@ -11,9 +11,7 @@ use super::RenderError;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer};
 use crate::gpu::shared::*;
-use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, TimestampPool,
-};
+use crate::gpu::{shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, TimestampPool};
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use gpu_allocator::MemoryLocation;
@@ -165,7 +163,10 @@ impl Renderer {
     /// Points every binding at this renderer's buffers and the current targets.
     fn bind(&self) {
         let b = &self.buffers;
-        let t = self.targets.as_ref().expect("targets are ensured before binding");
+        let t = self
+            .targets
+            .as_ref()
+            .expect("targets are ensured before binding");
         let mut list: Vec<(u32, &Buffer)> = vec![
             (BINDING_BLAS_NODES, &b.blas_nodes),
             (BINDING_TLAS_NODES, &b.tlas_nodes),
@@ -329,7 +330,13 @@ impl Renderer {
                 prefix += span.count;
             }
             let base = e as u32 * layer_count;
-            layers.extend(gpu_layers(&targets.buffer, &plan, image, request.foveation, base));
+            layers.extend(gpu_layers(
+                &targets.buffer,
+                &plan,
+                image,
+                request.foveation,
+                base,
+            ));
             let fills = plan
                 .layers
                 .iter()
@@ -520,6 +527,18 @@ fn angle(a: f64) -> f32 {
     a.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32
 }
 
+/// The cosine of an angle limit as the shaders test it (`dot > cos`): -2 when everything is
+/// within (a limit of π or more), 2 when nothing is (a limit of 0 or less).
+fn cos_limit(a: f64) -> f32 {
+    if a >= std::f64::consts::PI {
+        -2.0
+    } else if a <= 0.0 {
+        2.0
+    } else {
+        a.cos() as f32
+    }
+}
+
 /// The GPU's view of one eye's layers for this frame.
 fn gpu_layers(
     buffer: &RayBuffer,
@@ -528,11 +547,13 @@ fn gpu_layers(
     config: &FoveationConfig,
     base: u32,
 ) -> Vec<GpuLayer> {
+    let slack = image.max_radians_per_pixel();
+    let blend = (config.blend_deg as f64).to_radians();
     let gaze = [
         plan.gaze_tan[0] as f32,
         plan.gaze_tan[1] as f32,
-        image.max_radians_per_pixel() as f32,
-        (config.blend_deg as f64).to_radians() as f32,
+        slack as f32,
+        blend as f32,
     ];
     buffer
         .layers
@@ -541,6 +562,18 @@ fn gpu_layers(
         .enumerate()
         .map(|(k, (l, p))| GpuLayer {
             gaze,
+            fill_cos: [
+                cos_limit(l.outer + slack),
+                cos_limit(l.inner - slack),
+                cos_limit(buffer.occlusion + slack),
+                0.0,
+            ],
+            merge_cos: [
+                cos_limit(l.outer),
+                cos_limit(l.outer - blend),
+                cos_limit(buffer.occlusion),
+                0.0,
+            ],
             anchor_x: p.anchor[0],
             anchor_y: p.anchor[1],
             spacing: l.spacing as i32,
@@ -554,9 +587,9 @@ fn gpu_layers(
             fill_max_x: p.fill_max[0],
             fill_max_y: p.fill_max[1],
             outer: angle(l.outer),
-            inner: angle(l.inner),
-            occlusion: angle(buffer.occlusion),
             image_layer: base + k as u32,
+            pad0: 0,
+            pad1: 0,
         })
         .collect()
 }

@@ -57,7 +57,8 @@ impl FrameTargets {
                 key.width, key.height
             )));
         }
-        let ray_buffer = Buffer::with_data(ctx, "ray buffer", bytemuck::cast_slice(&buffer.offsets))?;
+        let ray_buffer =
+            Buffer::with_data(ctx, "ray buffer", bytemuck::cast_slice(&buffer.offsets))?;
         let layer_images = StorageImage::new_array(
             ctx,
             "layer images",
@@ -71,7 +72,11 @@ impl FrameTargets {
             "frame layers",
             (eyes * layer_count) as u64 * std::mem::size_of::<GpuLayer>() as u64,
         )?;
-        let spans = host_buffer(ctx, "frame spans", 4096 * std::mem::size_of::<GpuSpan>() as u64)?;
+        let spans = host_buffer(
+            ctx,
+            "frame spans",
+            4096 * std::mem::size_of::<GpuSpan>() as u64,
+        )?;
         Ok(Self {
             key,
             buffer,
