@@ -14,8 +14,8 @@ const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1),
                                       vec3(0.25, 0.5, 1.0), vec3(0.7, 0.35, 1.0), vec3(0.2, 0.9, 0.9),
                                       vec3(0.9, 0.9, 0.9), vec3(0.6, 0.6, 0.6));
 
-vec3 layer_value(GpuLayer L, ivec2 p, uint k) {
-    vec3 c = imageLoad(layer_images, ivec3(p, L.image_layer)).rgb;
+vec3 layer_value(uint image_layer, ivec2 p, uint k) {
+    vec3 c = imageLoad(layer_images, ivec3(p, image_layer)).rgb;
     if (pc.debug == DEBUG_LAYERS) {
         float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
         return LAYER_COLOURS[min(k, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
@@ -23,34 +23,42 @@ vec3 layer_value(GpuLayer L, ivec2 p, uint k) {
     return c;
 }
 
-void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= int(pc.width) || p.y >= int(pc.height)) return;
+void merge_pixel(ivec2 p, uint base, vec3 gaze, float band, float cos_occlusion) {
     ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
-    uint base = pc.eye * pc.layer_count;
-    GpuLayer first = layers[base];
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), first.merge_cos.z)) {
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion)) {
         imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
         return;
     }
     // The innermost layer whose radius contains the pixel (cosine tests, no trig).
-    vec3 gaze = tan_direction(first.gaze.xy);
-    float band = first.gaze.w;
     uint k = 0u;
     while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].merge_cos.x)) k++;
-    GpuLayer inner = layers[base + k];
     // The blend weight needs the angle itself, but only inside the band.
     float v = 1.0;
-    if (band > 0.0 && !within_angle(u, gaze, inner.merge_cos.y)) {
-        v = clamp((inner.outer - angle_of(u, gaze)) / band, 0.0, 1.0);
+    if (band > 0.0 && !within_angle(u, gaze, layers[base + k].merge_cos.y)) {
+        v = clamp((layers[base + k].outer - angle_of(u, gaze)) / band, 0.0, 1.0);
     }
-    vec3 c = layer_value(inner, p, k);
+    vec3 c = layer_value(layers[base + k].image_layer, p, k);
     if (v < 1.0 && k + 1u < pc.layer_count) {
-        c = mix(layer_value(layers[base + k + 1u], p, k + 1u), c, v);
+        c = mix(layer_value(layers[base + k + 1u].image_layer, p, k + 1u), c, v);
     }
     if (pc.debug == DEBUG_LAYERS && v < 1.0) {
         c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
     }
     imageStore(out_image, out_pixel, vec4(c, 1.0));
+}
+
+void main() {
+    uint base = pc.eye * pc.layer_count;
+    // Per-eye values, the same for every pixel: read once per invocation.
+    vec3 gaze = tan_direction(layers[base].gaze.xy);
+    float band = layers[base].gaze.w;
+    float cos_occlusion = layers[base].merge_cos.z;
+    int y = int(gl_GlobalInvocationID.y);
+    int x0 = int(gl_WorkGroupID.x * gl_WorkGroupSize.x) * PIXELS_PER_INVOCATION + int(gl_LocalInvocationID.x);
+    if (y >= int(pc.height)) return;
+    for (int i = 0; i < PIXELS_PER_INVOCATION; ++i) {
+        int x = x0 + i * int(gl_WorkGroupSize.x);
+        if (x < int(pc.width)) merge_pixel(ivec2(x, y), base, gaze, band, cos_occlusion);
+    }
 }

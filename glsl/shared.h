@@ -65,6 +65,10 @@
 #define WORKGROUP_SIZE_X 8
 #define WORKGROUP_SIZE_Y 8
 #define PROBE_WORKGROUP_SIZE 64
+// Fill and merge: each invocation does this many pixels, WORKGROUP_SIZE_X apart in x, so a
+// workgroup covers 32x8 pixels. Lavapipe pays a fixed cost per invocation that was as large
+// as the per-pixel work of these passes; GPUs are indifferent at headset resolutions.
+#define PIXELS_PER_INVOCATION 4
 #define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the frame's spans
 #define MAX_GROUPS_X 65535 // the guaranteed maxComputeWorkGroupCount[0]; larger dispatches use y
 

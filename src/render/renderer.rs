@@ -418,7 +418,7 @@ impl Renderer {
                 }
                 timestamps.cmd_timed(cmd, &name(e, "merge"), || {
                     let groups = [
-                        s.width.div_ceil(WORKGROUP_SIZE_X),
+                        s.width.div_ceil(WORKGROUP_SIZE_X * PIXELS_PER_INVOCATION),
                         s.height.div_ceil(WORKGROUP_SIZE_Y),
                         1,
                     ];
