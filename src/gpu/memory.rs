@@ -285,18 +285,7 @@ impl StorageImage {
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 ),
             );
-            let region = [vk::BufferImageCopy::default()
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: self.layers,
-                })
-                .image_extent(vk::Extent3D {
-                    width: self.width,
-                    height: self.height,
-                    depth: 1,
-                })];
+            let region = self.whole_copy();
             let back = transition(
                 self.image,
                 (
@@ -337,6 +326,22 @@ impl StorageImage {
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }
 
+    /// A buffer ↔ image copy of every layer, rows packed.
+    fn whole_copy(&self) -> [vk::BufferImageCopy; 1] {
+        [vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: self.layers,
+            })
+            .image_extent(vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            })]
+    }
+
     /// Replaces the whole image (all layers, RGBA f32 rows) with `rgba` and leaves it in
     /// GENERAL layout for compute reads and writes.
     pub fn upload(&self, rgba: &[f32]) -> Result<(), GpuError> {
@@ -369,18 +374,7 @@ impl StorageImage {
                     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 ),
             );
-            let region = [vk::BufferImageCopy::default()
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: self.layers,
-                })
-                .image_extent(vk::Extent3D {
-                    width: self.width,
-                    height: self.height,
-                    depth: 1,
-                })];
+            let region = self.whole_copy();
             let to_general = transition(
                 self.image,
                 (
