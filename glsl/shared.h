@@ -135,8 +135,8 @@ struct PushConstants {
     vec4 cam_tan; // tan of the view's left, right, up, down half-angles (OpenXR convention)
     uint width;
     uint height;
-    uint spp;
     uint seed;
+    uint pad0;
     uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
     uint probe_count;
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream

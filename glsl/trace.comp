@@ -31,8 +31,10 @@ void main() {
     GpuSpan span = spans[lo];
     uint packed = ray_offsets[span.first + (thread - span.prefix)];
     ivec2 offset = ivec2(int(packed << 16) >> 16, int(packed) >> 16);
-    GpuLayer layer = layers[span.layer];
-    ivec2 pixel = ivec2(layer.anchor_x, layer.anchor_y) + offset;
+    // Only the three fields a thread needs: the whole GpuLayer is 96 bytes per thread.
+    ivec2 pixel = ivec2(layers[span.layer].anchor_x, layers[span.layer].anchor_y) + offset;
+    uint spp = layers[span.layer].spp;
+    uint image_layer = layers[span.layer].image_layer;
 
     uint pixel_index = uint(pixel.y) * pc.width + uint(pixel.x);
     uint seed = pc.seed + pc.eye * 0x9E3779B9u; // eye 0 keeps the user's seed
@@ -40,7 +42,7 @@ void main() {
     uint rays = 0u;
     uint nonfinite = 0u;
     uint overflows = 0u;
-    for (uint s = 0u; s < layer.spp; ++s) {
+    for (uint s = 0u; s < spp; ++s) {
         Rng rng = rng_init(pixel_index, pc.sample_offset + s, seed);
         vec3 d = camera_ray(vec2(pixel), rng_next2(rng));
         bool overflow = false;
@@ -54,9 +56,9 @@ void main() {
             sum += L;
         }
     }
-    imageStore(layer_images, ivec3(pixel, layer.image_layer), vec4(sum / float(layer.spp), 1.0));
+    imageStore(layer_images, ivec3(pixel, image_layer), vec4(sum / float(spp), 1.0));
     if (nonfinite > 0u) atomicAdd(stats[STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[STAT_STACK_OVERFLOW], overflows);
-    atomicAdd(stats[STAT_PATHS], layer.spp);
+    atomicAdd(stats[STAT_PATHS], spp);
     atomicAdd(stats[STAT_RAYS], rays);
 }

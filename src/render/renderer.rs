@@ -611,7 +611,6 @@ fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
         ],
         width: s.width,
         height: s.height,
-        spp: s.spp,
         seed: s.seed,
         ..Default::default()
     }
