@@ -100,6 +100,11 @@ impl<'a> Regions<'a> {
         }
     }
 
+    /// Does `layer` trace every lattice point on the image (no radius, inner edge or mask)?
+    pub fn traces_everything(&self, layer: usize) -> bool {
+        self.layers[layer].everything()
+    }
+
     /// Is pixel `(x, y)` (on the image) traced by `layer` if it is one of its lattice points?
     pub fn traced(&self, layer: usize, x: i64, y: i64) -> bool {
         // θ < limit ⇔ cos θ > cos limit (cos decreases on [0, π]); comparing unnormalised
@@ -152,7 +157,27 @@ impl EyePlan {
             );
             let mut targets = 0u64;
             let (mut min, mut max) = ([i32::MAX; 2], [i32::MIN; 2]);
+            let mut emit = |start: i32, count: u32, j: i32| {
+                spans.push(Span {
+                    first: l.index(start, j),
+                    count,
+                    layer: k as u32,
+                });
+                targets += count as u64;
+                let (x0, y) = (anchor[0] + start * d, anchor[1] + j * d);
+                min = [min[0].min(x0), min[1].min(y)];
+                max = [max[0].max(x0 + (count as i32 - 1) * d), max[1].max(y)];
+            };
+            // A layer without limits (regular rendering, an unmasked background) traces whole
+            // rows: one span each, without testing every point.
+            let whole_rows = regions.traces_everything(k);
             for j in j0..=j1 {
+                if whole_rows {
+                    if i0 <= i1 {
+                        emit(i0, (i1 - i0 + 1) as u32, j);
+                    }
+                    continue;
+                }
                 let y = anchor[1] + j * d;
                 let mut run: Option<(i32, u32)> = None;
                 for i in i0..=i1 + 1 {
@@ -162,15 +187,7 @@ impl EyePlan {
                         (true, Some((_, count))) => *count += 1,
                         (true, None) => run = Some((i, 1)),
                         (false, Some((start, count))) => {
-                            spans.push(Span {
-                                first: l.index(*start, j),
-                                count: *count,
-                                layer: k as u32,
-                            });
-                            targets += *count as u64;
-                            let x0 = anchor[0] + *start * d;
-                            min = [min[0].min(x0), min[1].min(y)];
-                            max = [max[0].max(x0 + (*count as i32 - 1) * d), max[1].max(y)];
+                            emit(*start, *count, j);
                             run = None;
                         }
                         (false, None) => {}
