@@ -245,17 +245,30 @@ impl StorageImage {
 
     /// Records a transition from UNDEFINED to GENERAL (contents discarded) for compute writes.
     pub(crate) fn cmd_prepare_for_write(&self, cmd: vk::CommandBuffer) {
-        let barrier = transition(
-            self.image,
-            (vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
-            (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
+        self.cmd_transition(
+            cmd,
+            (TOP, vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
+            (COMPUTE, vk::AccessFlags::SHADER_WRITE, GENERAL),
         );
-        // SAFETY: cmd is recording; the barrier names this image.
+    }
+
+    /// Records a layout transition of the whole image between two (stage, access, layout)s.
+    fn cmd_transition(&self, cmd: vk::CommandBuffer, from: Access, to: Access) {
+        let barrier = [vk::ImageMemoryBarrier::default()
+            .src_access_mask(from.1)
+            .dst_access_mask(to.1)
+            .old_layout(from.2)
+            .new_layout(to.2)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(self.image)
+            .subresource_range(color_range())];
+        // SAFETY: cmd is recording, outside any render pass; the barrier names this image.
         unsafe {
             self.ctx.device.cmd_pipeline_barrier(
                 cmd,
-                vk::PipelineStageFlags::TOP_OF_PIPE,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                from.0,
+                to.0,
                 vk::DependencyFlags::empty(),
                 &[],
                 &[],
@@ -275,53 +288,21 @@ impl StorageImage {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let device = &self.ctx.device;
+        let after_compute = (COMPUTE, vk::AccessFlags::SHADER_WRITE, GENERAL);
+        let copying = (TRANSFER, vk::AccessFlags::TRANSFER_READ, SRC);
         self.ctx.submit_and_wait("readback", |cmd| {
-            let barrier = transition(
-                self.image,
-                (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
-                (
-                    vk::AccessFlags::TRANSFER_READ,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                ),
-            );
-            let region = self.whole_copy();
-            let back = transition(
-                self.image,
-                (
-                    vk::AccessFlags::TRANSFER_READ,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                ),
-                (vk::AccessFlags::SHADER_WRITE, vk::ImageLayout::GENERAL),
-            );
+            self.cmd_transition(cmd, after_compute, copying);
             // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
             unsafe {
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &barrier,
-                );
-                device.cmd_copy_image_to_buffer(
+                self.ctx.device.cmd_copy_image_to_buffer(
                     cmd,
                     self.image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    SRC,
                     staging.buffer,
-                    &region,
-                );
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &back,
-                );
-            }
+                    &self.whole_copy(),
+                )
+            };
+            self.cmd_transition(cmd, copying, after_compute);
         })?;
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }
@@ -355,86 +336,43 @@ impl StorageImage {
                 self.layers
             )));
         }
-        let staging = Buffer::new(
+        let mut staging = Buffer::new(
             &self.ctx,
             "image upload",
             (rgba.len() * 4) as u64,
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        let mut staging = staging;
         staging.write(0, bytemuck::cast_slice(rgba))?;
-        let device = &self.ctx.device;
+        let copying = (TRANSFER, vk::AccessFlags::TRANSFER_WRITE, DST);
         self.ctx.submit_and_wait("upload", |cmd| {
-            let to_dst = transition(
-                self.image,
-                (vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
-                (
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                ),
-            );
-            let region = self.whole_copy();
-            let to_general = transition(
-                self.image,
-                (
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                ),
-                (
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                    vk::ImageLayout::GENERAL,
-                ),
-            );
+            let undefined = (TOP, vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED);
+            self.cmd_transition(cmd, undefined, copying);
             // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
             unsafe {
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TOP_OF_PIPE,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &to_dst,
-                );
-                device.cmd_copy_buffer_to_image(
+                self.ctx.device.cmd_copy_buffer_to_image(
                     cmd,
                     staging.buffer,
                     self.image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &region,
-                );
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &to_general,
-                );
-            }
+                    DST,
+                    &self.whole_copy(),
+                )
+            };
+            let shader = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+            self.cmd_transition(cmd, copying, (COMPUTE, shader, GENERAL));
         })?;
         Ok(())
     }
 }
 
-/// A layout transition of the whole colour image between two accesses.
-fn transition(
-    image: vk::Image,
-    (src, old): (vk::AccessFlags, vk::ImageLayout),
-    (dst, new): (vk::AccessFlags, vk::ImageLayout),
-) -> [vk::ImageMemoryBarrier<'static>; 1] {
-    [vk::ImageMemoryBarrier::default()
-        .src_access_mask(src)
-        .dst_access_mask(dst)
-        .old_layout(old)
-        .new_layout(new)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .image(image)
-        .subresource_range(color_range())]
-}
+/// A pipeline stage, the accesses in it and the image layout they need.
+type Access = (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout);
+const TOP: vk::PipelineStageFlags = vk::PipelineStageFlags::TOP_OF_PIPE;
+const COMPUTE: vk::PipelineStageFlags = vk::PipelineStageFlags::COMPUTE_SHADER;
+const TRANSFER: vk::PipelineStageFlags = vk::PipelineStageFlags::TRANSFER;
+const GENERAL: vk::ImageLayout = vk::ImageLayout::GENERAL;
+const SRC: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+const DST: vk::ImageLayout = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
 
 fn color_range() -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
