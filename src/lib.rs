@@ -2,7 +2,9 @@
 //!
 //! `scene` describes what to render, `gpu` owns every Vulkan handle, `render` drives a frame.
 
+pub mod bench;
 pub mod foveation;
 pub mod gpu;
+pub mod metrics;
 pub mod render;
 pub mod scene;
