@@ -51,6 +51,7 @@
 #define STAT_PATHS 2           // camera paths traced
 #define STAT_RAYS 3            // all rays traced (camera, bounce and shadow)
 #define STAT_COUNT 4
+#define STAT_EYES 2            // one block of STAT_COUNT counters per eye: stats[eye * STAT_COUNT + STAT_*]
 
 // ---- debug views (PushConstants.debug) -------------------------------------------------------
 #define DEBUG_NONE 0

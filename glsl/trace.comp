@@ -57,8 +57,10 @@ void main() {
         }
     }
     imageStore(layer_images, ivec3(pixel, image_layer), vec4(sum / float(spp), 1.0));
-    if (nonfinite > 0u) atomicAdd(stats[STAT_NONFINITE], nonfinite);
-    if (overflows > 0u) atomicAdd(stats[STAT_STACK_OVERFLOW], overflows);
-    atomicAdd(stats[STAT_PATHS], spp);
-    atomicAdd(stats[STAT_RAYS], rays);
+    // Each eye counts in its own block, so a stereo frame reports rays per eye.
+    uint block = pc.eye * STAT_COUNT;
+    if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
+    if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
+    atomicAdd(stats[block + STAT_PATHS], spp);
+    atomicAdd(stats[block + STAT_RAYS], rays);
 }

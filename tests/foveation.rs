@@ -159,6 +159,18 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                 );
                 let total: u64 = expected.iter().sum();
                 assert_eq!(frame.stats.paths, total, "{what}: GPU-counted paths");
+                assert_eq!(
+                    frame.stats.eyes.len(),
+                    eyes.len(),
+                    "{what}: counters per eye"
+                );
+                for (e, counted) in frame.stats.eyes.iter().enumerate() {
+                    let own: u64 = brute_force_layer_samples(config, &images[e..=e], &gazes[e..=e])
+                        .iter()
+                        .sum();
+                    assert_eq!(counted.paths, own, "{what}: GPU-counted paths of eye {e}");
+                    assert!(counted.rays >= counted.paths, "{what}: eye {e} rays");
+                }
                 assert!(total > 0, "{what}: nothing traced");
                 assert_eq!(frame.stats.nonfinite_samples, 0, "{what}");
                 assert_eq!(frame.stats.stack_overflows, 0, "{what}");

@@ -16,4 +16,4 @@ pub use context::{DeviceInfo, GpuContext, GpuOptions};
 pub use error::GpuError;
 pub use memory::{Buffer, StorageImage};
 pub use pipeline::{ComputePipeline, PipelineLayout};
-pub use timestamps::TimestampPool;
+pub use timestamps::{PassTime, TimestampPool};

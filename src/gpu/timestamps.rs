@@ -5,6 +5,15 @@ use super::error::{GpuError, VkContext};
 use ash::vk;
 use std::sync::Arc;
 
+/// One timed pass: its name, when it began after the frame's first pass began, and how long
+/// it took, in GPU milliseconds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassTime {
+    pub name: String,
+    pub start_ms: f64,
+    pub ms: f64,
+}
+
 pub struct TimestampPool {
     ctx: Arc<GpuContext>,
     pool: vk::QueryPool,
@@ -67,8 +76,8 @@ impl TimestampPool {
         };
     }
 
-    /// Milliseconds per timed pass of the last submitted frame (which must have completed).
-    pub fn read_ms(&self) -> Result<Vec<(String, f64)>, GpuError> {
+    /// Every timed pass of the last submitted frame (which must have completed).
+    pub fn read(&self) -> Result<Vec<PassTime>, GpuError> {
         let count = self.names.len() * 2;
         if count == 0 {
             return Ok(Vec::new());
@@ -85,15 +94,15 @@ impl TimestampPool {
         }
         .vk("vkGetQueryPoolResults")?;
         let period = self.ctx.info.timestamp_period_ns;
+        let ms = |from: u64, to: u64| to.wrapping_sub(from) as f64 * period * 1e-6;
         Ok(self
             .names
             .iter()
             .enumerate()
-            .map(|(i, n)| {
-                (
-                    n.clone(),
-                    ticks[2 * i + 1].wrapping_sub(ticks[2 * i]) as f64 * period * 1e-6,
-                )
+            .map(|(i, n)| PassTime {
+                name: n.clone(),
+                start_ms: ms(ticks[0], ticks[2 * i]),
+                ms: ms(ticks[2 * i], ticks[2 * i + 1]),
             })
             .collect())
     }

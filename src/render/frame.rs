@@ -1,6 +1,15 @@
 //! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
 
 /// Counters the shaders keep for every frame (shared.h's STAT_*), and GPU time per pass.
+/// What trace.comp counted for one eye of a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EyeCounters {
+    pub nonfinite_samples: u64,
+    pub stack_overflows: u64,
+    pub paths: u64,
+    pub rays: u64,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FrameStats {
     /// Samples that came out NaN or infinite and were dropped.
@@ -11,8 +20,12 @@ pub struct FrameStats {
     pub paths: u64,
     /// All rays traced: camera, bounce and shadow rays.
     pub rays: u64,
+    /// The same counters for each eye, left first.
+    pub eyes: Vec<EyeCounters>,
     /// GPU milliseconds per pass, from timestamp queries.
     pub pass_ms: Vec<(String, f64)>,
+    /// When each pass of `pass_ms` began, in GPU milliseconds after the first one began.
+    pub pass_start_ms: Vec<f64>,
     /// Camera paths planned per foveation layer (innermost first), summed over the eyes.
     pub layer_samples: Vec<u64>,
     /// CPU milliseconds spent planning the frame (gaze → traced spans).

@@ -7,7 +7,7 @@ mod request;
 mod settings;
 mod targets;
 
-pub use frame::{Frame, FrameStats};
+pub use frame::{EyeCounters, Frame, FrameStats};
 pub use renderer::Renderer;
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
 pub use settings::{Integrator, RenderSettings, MAX_SIDE};

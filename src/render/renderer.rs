@@ -3,7 +3,7 @@
 //! config), runs the same passes per eye: trace (the planned rays of every layer), fill
 //! (Catmull-Rom for layers with spacing > 1) and merge (blend masks), each timed.
 
-use super::frame::{Frame, FrameStats};
+use super::frame::{EyeCounters, Frame, FrameStats};
 use super::request::{DebugView, EyeView, FrameRequest};
 use super::settings::RenderSettings;
 use super::targets::{FrameTargets, TargetKey};
@@ -91,7 +91,7 @@ impl Renderer {
         let stats = Buffer::new(
             ctx,
             "stats",
-            STAT_COUNT as u64 * 4,
+            (STAT_COUNT * STAT_EYES) as u64 * 4,
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
@@ -209,15 +209,24 @@ impl Renderer {
     }
 
     fn reset_stats(&mut self) -> Result<(), RenderError> {
-        self.stats.write(0, &[0u8; STAT_COUNT as usize * 4])?;
+        self.stats
+            .write(0, &[0u8; (STAT_COUNT * STAT_EYES) as usize * 4])?;
         Ok(())
     }
 
-    fn read_stats(&self) -> Result<[u32; STAT_COUNT as usize], RenderError> {
+    /// The counters of every eye (shared.h's STAT_EYES blocks of STAT_COUNT).
+    fn read_stats(&self) -> Result<Vec<EyeCounters>, RenderError> {
         let bytes = self.stats.read()?;
-        let mut out = [0u32; STAT_COUNT as usize];
-        out.copy_from_slice(bytemuck::cast_slice(&bytes[..STAT_COUNT as usize * 4]));
-        Ok(out)
+        let words: &[u32] = bytemuck::cast_slice(&bytes[..(STAT_COUNT * STAT_EYES) as usize * 4]);
+        Ok(words
+            .chunks_exact(STAT_COUNT as usize)
+            .map(|c| EyeCounters {
+                nonfinite_samples: c[STAT_NONFINITE as usize] as u64,
+                stack_overflows: c[STAT_STACK_OVERFLOW as usize] as u64,
+                paths: c[STAT_PATHS as usize] as u64,
+                rays: c[STAT_RAYS as usize] as u64,
+            })
+            .collect())
     }
 
     /// Renders one regular (non-foveated) mono frame of `camera`: the one-layer config with
@@ -426,8 +435,9 @@ impl Renderer {
                 });
             }
         })?;
-        let pass_ms = self.timestamps.read_ms()?;
-        let counters = self.read_stats()?;
+        let passes = self.timestamps.read()?;
+        let mut counters = self.read_stats()?;
+        counters.truncate(request.eyes.len());
         let rgba = targets.output.read_back()?;
         let layer_images = match given_layers {
             Some(_) => Some(targets.layer_images.read_back()?),
@@ -443,11 +453,13 @@ impl Renderer {
             rgb,
             gazes,
             stats: FrameStats {
-                nonfinite_samples: counters[STAT_NONFINITE as usize] as u64,
-                stack_overflows: counters[STAT_STACK_OVERFLOW as usize] as u64,
-                paths: counters[STAT_PATHS as usize] as u64,
-                rays: counters[STAT_RAYS as usize] as u64,
-                pass_ms,
+                nonfinite_samples: counters.iter().map(|c| c.nonfinite_samples).sum(),
+                stack_overflows: counters.iter().map(|c| c.stack_overflows).sum(),
+                paths: counters.iter().map(|c| c.paths).sum(),
+                rays: counters.iter().map(|c| c.rays).sum(),
+                eyes: counters,
+                pass_ms: passes.iter().map(|p| (p.name.clone(), p.ms)).collect(),
+                pass_start_ms: passes.iter().map(|p| p.start_ms).collect(),
                 layer_samples,
                 plan_ms,
             },
@@ -508,7 +520,7 @@ impl Renderer {
         self.ctx.submit_and_wait("raycast", |cmd| {
             pipeline.cmd_dispatch(cmd, layout, &push, groups)
         })?;
-        let overflows = self.read_stats()?[STAT_STACK_OVERFLOW as usize] as u64;
+        let overflows = self.read_stats()?[0].stack_overflows;
         let (_, hits) = self.probe.as_ref().expect("set above");
         let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
         Ok((hits, overflows))
