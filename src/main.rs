@@ -3,7 +3,7 @@
 
 mod commands;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -20,6 +20,9 @@ struct Cli {
 enum Command {
     /// Render one frame headless and write it as PNG (+ linear EXR) or EXR.
     Render(commands::render::RenderArgs),
+    /// The thesis' evaluation, unattended: scenes x regular/forward/corner x frames x repeats,
+    /// GPU timestamps, error against converged references, CSV/JSON/Markdown/plots/trace.
+    Bench(Box<commands::bench::BenchArgs>),
     /// List the built-in scenes with their triangle counts and what they need.
     Scenes,
 }
@@ -31,9 +34,16 @@ fn main() {
         )
         .with_writer(std::io::stderr)
         .init();
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result = match &cli.command {
         Command::Render(args) => commands::render::run(args),
+        Command::Bench(args) => {
+            let sub = matches
+                .subcommand_matches("bench")
+                .expect("the bench subcommand was parsed");
+            commands::bench::run(args, sub)
+        }
         Command::Scenes => commands::scenes::run(),
     };
     if let Err(e) = result {

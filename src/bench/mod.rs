@@ -1,4 +1,21 @@
-//! `fovea bench`: the thesis' evaluation protocol (§3.1), automated.
+//! `fovea bench`: the thesis' evaluation protocol (§3.1), automated: GPU timestamps of every
+//! pass of both eyes, frame-rate statistics and impact factors, image error against a
+//! converged reference, and run time against error, written to a results directory as CSV,
+//! JSON, Markdown, SVG/PNG plots and a Perfetto trace.
 
+pub mod csv_log;
+pub mod error;
+pub mod images;
+pub mod perfetto;
 pub mod plots;
+pub mod protocol;
+pub mod quality;
+pub mod report;
+pub mod rows;
+pub mod runner;
 pub mod stats;
+pub mod summary;
+
+pub use error::BenchError;
+pub use protocol::{BenchPlan, Mode};
+pub use runner::{read_plan, run, RunOptions};

@@ -1,5 +1,6 @@
 //! One file per subcommand, plus what they share: GPU selection and the validation check.
 
+pub mod bench;
 pub mod render;
 pub mod render_bench;
 pub mod scenes;

@@ -51,7 +51,7 @@ fn default_blend_deg() -> f32 {
 }
 
 /// A complete foveation setup: layers from the gaze outward, blend band and occlusion mask.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FoveationConfig {
     /// Innermost first; the last one is the background layer (radius None).
     pub layers: Vec<Layer>,

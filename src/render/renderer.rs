@@ -47,6 +47,10 @@ pub struct Renderer {
     raycast: Option<ComputePipeline>,
     timestamps: TimestampPool,
     targets: Option<FrameTargets>,
+    /// The targets used before the current ones, kept so that alternating between two
+    /// configs (regular and foveated frames of a bench) does not rebuild the ray buffer and
+    /// reallocate the images every frame.
+    spare_targets: Option<FrameTargets>,
     probe: Option<(Buffer, Buffer)>,
     stats: Buffer,
     buffers: SceneBuffers,
@@ -102,6 +106,7 @@ impl Renderer {
             raycast: None,
             timestamps: TimestampPool::new(ctx, TIMED_PASSES)?,
             targets: None,
+            spare_targets: None,
             probe: None,
             stats,
             buffers,
@@ -201,10 +206,15 @@ impl Renderer {
     }
 
     fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
-        if self.targets.as_ref().is_none_or(|t| t.key != key) {
-            self.targets = None;
-            self.targets = Some(FrameTargets::new(&self.ctx, key)?);
+        if self.targets.as_ref().is_some_and(|t| t.key == key) {
+            return Ok(());
         }
+        if self.spare_targets.as_ref().is_some_and(|t| t.key == key) {
+            std::mem::swap(&mut self.targets, &mut self.spare_targets);
+            return Ok(());
+        }
+        self.spare_targets = self.targets.take();
+        self.targets = Some(FrameTargets::new(&self.ctx, key)?);
         Ok(())
     }
 
@@ -251,7 +261,15 @@ impl Renderer {
 
     /// Renders one frame, foveated by `request.foveation`, for one or two eyes (side by side).
     pub fn render_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
-        self.run_frame(request, None).map(|(frame, _)| frame)
+        self.run_frame(request, None, true).map(|(frame, _)| frame)
+    }
+
+    /// Renders one frame like [`Self::render_frame`] but leaves the image on the GPU: the
+    /// returned frame has no pixels (`rgb` is empty), only its gazes and stats. Frame-time
+    /// measurements use this so that the read-back, which a headset frame never does, is not
+    /// counted.
+    pub fn measure_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
+        self.run_frame(request, None, false).map(|(frame, _)| frame)
     }
 
     /// Runs only the fill and merge passes of `request` on layer images given by the caller
@@ -263,7 +281,7 @@ impl Renderer {
         request: &FrameRequest,
         layer_rgba: &[f32],
     ) -> Result<(Frame, Vec<f32>), RenderError> {
-        let (frame, layers) = self.run_frame(request, Some(layer_rgba))?;
+        let (frame, layers) = self.run_frame(request, Some(layer_rgba), true)?;
         Ok((frame, layers.unwrap_or_default()))
     }
 
@@ -271,6 +289,7 @@ impl Renderer {
         &mut self,
         request: &FrameRequest,
         given_layers: Option<&[f32]>,
+        read_output: bool,
     ) -> Result<(Frame, Option<Vec<f32>>), RenderError> {
         let s = &request.settings;
         s.validate().map_err(RenderError::Settings)?;
@@ -438,7 +457,10 @@ impl Renderer {
         let passes = self.timestamps.read()?;
         let mut counters = self.read_stats()?;
         counters.truncate(request.eyes.len());
-        let rgba = targets.output.read_back()?;
+        let rgba = match read_output {
+            true => targets.output.read_back()?,
+            false => Vec::new(),
+        };
         let layer_images = match given_layers {
             Some(_) => Some(targets.layer_images.read_back()?),
             None => None,

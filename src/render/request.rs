@@ -58,7 +58,10 @@ pub struct FrameRequest<'a> {
 }
 
 /// Whose field of view the eyes get.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum FovChoice {
     /// The scene camera's (symmetric; horizontal extent fitted to the image aspect).
     #[default]

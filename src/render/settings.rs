@@ -3,7 +3,10 @@
 use crate::gpu::shared::{INTEGRATOR_PT, INTEGRATOR_SEED};
 
 /// Which estimator traces the paths.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum Integrator {
     /// Cosine/Phong importance sampling, next-event estimation with MIS, Russian roulette.
     Pt,

@@ -1,0 +1,282 @@
+//! Image quality beside speed: each mode's image against a converged reference of the same
+//! view (regular rendering at many spp, cached on disk), over the whole image and per
+//! eccentricity band around the gaze, as MSE, relMSE, PSNR and FLIP.
+
+use super::error::BenchError;
+use super::protocol::{BenchPlan, Mode};
+use super::rows::{QualityRow, EYE_NAMES};
+use crate::foveation::FoveationConfig;
+use crate::metrics::{self, BANDS};
+use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
+use std::path::{Path, PathBuf};
+
+/// Samples per pixel of one reference pass. The reference is the mean of several passes
+/// with different seeds, so no single dispatch runs long enough to trip a GPU watchdog.
+const REFERENCE_CHUNK_SPP: u32 = 32;
+
+/// Settings of a frame of the plan at `spp` samples per pixel.
+pub fn settings(plan: &BenchPlan, spp: u32) -> RenderSettings {
+    RenderSettings {
+        width: plan.width,
+        height: plan.height,
+        spp,
+        seed: plan.seed,
+        integrator: plan.integrator,
+        max_bounces: plan.max_bounces,
+    }
+}
+
+/// Where the reference of `scene` under `plan` is cached: every parameter that changes the
+/// converged image is in the name.
+pub fn reference_path(cache: &Path, plan: &BenchPlan, scene: &str) -> PathBuf {
+    let fov = super::report::flag_value(&plan.fov);
+    let integrator = super::report::flag_value(&plan.integrator);
+    cache.join(format!(
+        "{scene}-{}x{}-stereo-{fov}-{integrator}-b{}-seed{}-{}spp.exr",
+        plan.width, plan.height, plan.max_bounces, plan.seed, plan.reference_spp
+    ))
+}
+
+/// The converged image of both eyes (side by side, linear RGB): read from the cache, or
+/// rendered and written there. `progress` hears about each pass rendered.
+pub fn reference_image(
+    renderer: &mut Renderer,
+    plan: &BenchPlan,
+    scene: &str,
+    eyes: &[EyeView],
+    cache: &Path,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Vec<f32>, BenchError> {
+    let path = reference_path(cache, plan, scene);
+    let (width, height) = (plan.width * eyes.len() as u32, plan.height);
+    if let Some(rgb) = read_exr(&path, width, height) {
+        return Ok(rgb);
+    }
+    let passes = plan.reference_spp.div_ceil(REFERENCE_CHUNK_SPP);
+    let mut sum = vec![0.0f64; (width * height * 3) as usize];
+    for pass in 0..passes {
+        let spp = REFERENCE_CHUNK_SPP.min(plan.reference_spp - pass * REFERENCE_CHUNK_SPP);
+        let config = FoveationConfig::regular(spp);
+        // Seeds far from the plan's: the reference must not share random numbers with the
+        // images it judges.
+        let settings = RenderSettings {
+            seed: plan.seed.wrapping_add(0x5eed_0000).wrapping_add(pass),
+            ..settings(plan, spp)
+        };
+        let frame = renderer
+            .render_frame(&FrameRequest {
+                settings,
+                foveation: &config,
+                eyes,
+                debug: DebugView::None,
+            })
+            .map_err(BenchError::render(scene))?;
+        for (s, v) in sum.iter_mut().zip(&frame.rgb) {
+            *s += *v as f64 * spp as f64;
+        }
+        progress(pass + 1, passes);
+    }
+    let rgb: Vec<f32> = sum
+        .iter()
+        .map(|s| (s / plan.reference_spp as f64) as f32)
+        .collect();
+    std::fs::create_dir_all(cache).map_err(|e| BenchError::file(cache, e))?;
+    // Written under a temporary name and moved, so a kill never leaves half a reference.
+    let partial = path.with_extension("partial.exr");
+    let (w, h) = (width as usize, height as usize);
+    exr::prelude::write_rgb_file(&partial, w, h, |x, y| {
+        let i = 3 * (y * w + x);
+        (rgb[i], rgb[i + 1], rgb[i + 2])
+    })
+    .map_err(|e| BenchError::file(&partial, e))?;
+    std::fs::rename(&partial, &path).map_err(|e| BenchError::file(&path, e))?;
+    Ok(rgb)
+}
+
+/// A cached reference, if there is one of the right size that reads.
+fn read_exr(path: &Path, width: u32, height: u32) -> Option<Vec<f32>> {
+    if !path.exists() {
+        return None;
+    }
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |size, _| (size.width(), vec![0.0f32; size.width() * size.height() * 3]),
+        |(w, rgb), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let i = 3 * (pos.y() * *w + pos.x());
+            rgb[i..i + 3].copy_from_slice(&[r, g, b]);
+        },
+    );
+    match image {
+        Ok(image) => {
+            let size = image.layer_data.size;
+            let (_, rgb) = image.layer_data.channel_data.pixels;
+            if size.width() == width as usize && size.height() == height as usize {
+                Some(rgb)
+            } else {
+                tracing::warn!("{}: wrong size {size:?}; rendering it again", path.display());
+                None
+            }
+        }
+        Err(e) => {
+            tracing::warn!("{}: unreadable ({e}); rendering it again", path.display());
+            None
+        }
+    }
+}
+
+/// One eye's image out of a side-by-side frame.
+pub fn eye_image(rgb: &[f32], eyes: u32, width: u32, height: u32, eye: u32) -> Vec<f32> {
+    let row = (3 * width * eyes) as usize;
+    let (start, len) = ((3 * width * eye) as usize, (3 * width) as usize);
+    (0..height as usize)
+        .flat_map(|y| rgb[y * row + start..y * row + start + len].iter().copied())
+        .collect()
+}
+
+/// What one (scene, mode, spp) point of the sweep measured.
+pub struct Point {
+    pub rows: Vec<QualityRow>,
+    /// The left eye's image and its FLIP map, for the side-by-side pictures.
+    pub left_rgb: Vec<f32>,
+    pub left_flip: Vec<f32>,
+}
+
+/// Times `mode` at `spp` (median frame GPU ms over the plan's sweep frames) and compares one
+/// image of it with the reference, eye by eye.
+pub fn measure_point(
+    renderer: &mut Renderer,
+    plan: &BenchPlan,
+    scene: &str,
+    mode: Mode,
+    spp: u32,
+    eyes: &[EyeView],
+    reference: &[f32],
+) -> Result<Point, BenchError> {
+    let config = plan.config(mode, spp);
+    let request = FrameRequest {
+        settings: settings(plan, spp),
+        foveation: &config,
+        eyes,
+        debug: DebugView::None,
+    };
+    let frame = renderer
+        .render_frame(&request)
+        .map_err(BenchError::render(scene))?;
+    let mut gpu_ms = Vec::new();
+    for _ in 0..plan.sweep_frames {
+        let timed = renderer
+            .measure_frame(&request)
+            .map_err(BenchError::render(scene))?;
+        gpu_ms.push(timed.stats.gpu_ms());
+    }
+    let frame_gpu_ms = super::stats::summarize(&gpu_ms).map_or(f64::NAN, |s| s.median);
+
+    let n = eyes.len() as u32;
+    let mut point = Point {
+        rows: Vec::new(),
+        left_rgb: Vec::new(),
+        left_flip: Vec::new(),
+    };
+    for (e, eye) in eyes.iter().enumerate() {
+        let image = eye.image(plan.width, plan.height);
+        let mut test = eye_image(&frame.rgb, n, plan.width, plan.height, e as u32);
+        let mut truth = eye_image(reference, n, plan.width, plan.height, e as u32);
+        // Pixels outside the occlusion mask are hidden by the lens: foveated frames leave
+        // them black, and no mode is judged on them.
+        let visible: Vec<bool> = match plan.foveation.occlusion_deg {
+            Some(deg) => metrics::eccentricity_deg(&image, image.axis_pixel())
+                .iter()
+                .map(|&e| e <= deg)
+                .collect(),
+            None => vec![true; (plan.width * plan.height) as usize],
+        };
+        // Black there in both images, so that FLIP's edge filters do not see the mask's rim
+        // as an error of the foveated image.
+        for (i, _) in visible.iter().enumerate().filter(|(_, v)| !**v) {
+            test[3 * i..3 * i + 3].fill(0.0);
+            truth[3 * i..3 * i + 3].fill(0.0);
+        }
+        let flip = metrics::flip(
+            &truth,
+            &test,
+            plan.width,
+            plan.height,
+            metrics::pixels_per_degree(&image),
+        )?;
+        let whole = metrics::image_error(&truth, &test, plan.width, plan.height, Some(&visible))?;
+        let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {
+            scene: scene.to_string(),
+            mode,
+            spp,
+            eye: EYE_NAMES[e].to_string(),
+            region: region.to_string(),
+            pixels: error.pixels,
+            mse: error.mse,
+            rel_mse: error.rel_mse,
+            psnr_db: error.psnr_db,
+            flip,
+            frame_gpu_ms,
+        };
+        point.rows.push(row("whole", whole, metrics::flip_masked_mean(&flip.map, &visible)?));
+        // Regular frames are foveated around the view axis too (their gaze is "forward"),
+        // so their bands are the forward mode's.
+        let masks = metrics::band_masks(&image, frame.gazes[e].0)?;
+        for (band, mut mask) in BANDS.iter().zip(masks) {
+            for (m, v) in mask.iter_mut().zip(&visible) {
+                *m &= v;
+            }
+            let error = metrics::image_error(&truth, &test, plan.width, plan.height, Some(&mask))?;
+            let flip = metrics::flip_masked_mean(&flip.map, &mask)?;
+            point.rows.push(row(band.name, error, flip));
+        }
+        if e == 0 {
+            point.left_rgb = test;
+            point.left_flip = flip.map;
+        }
+    }
+    Ok(point)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_eye_comes_out_of_a_side_by_side_frame() {
+        // 2 eyes of 2×2: left pixels hold 0..4, right pixels 10..14 (one value per channel).
+        let mut rgb = Vec::new();
+        for y in 0..2 {
+            for eye in 0..2 {
+                for x in 0..2 {
+                    let v = (eye * 10 + y * 2 + x) as f32;
+                    rgb.extend([v, v, v]);
+                }
+            }
+        }
+        let right = eye_image(&rgb, 2, 2, 2, 1);
+        assert_eq!(right.len(), 12);
+        let values: Vec<f32> = right.chunks(3).map(|p| p[0]).collect();
+        assert_eq!(values, vec![10.0, 11.0, 12.0, 13.0]);
+    }
+
+    #[test]
+    fn every_parameter_that_changes_the_reference_is_in_its_name() {
+        let plan = BenchPlan::quick();
+        let a = reference_path(Path::new("c"), &plan, "control");
+        assert_eq!(
+            a,
+            Path::new("c/control-360x400-stereo-vive-pro-eye-pt-b8-seed1-256spp.exr")
+        );
+        let changed = [
+            BenchPlan { width: 100, ..plan.clone() },
+            BenchPlan { reference_spp: 512, ..plan.clone() },
+            BenchPlan { max_bounces: 2, ..plan.clone() },
+            BenchPlan { seed: 2, ..plan.clone() },
+            BenchPlan { integrator: crate::render::Integrator::Seed, ..plan.clone() },
+            BenchPlan { fov: crate::render::FovChoice::Scene, ..plan.clone() },
+        ];
+        for p in changed {
+            assert_ne!(reference_path(Path::new("c"), &p, "control"), a);
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! summary.json, report.md and the plots of a run, all from its rows.
+
+use super::error::BenchError;
+use super::plots::{self, Curve, CurvePoint, DotWhisker, Series};
+use super::protocol::{BenchPlan, Mode};
+use super::rows::{FrameRow, QualityRow};
+use super::summary::{summarize_run, ModeSummary, SceneSummary, Summary};
+use super::{images, runner};
+use crate::gpu::DeviceInfo;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The thesis' impact factors (forward, corner), §5.1, for the table beside ours.
+pub const THESIS_IMPACT: [(&str, f64, f64); 5] = [
+    ("control", 1.0, 1.0),
+    ("bunny-low", 1.99, 3.99),
+    ("bunny-high", 1.75, 8.83),
+    ("cubes-441", 5.11, 7.99),
+    ("mirror-room", 5.30, 5.49),
+];
+
+/// Writes summary.json, report.md and plots/ into `dir`.
+pub fn write_all(
+    dir: &Path,
+    plan: &BenchPlan,
+    device: &DeviceInfo,
+    command: &str,
+    frames: &[FrameRow],
+    quality: &[QualityRow],
+) -> Result<(), BenchError> {
+    let summary = summarize_run(plan, device, command, frames, quality);
+    let path = dir.join("summary.json");
+    let json = serde_json::to_string_pretty(&summary).expect("summaries serialize");
+    std::fs::write(&path, json).map_err(|e| BenchError::file(&path, e))?;
+    write_plots(dir, plan, frames, &summary)?;
+    let path = dir.join("report.md");
+    std::fs::write(&path, markdown(dir, &summary)).map_err(|e| BenchError::file(&path, e))
+}
+
+fn write_plots(
+    dir: &Path,
+    plan: &BenchPlan,
+    frames: &[FrameRow],
+    summary: &Summary,
+) -> Result<(), BenchError> {
+    let plots_dir = dir.join("plots");
+    for scene in &summary.scenes {
+        let name = &scene.scene;
+        // The thesis' per-frame line graph: one line per mode and repeat.
+        let mut runs: BTreeMap<(Mode, u32), Vec<(u32, f64)>> = BTreeMap::new();
+        for r in frames.iter().filter(|r| r.scene == *name && r.eye == "left") {
+            runs.entry((r.mode, r.repeat))
+                .or_default()
+                .push((r.frame, 1000.0 / r.frame_gpu_ms));
+        }
+        let series: Vec<Series> = runs
+            .into_iter()
+            .map(|((mode, repeat), mut fps)| {
+                fps.sort_by_key(|p| p.0);
+                Series {
+                    label: match plan.repeats(mode) {
+                        1 => mode.name().to_string(),
+                        _ => format!("{} r{}", mode.name(), repeat + 1),
+                    },
+                    values: fps.into_iter().map(|p| p.1).collect(),
+                }
+            })
+            .collect();
+        plots::frame_rate_lines(
+            &plots_dir.join(format!("{name}-frames")),
+            &format!("{name}: frame rate per frame (GPU time of both eyes)"),
+            &series,
+        )?;
+        let dots: Vec<DotWhisker> = scene
+            .modes
+            .iter()
+            .filter_map(|m| {
+                m.rates.map(|r| DotWhisker {
+                    label: m.mode.name().to_string(),
+                    mean: r.fps.mean,
+                    std: r.fps.std,
+                })
+            })
+            .collect();
+        plots::mean_std_dots(
+            &plots_dir.join(format!("{name}-mean-std")),
+            &format!("{name}: mean frame rate ± standard deviation"),
+            "frames per second",
+            &dots,
+        )?;
+        for (region, what) in [("whole", "whole image"), ("0-6", "fovea (0-6°)")] {
+            let curves: Vec<Curve> = Mode::ALL
+                .into_iter()
+                .map(|mode| Curve {
+                    label: mode.name().to_string(),
+                    points: scene
+                        .quality
+                        .iter()
+                        .filter(|q| q.mode == mode && q.region == region && q.pixels > 0)
+                        .map(|q| CurvePoint {
+                            ms: q.frame_gpu_ms,
+                            error: q.rel_mse,
+                            spp: q.spp,
+                        })
+                        .collect(),
+                })
+                .collect();
+            let file = if region == "whole" { "whole" } else { "fovea" };
+            plots::error_vs_time(
+                &plots_dir.join(format!("{name}-error-time-{file}")),
+                &format!("{name}: relMSE of the {what} against GPU time"),
+                "relMSE",
+                &curves,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// A value as its command-line spelling (the serde name, e.g. "vive-pro-eye").
+pub fn flag_value<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_value(v)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
+}
+
+fn fmt_impact(m: &ModeSummary) -> String {
+    match m.impact {
+        Some(i) if i.max.is_finite() => format!("{:.2} ({:.2}–{:.2})", i.factor, i.min, i.max),
+        Some(i) => format!("{:.2} ({:.2}–∞)", i.factor, i.min),
+        None => "–".into(),
+    }
+}
+
+fn ms(s: Option<super::stats::Summary>) -> String {
+    s.map_or("–".into(), |s| format!("{:.2}", s.mean))
+}
+
+/// The report: what ran where, impact factors beside the thesis', per-scene statistics,
+/// quality, and links to every plot and picture.
+pub fn markdown(dir: &Path, s: &Summary) -> String {
+    let p = &s.parameters;
+    let mut md = String::new();
+    let _ = writeln!(md, "# fovea bench report\n");
+    let _ = writeln!(
+        md,
+        "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
+        s.written_at, s.fovea_version, s.device.name, s.device.kind, s.device.driver, s.device.api_version
+    );
+    let _ = writeln!(md, "Command: `{}`\n", s.command);
+    if !s.complete {
+        let _ = writeln!(
+            md,
+            "**Incomplete run**: {} of {} frame rows measured. Complete it with `fovea bench --resume {}`.\n",
+            s.frame_rows,
+            s.expected_frame_rows,
+            dir.display()
+        );
+    }
+    let _ = writeln!(
+        md,
+        "Protocol (thesis §3.1): {} frames × {} repeats foveated, {} regular, both eyes at {}×{} per eye, \
+         field of view {}, {} spp, integrator {}, {} bounces, layers {}, occlusion mask {}. Modes of a repeat run interleaved \
+         frame by frame after one warm-up frame each. fps per frame = 1000 / GPU time of both eyes' passes \
+         (timestamp queries); the thesis' impact factor = mean foveated fps / mean regular fps, its range \
+         (μf − σf)/(μr + σr) … (μf + σf)/(μr − σr).\n",
+        p.frames,
+        p.repeats_foveated,
+        p.repeats_regular,
+        p.width,
+        p.height,
+        flag_value(&p.fov),
+        p.spp,
+        flag_value(&p.integrator),
+        p.max_bounces,
+        p.foveation
+            .layers
+            .iter()
+            .map(|l| match l.radius_deg {
+                Some(r) => format!("{r}°/{}", l.spacing),
+                None => format!("background/{}", l.spacing),
+            })
+            .collect::<Vec<_>>()
+            .join(", "),
+        p.foveation
+            .occlusion_deg
+            .map_or("none".to_string(), |d| format!("{d}° (error is measured inside it only)"))
+    );
+
+    let _ = writeln!(md, "## Impact factors beside the thesis'\n");
+    let _ = writeln!(md, "| scene | forward (range) | corner (range) | thesis forward | thesis corner |");
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for scene in &s.scenes {
+        let thesis = THESIS_IMPACT.iter().find(|t| t.0 == scene.scene);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} |",
+            scene.scene,
+            fmt_impact(&scene.modes[1]),
+            fmt_impact(&scene.modes[2]),
+            thesis.map_or("–".into(), |t| format!("{:.2}", t.1)),
+            thesis.map_or("–".into(), |t| format!("{:.2}", t.2)),
+        );
+    }
+    let _ = writeln!(md);
+
+    for scene in &s.scenes {
+        scene_section(&mut md, s, scene);
+    }
+    let _ = writeln!(md, "## Files\n");
+    let _ = writeln!(
+        md,
+        "`{}` (a row per frame and eye), `{}` (a row per scene, mode, spp, eye and region), `summary.json` \
+         (these statistics, the device and every parameter), `{}` (open in ui.perfetto.dev), `{}` (the plan; \
+         `fovea bench --resume DIR` completes an interrupted run).",
+        runner::FRAMES_FILE,
+        runner::QUALITY_FILE,
+        runner::TRACE_FILE,
+        runner::PLAN_FILE
+    );
+    md
+}
+
+fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
+    let name = &scene.scene;
+    let _ = writeln!(md, "## {name}\n");
+    let _ = writeln!(
+        md,
+        "| mode | frames | fps mean ± std | median ms | p99 ms | trace / fill / merge ms per eye | CPU ms | paths per frame | impact (range) |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    for m in &scene.modes {
+        let Some(r) = m.rates else {
+            let _ = writeln!(md, "| {} | 0 | – | – | – | – | – | – | – |", m.mode.name());
+            continue;
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} ± {:.2} | {:.2} | {:.2} | {} / {} / {} | {} | {:.0} | {} |",
+            m.mode.name(),
+            m.frames,
+            r.fps.mean,
+            r.fps.std,
+            r.ms.median,
+            r.ms.p99,
+            ms(m.trace_ms),
+            ms(m.fill_ms),
+            ms(m.merge_ms),
+            ms(m.cpu_ms),
+            m.paths_per_frame,
+            fmt_impact(m)
+        );
+    }
+    let problems: u64 = scene
+        .modes
+        .iter()
+        .map(|m| m.nonfinite_samples + m.stack_overflows)
+        .sum();
+    let _ = writeln!(md, "\nNon-finite samples and stack overflows: {problems}.\n");
+    let _ = writeln!(
+        md,
+        "![frame rate per frame](plots/{name}-frames.png) ![mean and standard deviation](plots/{name}-mean-std.png)\n"
+    );
+
+    let spp = s.parameters.spp;
+    let _ = writeln!(
+        md,
+        "Error against a {}-spp reference at {spp} spp (mean of both eyes; bands are degrees from each eye's gaze; \
+         relMSE = (x − r)² / (r² + 0.01); PSNR and FLIP on the sRGB image):\n",
+        s.parameters.reference_spp
+    );
+    let _ = writeln!(md, "| mode | region | pixels | relMSE | MSE | PSNR dB | FLIP |");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    for q in scene.quality.iter().filter(|q| q.spp == spp) {
+        if q.pixels == 0 {
+            let _ = writeln!(
+                md,
+                "| {} | {} | 0 (none visible) | – | – | – | – |",
+                q.mode.name(),
+                q.region
+            );
+            continue;
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.4} | {:.3e} | {:.2} | {:.4} |",
+            q.mode.name(),
+            q.region,
+            q.pixels,
+            q.rel_mse,
+            q.mse,
+            q.psnr_db,
+            q.flip
+        );
+    }
+    let _ = writeln!(md, "\nRun time against error, spp {:?}:\n", s.parameters.sweep());
+    let _ = writeln!(
+        md,
+        "![whole image](plots/{name}-error-time-whole.png) ![fovea](plots/{name}-error-time-fovea.png)\n"
+    );
+    let strip = images::strip_path(Path::new(""), name);
+    let _ = writeln!(md, "![reference, regular, forward, corner, FLIP]({})\n", strip.display());
+}

@@ -1,0 +1,120 @@
+//! The rows a bench run writes: frames.csv (one per timed frame and eye) and quality.csv (one
+//! per scene, mode, spp, eye and image region). Column names are the field names.
+
+use super::protocol::{FrameKey, Mode};
+use crate::render::Frame;
+use serde::{Deserialize, Serialize};
+
+pub const EYE_NAMES: [&str; 2] = ["left", "right"];
+
+/// One eye of one timed frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameRow {
+    pub scene: String,
+    pub mode: Mode,
+    pub repeat: u32,
+    pub frame: u32,
+    pub eye: String,
+    /// GPU milliseconds of this eye's passes (0 where a pass did not run: nothing to trace,
+    /// or no layer to fill).
+    pub trace_ms: f64,
+    pub fill_ms: f64,
+    pub merge_ms: f64,
+    /// This eye's passes together.
+    pub eye_gpu_ms: f64,
+    /// Both eyes' passes: the frame's GPU time, from which fps is computed.
+    pub frame_gpu_ms: f64,
+    /// Wall-clock milliseconds of the whole frame on the CPU: planning, recording, submit and
+    /// wait (no image read-back).
+    pub cpu_ms: f64,
+    /// CPU milliseconds planning both eyes (gaze → traced spans).
+    pub plan_ms: f64,
+    /// Camera paths and all rays this eye traced, counted on the GPU.
+    pub paths: u64,
+    pub rays: u64,
+    pub nonfinite: u64,
+    pub overflows: u64,
+    /// The gaze pixel the eye was foveated around (the view axis for regular frames).
+    pub gaze_x: f64,
+    pub gaze_y: f64,
+    /// Wall-clock time the frame was submitted, microseconds since the Unix epoch (places
+    /// the frame on the trace timeline, across resumed runs too).
+    pub wall_us: u64,
+}
+
+impl FrameRow {
+    pub fn key(&self) -> FrameKey {
+        FrameKey {
+            scene: self.scene.clone(),
+            mode: self.mode,
+            repeat: self.repeat,
+            frame: self.frame,
+        }
+    }
+
+    /// One row per eye of `frame`, measured as `key`.
+    pub fn from_frame(key: &FrameKey, frame: &Frame, cpu_ms: f64, wall_us: u64) -> Vec<FrameRow> {
+        let s = &frame.stats;
+        let stereo = s.eyes.len() == 2;
+        let pass = |eye: usize, name: &str| -> f64 {
+            let full = match stereo {
+                true => format!("{} {name}", EYE_NAMES[eye]),
+                false => name.to_string(),
+            };
+            s.pass_ms
+                .iter()
+                .filter(|(n, _)| *n == full)
+                .fold(0.0, |sum, (_, ms)| sum + ms)
+        };
+        s.eyes
+            .iter()
+            .enumerate()
+            .map(|(e, counters)| {
+                let (trace, fill, merge) = (pass(e, "trace"), pass(e, "fill"), pass(e, "merge"));
+                FrameRow {
+                    scene: key.scene.clone(),
+                    mode: key.mode,
+                    repeat: key.repeat,
+                    frame: key.frame,
+                    eye: EYE_NAMES[e].to_string(),
+                    trace_ms: trace,
+                    fill_ms: fill,
+                    merge_ms: merge,
+                    eye_gpu_ms: trace + fill + merge,
+                    frame_gpu_ms: s.gpu_ms(),
+                    cpu_ms,
+                    plan_ms: s.plan_ms,
+                    paths: counters.paths,
+                    rays: counters.rays,
+                    nonfinite: counters.nonfinite_samples,
+                    overflows: counters.stack_overflows,
+                    gaze_x: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[0]),
+                    gaze_y: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[1]),
+                    wall_us,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The error of one eye's image region against the converged reference, at one spp.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QualityRow {
+    pub scene: String,
+    pub mode: Mode,
+    pub spp: u32,
+    pub eye: String,
+    /// "whole", or an eccentricity band around the mode's gaze ("0-6", "6-10", "10-20",
+    /// "20+" degrees; regular frames use the forward gaze's bands). Only pixels the eye can
+    /// see count: inside the config's occlusion mask, which foveated frames leave black.
+    pub region: String,
+    pub pixels: u64,
+    pub mse: f64,
+    pub rel_mse: f64,
+    /// Infinite when the images are identical (written as "inf").
+    pub psnr_db: f64,
+    /// Mean FLIP (LDR, of the sRGB-encoded image) over the region.
+    pub flip: f64,
+    /// Median GPU milliseconds of the frame (both eyes) at this spp.
+    pub frame_gpu_ms: f64,
+}

@@ -1,0 +1,278 @@
+//! Runs a bench plan into a results directory: times every frame of every unit (modes
+//! interleaved), then sweeps spp for run time against error, writing each measurement as it
+//! is taken. Whatever the directory already holds is kept and not measured again, which is
+//! how `--resume` completes an interrupted run.
+
+use super::csv_log::CsvLog;
+use super::error::BenchError;
+use super::perfetto::TraceWriter;
+use super::protocol::{BenchPlan, FrameKey, Mode, EYES};
+use super::quality::{self, Point};
+use super::rows::{FrameRow, QualityRow};
+use super::{images, report};
+use crate::foveation::{Gaze, GazeChoice};
+use crate::gpu::GpuContext;
+use crate::render::{eye_views, DebugView, EyeView, FrameRequest, Renderer};
+use crate::scene::{self, Scene};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+pub const PLAN_FILE: &str = "plan.json";
+pub const FRAMES_FILE: &str = "frames.csv";
+pub const QUALITY_FILE: &str = "quality.csv";
+pub const TRACE_FILE: &str = "trace.json";
+
+pub struct RunOptions {
+    /// Where converged references are cached, shared between runs.
+    pub reference_cache: PathBuf,
+    /// Abort the process, as a kill would, after this many measured frames (tests resume).
+    pub abort_after_frames: Option<u64>,
+    /// The command line, recorded in summary.json.
+    pub command_line: String,
+}
+
+/// Reads the plan of an existing results directory (for `--resume`).
+pub fn read_plan(dir: &Path) -> Result<BenchPlan, BenchError> {
+    let path = dir.join(PLAN_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        BenchError::file(
+            &path,
+            format!("{e}; --resume needs the directory of an earlier `fovea bench` run"),
+        )
+    })?;
+    serde_json::from_str(&text).map_err(|e| {
+        BenchError::file(&path, format!("not a bench plan of this version of fovea ({e})"))
+    })
+}
+
+/// The eyes of a mode's frames: both eyes, gaze on the view axis or the top-left corner.
+pub fn mode_eyes(scene: &Scene, plan: &BenchPlan, mode: Mode) -> Vec<EyeView> {
+    let gaze = match mode {
+        Mode::Corner => Gaze::Corner,
+        _ => Gaze::Forward,
+    };
+    let aspect = plan.width as f32 / plan.height as f32;
+    eye_views(
+        &scene.camera,
+        aspect,
+        plan.fov,
+        true,
+        GazeChoice {
+            left: gaze,
+            right: gaze,
+        },
+    )
+}
+
+/// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
+pub fn run(
+    ctx: &Arc<GpuContext>,
+    plan: &BenchPlan,
+    dir: &Path,
+    options: &RunOptions,
+) -> Result<(), BenchError> {
+    plan.validate().map_err(BenchError::Plan)?;
+    std::fs::create_dir_all(dir).map_err(|e| BenchError::file(dir, e))?;
+    let plan_path = dir.join(PLAN_FILE);
+    if plan_path.exists() {
+        if read_plan(dir)? != *plan {
+            return Err(BenchError::Plan(format!(
+                "{} holds a run with other parameters; resume it with --resume {} alone, or \
+                 measure into a new directory",
+                dir.display(),
+                dir.display()
+            )));
+        }
+    } else {
+        let json = serde_json::to_string_pretty(plan).expect("plans serialize");
+        std::fs::write(&plan_path, json).map_err(|e| BenchError::file(&plan_path, e))?;
+    }
+
+    // Frames whose two eye rows are both there are done; a lone eye row is measured again.
+    let (mut frames_log, frame_rows) = CsvLog::<FrameRow>::open_keeping(&dir.join(FRAMES_FILE), |rows| {
+        let mut eyes: HashMap<FrameKey, u32> = HashMap::new();
+        for r in &rows {
+            *eyes.entry(r.key()).or_default() += 1;
+        }
+        rows.into_iter().filter(|r| eyes[&r.key()] == EYES).collect()
+    })?;
+    let done_frames: HashSet<FrameKey> = frame_rows.iter().map(FrameRow::key).collect();
+    let point_rows = 1 + crate::metrics::BANDS.len() as u32;
+    let (mut quality_log, quality_rows) =
+        CsvLog::<QualityRow>::open_keeping(&dir.join(QUALITY_FILE), |rows| {
+            let mut count: HashMap<(String, Mode, u32), u32> = HashMap::new();
+            for r in &rows {
+                *count.entry((r.scene.clone(), r.mode, r.spp)).or_default() += 1;
+            }
+            rows.into_iter()
+                .filter(|r| count[&(r.scene.clone(), r.mode, r.spp)] == EYES * point_rows)
+                .collect()
+        })?;
+    let done_points: HashSet<(String, Mode, u32)> = quality_rows
+        .iter()
+        .map(|r| (r.scene.clone(), r.mode, r.spp))
+        .collect();
+    let trace_path = dir.join(TRACE_FILE);
+    let mut trace = TraceWriter::open(&trace_path).map_err(|e| BenchError::file(&trace_path, e))?;
+
+    let pending_frames: Vec<FrameKey> = plan
+        .frame_keys()
+        .into_iter()
+        .filter(|k| !done_frames.contains(k))
+        .collect();
+    let pending_points: Vec<(String, Mode, u32)> = plan
+        .scenes
+        .iter()
+        .flat_map(|s| {
+            plan.sweep()
+                .into_iter()
+                .flat_map(move |spp| Mode::ALL.map(|m| (s.clone(), m, spp)))
+        })
+        .filter(|p| !done_points.contains(p))
+        .collect();
+    let bar = ProgressBar::new((pending_frames.len() + pending_points.len()) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} (eta {eta}) {msg}")
+            .expect("a valid template"),
+    );
+    let mut measured = 0u64;
+
+    for scene_name in &plan.scenes {
+        let strip = images::strip_path(dir, scene_name);
+        let frames: Vec<&FrameKey> = pending_frames
+            .iter()
+            .filter(|k| k.scene == *scene_name)
+            .collect();
+        let points: Vec<&(String, Mode, u32)> = pending_points
+            .iter()
+            .filter(|p| p.0 == *scene_name)
+            .collect();
+        if frames.is_empty() && points.is_empty() && strip.exists() {
+            continue;
+        }
+        bar.set_message(format!("{scene_name}: loading"));
+        let aspect = plan.width as f32 / plan.height as f32;
+        let scene = scene::load(scene_name, aspect)?;
+        let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(scene_name))?;
+        let eyes: BTreeMap<Mode, Vec<EyeView>> = Mode::ALL
+            .into_iter()
+            .map(|m| (m, mode_eyes(&scene, plan, m)))
+            .collect();
+        let configs: BTreeMap<Mode, _> = Mode::ALL.into_iter().map(|m| (m, plan.config(m, plan.spp))).collect();
+
+        // Timing: per unit, one warm-up frame per mode (pipeline compilation, first touch of
+        // memory), then the pending frames, modes interleaved.
+        for unit in plan.units().iter().filter(|u| u.scene == *scene_name) {
+            let todo: Vec<&&FrameKey> = frames.iter().filter(|k| k.repeat == unit.repeat).collect();
+            if todo.is_empty() {
+                continue;
+            }
+            bar.set_message(format!("{scene_name}: repeat {}", unit.repeat + 1));
+            let request = |m: Mode| FrameRequest {
+                settings: quality::settings(plan, plan.spp),
+                foveation: &configs[&m],
+                eyes: &eyes[&m],
+                debug: DebugView::None,
+            };
+            for &mode in &unit.modes {
+                renderer
+                    .measure_frame(&request(mode))
+                    .map_err(BenchError::render(scene_name))?;
+            }
+            for key in todo {
+                let wall_us = SystemTime::now()
+                    .duration_since(UNIX_EPOCH)
+                    .map_or(0, |d| d.as_micros() as u64);
+                let start = Instant::now();
+                let frame = renderer
+                    .measure_frame(&request(key.mode))
+                    .map_err(BenchError::render(scene_name))?;
+                let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+                let rows = FrameRow::from_frame(key, &frame, cpu_ms, wall_us);
+                for row in &rows {
+                    frames_log.append(row)?;
+                }
+                let passes: Vec<(String, f64, f64)> = frame
+                    .stats
+                    .pass_ms
+                    .iter()
+                    .zip(&frame.stats.pass_start_ms)
+                    .map(|((name, ms), start)| (name.clone(), *start, *ms))
+                    .collect();
+                trace
+                    .frame(&rows[0], &passes)
+                    .map_err(|e| BenchError::file(&trace_path, e))?;
+                bar.inc(1);
+                measured += 1;
+                if options.abort_after_frames == Some(measured) {
+                    // As a kill would: no clean-up, nothing written after this point.
+                    std::process::abort();
+                }
+            }
+        }
+
+        // Quality: the reference, then every pending point of the sweep.
+        bar.set_message(format!("{scene_name}: reference"));
+        let reference = quality::reference_image(
+            &mut renderer,
+            plan,
+            scene_name,
+            &eyes[&Mode::Regular],
+            &options.reference_cache,
+            &mut |done, all| bar.set_message(format!("{scene_name}: reference {done}/{all}")),
+        )?;
+        let mut shown: BTreeMap<Mode, Point> = BTreeMap::new();
+        for &(_, mode, spp) in &points {
+            bar.set_message(format!("{scene_name}: {} at {spp} spp", mode.name()));
+            let point = quality::measure_point(
+                &mut renderer,
+                plan,
+                scene_name,
+                *mode,
+                *spp,
+                &eyes[mode],
+                &reference,
+            )?;
+            for row in &point.rows {
+                quality_log.append(row)?;
+            }
+            bar.inc(1);
+            if *spp == plan.spp {
+                shown.insert(*mode, point);
+            }
+        }
+        if !strip.exists() {
+            // Images of the protocol's spp measured in an earlier, interrupted run are
+            // rendered again (their numbers are already in quality.csv).
+            for mode in Mode::ALL {
+                if !shown.contains_key(&mode) {
+                    let point = quality::measure_point(
+                        &mut renderer, plan, scene_name, mode, plan.spp, &eyes[&mode], &reference,
+                    )?;
+                    shown.insert(mode, point);
+                }
+            }
+            images::write_strip(&strip, plan, &reference, &shown)?;
+        }
+    }
+    bar.finish_and_clear();
+    trace
+        .finish()
+        .map_err(|e| BenchError::file(&trace_path, e))?;
+    drop(frames_log);
+    drop(quality_log);
+
+    let (_, frame_rows) = CsvLog::<FrameRow>::open(&dir.join(FRAMES_FILE))?;
+    let (_, quality_rows) = CsvLog::<QualityRow>::open(&dir.join(QUALITY_FILE))?;
+    report::write_all(
+        dir,
+        plan,
+        &ctx.info,
+        &options.command_line,
+        &frame_rows,
+        &quality_rows,
+    )
+}

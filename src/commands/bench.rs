@@ -1,0 +1,197 @@
+//! `fovea bench`: the thesis' evaluation, unattended. Builds the plan from a preset and the
+//! flags given (or from the directory being resumed), runs it, and prints where the results are.
+
+use super::{check_validation, gpu_context, GpuArgs};
+use anyhow::{Context, Result};
+use clap::Args;
+use fovea::bench::summary::utc_stamp;
+use fovea::bench::{self, BenchPlan, RunOptions};
+use fovea::foveation::FoveationConfig;
+use fovea::render::{FovChoice, Integrator};
+use std::path::PathBuf;
+
+/// Flags that set the plan; none may be given with --resume.
+const PLAN_FLAGS: [&str; 16] = [
+    "quick",
+    "scenes",
+    "frames",
+    "repeats",
+    "regular_repeats",
+    "width",
+    "height",
+    "fov",
+    "spp",
+    "foveation",
+    "integrator",
+    "max_bounces",
+    "seed",
+    "reference_spp",
+    "sweep_spp",
+    "sweep_frames",
+];
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// A small preset that finishes in a few minutes on lavapipe (360x400 per eye, 10 frames,
+    /// 2 repeats, 256-spp references). Other flags still override it.
+    #[arg(long)]
+    pub quick: bool,
+    /// Scenes, comma-separated: built-in names or .gltf/.glb files. Default: the thesis' five.
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Option<Vec<String>>,
+    /// Measured frames per repeat (default 100).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Repeats of each foveated mode (default 10).
+    #[arg(long)]
+    pub repeats: Option<u32>,
+    /// Repeats of regular rendering (default 1).
+    #[arg(long)]
+    pub regular_repeats: Option<u32>,
+    /// Width of one eye's image (default 1440, the Vive Pro Eye's).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Height of one eye's image (default 1600).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Field of view of the eyes (default vive-pro-eye).
+    #[arg(long, value_enum)]
+    pub fov: Option<FovChoice>,
+    /// Samples per target pixel, regular and foveated (default 4).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Foveation layers: thesis (default) or a TOML file (see assets/foveation/).
+    #[arg(long)]
+    pub foveation: Option<String>,
+    #[arg(long, value_enum)]
+    pub integrator: Option<Integrator>,
+    #[arg(long)]
+    pub max_bounces: Option<u32>,
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Samples per pixel of the converged reference images are compared with (default 1024).
+    #[arg(long)]
+    pub reference_spp: Option<u32>,
+    /// Samples per pixel of the run-time-against-error sweep (default 1,2,4,8,16).
+    #[arg(long, value_delimiter = ',')]
+    pub sweep_spp: Option<Vec<u32>>,
+    /// Frames timed per sweep point; the median is used (default 3).
+    #[arg(long)]
+    pub sweep_frames: Option<u32>,
+    /// Directory under which each run gets its own bench-results/<UTC time>/.
+    #[arg(long, default_value = "bench-results")]
+    pub out: PathBuf,
+    /// Measure into exactly this directory instead of a new time-stamped one.
+    #[arg(long, conflicts_with = "resume")]
+    pub dir: Option<PathBuf>,
+    /// Complete the interrupted run in DIR with the parameters it was started with.
+    #[arg(long, value_name = "DIR")]
+    pub resume: Option<PathBuf>,
+    /// Where converged references are cached (default: <out>/references).
+    #[arg(long)]
+    pub reference_cache: Option<PathBuf>,
+    /// Abort the process after this many measured frames, as a kill would (for testing
+    /// --resume).
+    #[arg(long, hide = true)]
+    pub abort_after_frames: Option<u64>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+impl BenchArgs {
+    fn plan(&self) -> Result<BenchPlan> {
+        let mut plan = match self.quick {
+            true => BenchPlan::quick(),
+            false => BenchPlan::thesis(),
+        };
+        macro_rules! set {
+            ($($field:ident => $target:ident),*) => {
+                $(if let Some(v) = &self.$field { plan.$target = v.clone(); })*
+            };
+        }
+        set!(scenes => scenes, frames => frames, repeats => repeats_foveated,
+             regular_repeats => repeats_regular, width => width, height => height, fov => fov,
+             spp => spp, integrator => integrator, max_bounces => max_bounces, seed => seed,
+             reference_spp => reference_spp, sweep_spp => sweep_spp, sweep_frames => sweep_frames);
+        if let Some(f) = &self.foveation {
+            plan.foveation = FoveationConfig::from_arg(f)?.ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--foveation off leaves nothing to compare; the bench needs a layer config \
+                     (thesis or a TOML file)"
+                )
+            })?;
+        }
+        plan.validate().map_err(anyhow::Error::msg)?;
+        Ok(plan)
+    }
+}
+
+pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
+    let (plan, dir) = match &args.resume {
+        Some(dir) => {
+            let given: Vec<String> = PLAN_FLAGS
+                .iter()
+                .filter(|f| {
+                    matches.value_source(f) == Some(clap::parser::ValueSource::CommandLine)
+                })
+                .map(|f| format!("--{}", f.replace('_', "-")))
+                .collect();
+            if !given.is_empty() {
+                anyhow::bail!(
+                    "--resume takes every parameter from {}/plan.json; drop {}",
+                    dir.display(),
+                    given.join(", ")
+                );
+            }
+            (bench::read_plan(dir)?, dir.clone())
+        }
+        None => {
+            let dir = args.dir.clone().unwrap_or_else(|| args.out.join(utc_stamp()));
+            (args.plan()?, dir)
+        }
+    };
+    let ctx = gpu_context(&args.gpu)?;
+    println!(
+        "fovea bench: {} scene(s), {} frame rows and {} sweep points on {} into {}",
+        plan.scenes.len(),
+        plan.expected_frame_rows(),
+        plan.scenes.len() * plan.sweep().len() * 3,
+        ctx.info.name,
+        dir.display()
+    );
+    let options = RunOptions {
+        reference_cache: args
+            .reference_cache
+            .clone()
+            .unwrap_or_else(|| args.out.join("references")),
+        abort_after_frames: args.abort_after_frames,
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+    };
+    bench::run(&ctx, &plan, &dir, &options)
+        .with_context(|| format!("bench run in {} (finish it with --resume)", dir.display()))?;
+    check_validation(&ctx)?;
+    print_impacts(&dir)?;
+    Ok(())
+}
+
+/// The impact factors of the finished run, read back from its rows.
+fn print_impacts(dir: &std::path::Path) -> Result<()> {
+    let text = std::fs::read_to_string(dir.join("summary.json"))?;
+    let summary: serde_json::Value = serde_json::from_str(&text)?;
+    println!("{:<14} {:>18} {:>18}", "scene", "impact forward", "impact corner");
+    for scene in summary["scenes"].as_array().into_iter().flatten() {
+        let impact = |i: usize| {
+            scene["modes"][i]["impact"]["factor"]
+                .as_f64()
+                .map_or("-".to_string(), |f| format!("{f:.2}"))
+        };
+        println!(
+            "{:<14} {:>18} {:>18}",
+            scene["scene"].as_str().unwrap_or("?"),
+            impact(1),
+            impact(2)
+        );
+    }
+    println!("report: {}", dir.join("report.md").display());
+    Ok(())
+}
