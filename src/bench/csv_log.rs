@@ -105,7 +105,10 @@ fn header_of<T: DeserializeOwned>() -> Vec<&'static str> {
     struct Names(Vec<&'static str>);
     impl<'de> serde::Deserializer<'de> for &mut Names {
         type Error = serde::de::value::Error;
-        fn deserialize_any<V: serde::de::Visitor<'de>>(self, _: V) -> Result<V::Value, Self::Error> {
+        fn deserialize_any<V: serde::de::Visitor<'de>>(
+            self,
+            _: V,
+        ) -> Result<V::Value, Self::Error> {
             Err(serde::de::Error::custom("field names only"))
         }
         fn deserialize_struct<V: serde::de::Visitor<'de>>(
@@ -246,11 +249,15 @@ mod tests {
     fn rows_not_kept_leave_the_file() {
         let path = temp("keep");
         std::fs::write(&path, "name,n,ms\nr1,1,1.5\nr2,2,3.0\n").unwrap();
-        let (_, rows) =
-            CsvLog::<Row>::open_keeping(&path, |rows| rows.into_iter().filter(|r| r.n != 2).collect())
-                .unwrap();
+        let (_, rows) = CsvLog::<Row>::open_keeping(&path, |rows| {
+            rows.into_iter().filter(|r| r.n != 2).collect()
+        })
+        .unwrap();
         assert_eq!(rows, vec![row(1)]);
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "name,n,ms\nr1,1,1.5\n");
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "name,n,ms\nr1,1,1.5\n"
+        );
     }
 
     #[test]
@@ -261,7 +268,10 @@ mod tests {
         assert!(rows.is_empty());
         log.append(&row(1)).unwrap();
         drop(log);
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "name,n,ms\nr1,1,1.5\n");
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "name,n,ms\nr1,1,1.5\n"
+        );
     }
 
     #[test]

@@ -41,7 +41,9 @@ impl TraceWriter {
             file.read_to_string(&mut text)?;
             // Reuse the track ids the file already names, so resumed frames join their tracks.
             for line in text.lines() {
-                if let Ok(event) = serde_json::from_str::<serde_json::Value>(line.trim_start_matches(',')) {
+                if let Ok(event) =
+                    serde_json::from_str::<serde_json::Value>(line.trim_start_matches(','))
+                {
                     if event["ph"] == "M" && event["name"] == "thread_name" {
                         if let (Some(name), Some(tid)) =
                             (event["args"]["name"].as_str(), event["tid"].as_u64())
@@ -105,11 +107,7 @@ impl TraceWriter {
 
     /// The passes of one frame (`passes`: name, start and duration in GPU ms) and its CPU
     /// time, described by the frame's first row.
-    pub fn frame(
-        &mut self,
-        row: &FrameRow,
-        passes: &[(String, f64, f64)],
-    ) -> std::io::Result<()> {
+    pub fn frame(&mut self, row: &FrameRow, passes: &[(String, f64, f64)]) -> std::io::Result<()> {
         let label = format!("{} {}", row.scene, row.mode.name());
         let gpu = self.track(format!("{label} GPU"))?;
         let cpu = self.track(format!("{label} CPU"))?;
@@ -194,8 +192,15 @@ mod tests {
         let slices: Vec<_> = all.iter().filter(|e| e["ph"] == "X").collect();
         assert_eq!(slices.len(), 2 * 3, "a CPU frame and two passes per frame");
         let names: Vec<_> = all.iter().filter(|e| e["name"] == "thread_name").collect();
-        assert_eq!(names.len(), 2, "the resumed run reuses the GPU and CPU tracks");
-        let fill = slices.iter().find(|e| e["name"] == "left fill" && e["args"]["frame"] == 1).unwrap();
+        assert_eq!(
+            names.len(),
+            2,
+            "the resumed run reuses the GPU and CPU tracks"
+        );
+        let fill = slices
+            .iter()
+            .find(|e| e["name"] == "left fill" && e["args"]["frame"] == 1)
+            .unwrap();
         assert_eq!(fill["ts"].as_f64().unwrap(), 1_010_000.0 + 1000.0);
         assert_eq!(fill["dur"].as_f64().unwrap(), 500.0);
 

@@ -7,7 +7,13 @@ use crate::render::{FovChoice, Integrator};
 use serde::{Deserialize, Serialize};
 
 /// The thesis' five scenes (§3.1.1–3.1.4), in its order.
-pub const THESIS_SCENES: [&str; 5] = ["control", "bunny-low", "bunny-high", "cubes-441", "mirror-room"];
+pub const THESIS_SCENES: [&str; 5] = [
+    "control",
+    "bunny-low",
+    "bunny-high",
+    "cubes-441",
+    "mirror-room",
+];
 
 /// How a frame is rendered: the thesis' three test types.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -245,7 +251,10 @@ mod tests {
         assert!(plan.validate().is_ok());
         // 5 scenes × (1 regular + 2 × 10 foveated) runs of 100 frames, two eyes each.
         assert_eq!(plan.expected_frame_rows(), 5 * 21 * 100 * 2);
-        assert_eq!(plan.frame_keys().len() as u64 * 2, plan.expected_frame_rows());
+        assert_eq!(
+            plan.frame_keys().len() as u64 * 2,
+            plan.expected_frame_rows()
+        );
         let units = plan.units();
         assert_eq!(units.len(), 5 * 10);
         assert_eq!(units[0].modes, Mode::ALL.to_vec());
@@ -278,11 +287,26 @@ mod tests {
     #[test]
     fn nonsense_plans_are_rejected_with_the_flag_to_change() {
         let bad = [
-            BenchPlan { frames: 0, ..BenchPlan::quick() },
-            BenchPlan { scenes: vec![], ..BenchPlan::quick() },
-            BenchPlan { reference_spp: 8, ..BenchPlan::quick() },
-            BenchPlan { sweep_spp: vec![0, 1], ..BenchPlan::quick() },
-            BenchPlan { foveation: FoveationConfig::regular(4), ..BenchPlan::quick() },
+            BenchPlan {
+                frames: 0,
+                ..BenchPlan::quick()
+            },
+            BenchPlan {
+                scenes: vec![],
+                ..BenchPlan::quick()
+            },
+            BenchPlan {
+                reference_spp: 8,
+                ..BenchPlan::quick()
+            },
+            BenchPlan {
+                sweep_spp: vec![0, 1],
+                ..BenchPlan::quick()
+            },
+            BenchPlan {
+                foveation: FoveationConfig::regular(4),
+                ..BenchPlan::quick()
+            },
         ];
         for plan in bad {
             let e = plan.validate().unwrap_err();

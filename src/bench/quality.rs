@@ -113,7 +113,10 @@ fn read_exr(path: &Path, width: u32, height: u32) -> Option<Vec<f32>> {
             if size.width() == width as usize && size.height() == height as usize {
                 Some(rgb)
             } else {
-                tracing::warn!("{}: wrong size {size:?}; rendering it again", path.display());
+                tracing::warn!(
+                    "{}: wrong size {size:?}; rendering it again",
+                    path.display()
+                );
                 None
             }
         }
@@ -217,7 +220,11 @@ pub fn measure_point(
             flip,
             frame_gpu_ms,
         };
-        point.rows.push(row("whole", whole, metrics::flip_masked_mean(&flip.map, &visible)?));
+        point.rows.push(row(
+            "whole",
+            whole,
+            metrics::flip_masked_mean(&flip.map, &visible)?,
+        ));
         // Regular frames are foveated around the view axis too (their gaze is "forward"),
         // so their bands are the forward mode's.
         let masks = metrics::band_masks(&image, frame.gazes[e].0)?;
@@ -268,12 +275,30 @@ mod tests {
             Path::new("c/control-360x400-stereo-vive-pro-eye-pt-b8-seed1-256spp.exr")
         );
         let changed = [
-            BenchPlan { width: 100, ..plan.clone() },
-            BenchPlan { reference_spp: 512, ..plan.clone() },
-            BenchPlan { max_bounces: 2, ..plan.clone() },
-            BenchPlan { seed: 2, ..plan.clone() },
-            BenchPlan { integrator: crate::render::Integrator::Seed, ..plan.clone() },
-            BenchPlan { fov: crate::render::FovChoice::Scene, ..plan.clone() },
+            BenchPlan {
+                width: 100,
+                ..plan.clone()
+            },
+            BenchPlan {
+                reference_spp: 512,
+                ..plan.clone()
+            },
+            BenchPlan {
+                max_bounces: 2,
+                ..plan.clone()
+            },
+            BenchPlan {
+                seed: 2,
+                ..plan.clone()
+            },
+            BenchPlan {
+                integrator: crate::render::Integrator::Seed,
+                ..plan.clone()
+            },
+            BenchPlan {
+                fov: crate::render::FovChoice::Scene,
+                ..plan.clone()
+            },
         ];
         for p in changed {
             assert_ne!(reference_path(Path::new("c"), &p, "control"), a);

@@ -49,7 +49,10 @@ fn write_plots(
         let name = &scene.scene;
         // The thesis' per-frame line graph: one line per mode and repeat.
         let mut runs: BTreeMap<(Mode, u32), Vec<(u32, f64)>> = BTreeMap::new();
-        for r in frames.iter().filter(|r| r.scene == *name && r.eye == "left") {
+        for r in frames
+            .iter()
+            .filter(|r| r.scene == *name && r.eye == "left")
+        {
             runs.entry((r.mode, r.repeat))
                 .or_default()
                 .push((r.frame, 1000.0 / r.frame_gpu_ms));
@@ -147,7 +150,12 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
     let _ = writeln!(
         md,
         "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
-        s.written_at, s.fovea_version, s.device.name, s.device.kind, s.device.driver, s.device.api_version
+        s.written_at,
+        s.fovea_version,
+        s.device.name,
+        s.device.kind,
+        s.device.driver,
+        s.device.api_version
     );
     let _ = writeln!(md, "Command: `{}`\n", s.command);
     if !s.complete {
@@ -190,7 +198,10 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
     );
 
     let _ = writeln!(md, "## Impact factors beside the thesis'\n");
-    let _ = writeln!(md, "| scene | forward (range) | corner (range) | thesis forward | thesis corner |");
+    let _ = writeln!(
+        md,
+        "| scene | forward (range) | corner (range) | thesis forward | thesis corner |"
+    );
     let _ = writeln!(md, "|---|---|---|---|---|");
     for scene in &s.scenes {
         let thesis = THESIS_IMPACT.iter().find(|t| t.0 == scene.scene);
@@ -258,7 +269,10 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
         .iter()
         .map(|m| m.nonfinite_samples + m.stack_overflows)
         .sum();
-    let _ = writeln!(md, "\nNon-finite samples and stack overflows: {problems}.\n");
+    let _ = writeln!(
+        md,
+        "\nNon-finite samples and stack overflows: {problems}.\n"
+    );
     let _ = writeln!(
         md,
         "![frame rate per frame](plots/{name}-frames.png) ![mean and standard deviation](plots/{name}-mean-std.png)\n"
@@ -271,7 +285,10 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
          relMSE = (x − r)² / (r² + 0.01); PSNR and FLIP on the sRGB image):\n",
         s.parameters.reference_spp
     );
-    let _ = writeln!(md, "| mode | region | pixels | relMSE | MSE | PSNR dB | FLIP |");
+    let _ = writeln!(
+        md,
+        "| mode | region | pixels | relMSE | MSE | PSNR dB | FLIP |"
+    );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|");
     for q in scene.quality.iter().filter(|q| q.spp == spp) {
         if q.pixels == 0 {
@@ -295,11 +312,19 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
             q.flip
         );
     }
-    let _ = writeln!(md, "\nRun time against error, spp {:?}:\n", s.parameters.sweep());
+    let _ = writeln!(
+        md,
+        "\nRun time against error, spp {:?}:\n",
+        s.parameters.sweep()
+    );
     let _ = writeln!(
         md,
         "![whole image](plots/{name}-error-time-whole.png) ![fovea](plots/{name}-error-time-fovea.png)\n"
     );
     let strip = images::strip_path(Path::new(""), name);
-    let _ = writeln!(md, "![reference, regular, forward, corner, FLIP]({})\n", strip.display());
+    let _ = writeln!(
+        md,
+        "![reference, regular, forward, corner, FLIP]({})\n",
+        strip.display()
+    );
 }

@@ -44,7 +44,10 @@ pub fn read_plan(dir: &Path) -> Result<BenchPlan, BenchError> {
         )
     })?;
     serde_json::from_str(&text).map_err(|e| {
-        BenchError::file(&path, format!("not a bench plan of this version of fovea ({e})"))
+        BenchError::file(
+            &path,
+            format!("not a bench plan of this version of fovea ({e})"),
+        )
     })
 }
 
@@ -75,6 +78,12 @@ pub fn run(
     options: &RunOptions,
 ) -> Result<(), BenchError> {
     plan.validate().map_err(BenchError::Plan)?;
+    // Every scene must load before anything is written: a typo should not leave a run
+    // directory behind that can only fail again on resume.
+    let aspect = plan.width as f32 / plan.height as f32;
+    for name in &plan.scenes {
+        scene::load(name, aspect)?;
+    }
     std::fs::create_dir_all(dir).map_err(|e| BenchError::file(dir, e))?;
     let plan_path = dir.join(PLAN_FILE);
     if plan_path.exists() {
@@ -92,13 +101,16 @@ pub fn run(
     }
 
     // Frames whose two eye rows are both there are done; a lone eye row is measured again.
-    let (mut frames_log, frame_rows) = CsvLog::<FrameRow>::open_keeping(&dir.join(FRAMES_FILE), |rows| {
-        let mut eyes: HashMap<FrameKey, u32> = HashMap::new();
-        for r in &rows {
-            *eyes.entry(r.key()).or_default() += 1;
-        }
-        rows.into_iter().filter(|r| eyes[&r.key()] == EYES).collect()
-    })?;
+    let (mut frames_log, frame_rows) =
+        CsvLog::<FrameRow>::open_keeping(&dir.join(FRAMES_FILE), |rows| {
+            let mut eyes: HashMap<FrameKey, u32> = HashMap::new();
+            for r in &rows {
+                *eyes.entry(r.key()).or_default() += 1;
+            }
+            rows.into_iter()
+                .filter(|r| eyes[&r.key()] == EYES)
+                .collect()
+        })?;
     let done_frames: HashSet<FrameKey> = frame_rows.iter().map(FrameRow::key).collect();
     let point_rows = 1 + crate::metrics::BANDS.len() as u32;
     let (mut quality_log, quality_rows) =
@@ -154,14 +166,16 @@ pub fn run(
             continue;
         }
         bar.set_message(format!("{scene_name}: loading"));
-        let aspect = plan.width as f32 / plan.height as f32;
         let scene = scene::load(scene_name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(scene_name))?;
         let eyes: BTreeMap<Mode, Vec<EyeView>> = Mode::ALL
             .into_iter()
             .map(|m| (m, mode_eyes(&scene, plan, m)))
             .collect();
-        let configs: BTreeMap<Mode, _> = Mode::ALL.into_iter().map(|m| (m, plan.config(m, plan.spp))).collect();
+        let configs: BTreeMap<Mode, _> = Mode::ALL
+            .into_iter()
+            .map(|m| (m, plan.config(m, plan.spp)))
+            .collect();
 
         // Timing: per unit, one warm-up frame per mode (pipeline compilation, first touch of
         // memory), then the pending frames, modes interleaved.
@@ -250,7 +264,13 @@ pub fn run(
             for mode in Mode::ALL {
                 if !shown.contains_key(&mode) {
                     let point = quality::measure_point(
-                        &mut renderer, plan, scene_name, mode, plan.spp, &eyes[&mode], &reference,
+                        &mut renderer,
+                        plan,
+                        scene_name,
+                        mode,
+                        plan.spp,
+                        &eyes[&mode],
+                        &reference,
                     )?;
                     shown.insert(mode, point);
                 }

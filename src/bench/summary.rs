@@ -88,9 +88,12 @@ pub fn mode_summary(mode: Mode, rows: &[&FrameRow]) -> ModeSummary {
     // One fps value per frame: the left eye's row carries the frame's time.
     let firsts: Vec<&&FrameRow> = rows.iter().filter(|r| r.eye == "left").collect();
     let frame_ms: Vec<f64> = firsts.iter().map(|r| r.frame_gpu_ms).collect();
-    let per_eye = |f: fn(&FrameRow) -> f64| summarize(&rows.iter().map(|r| f(r)).collect::<Vec<_>>());
+    let per_eye =
+        |f: fn(&FrameRow) -> f64| summarize(&rows.iter().map(|r| f(r)).collect::<Vec<_>>());
     let frames = firsts.len();
-    let per_frame = |f: fn(&FrameRow) -> u64| rows.iter().map(|r| f(r) as f64).sum::<f64>() / frames.max(1) as f64;
+    let per_frame = |f: fn(&FrameRow) -> u64| {
+        rows.iter().map(|r| f(r) as f64).sum::<f64>() / frames.max(1) as f64
+    };
     ModeSummary {
         mode,
         frames,
@@ -217,7 +220,10 @@ fn utc_parts() -> ((i64, u32, u32), (u64, u64, u64)) {
         .map_or(0, |d| d.as_secs());
     let day = (secs / 86_400) as i64;
     let rem = secs % 86_400;
-    (civil_from_days(day), (rem / 3600, rem % 3600 / 60, rem % 60))
+    (
+        civil_from_days(day),
+        (rem / 3600, rem % 3600 / 60, rem % 60),
+    )
 }
 
 /// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).

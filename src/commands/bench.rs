@@ -131,9 +131,7 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
         Some(dir) => {
             let given: Vec<String> = PLAN_FLAGS
                 .iter()
-                .filter(|f| {
-                    matches.value_source(f) == Some(clap::parser::ValueSource::CommandLine)
-                })
+                .filter(|f| matches.value_source(f) == Some(clap::parser::ValueSource::CommandLine))
                 .map(|f| format!("--{}", f.replace('_', "-")))
                 .collect();
             if !given.is_empty() {
@@ -146,7 +144,10 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
             (bench::read_plan(dir)?, dir.clone())
         }
         None => {
-            let dir = args.dir.clone().unwrap_or_else(|| args.out.join(utc_stamp()));
+            let dir = args
+                .dir
+                .clone()
+                .unwrap_or_else(|| args.out.join(utc_stamp()));
             (args.plan()?, dir)
         }
     };
@@ -178,7 +179,10 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
 fn print_impacts(dir: &std::path::Path) -> Result<()> {
     let text = std::fs::read_to_string(dir.join("summary.json"))?;
     let summary: serde_json::Value = serde_json::from_str(&text)?;
-    println!("{:<14} {:>18} {:>18}", "scene", "impact forward", "impact corner");
+    println!(
+        "{:<14} {:>18} {:>18}",
+        "scene", "impact forward", "impact corner"
+    );
     for scene in summary["scenes"].as_array().into_iter().flatten() {
         let impact = |i: usize| {
             scene["modes"][i]["impact"]["factor"]
