@@ -262,8 +262,8 @@ pub fn run(
             // Images of the protocol's spp measured in an earlier, interrupted run are
             // rendered again (their numbers are already in quality.csv).
             for mode in Mode::ALL {
-                if !shown.contains_key(&mode) {
-                    let point = quality::measure_point(
+                if let std::collections::btree_map::Entry::Vacant(slot) = shown.entry(mode) {
+                    slot.insert(quality::measure_point(
                         &mut renderer,
                         plan,
                         scene_name,
@@ -271,8 +271,7 @@ pub fn run(
                         plan.spp,
                         &eyes[&mode],
                         &reference,
-                    )?;
-                    shown.insert(mode, point);
+                    )?);
                 }
             }
             images::write_strip(&strip, plan, &reference, &shown)?;
