@@ -156,8 +156,9 @@ pub fn mean_std_dots(
 }
 
 /// Run time against error on log-log axes (x GPU ms, y `y_label`), lines with
-/// markers, each point annotated with its spp. Points with a non-positive or
-/// non-finite ms or error cannot be placed on log axes and are skipped.
+/// markers, each point annotated with its spp. Points whose ms or error is
+/// non-positive or non-finite cannot be placed on log axes and are skipped, as
+/// are (absurd) values outside 1e-100..=1e100, which would stall plotters.
 pub fn error_vs_time(
     stem: &Path,
     title: &str,
@@ -381,8 +382,7 @@ fn linear_range(lo: f64, hi: f64, from_zero: bool) -> (f64, f64) {
 /// Log axis range around positive [lo, hi]: a factor 1.25 of padding, or 2 when flat.
 fn log_range(lo: f64, hi: f64) -> (f64, f64) {
     let pad = if hi / lo < 1.0 + 1e-9 { 2.0 } else { 1.25 };
-    // Clamped so extreme inputs cannot push a bound to 0 or ∞ (log of which is not finite).
-    ((lo / pad).max(f64::MIN_POSITIVE), (hi * pad).min(f64::MAX))
+    (lo / pad, hi * pad)
 }
 
 /// Colours for labels without a mode prefix; black, red and blue are avoided.
@@ -395,18 +395,21 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(200, 0, 160),
 ];
 
-/// The thesis' mode colours, by label prefix (case-insensitive).
+/// The thesis' mode colours: the first word of the label (case-insensitive)
+/// that names a mode picks it — "regular" black, "forward"/"foveated" red,
+/// "corner" blue — so "forward r3" and "cubes forward" both read as forward.
+/// Other labels take a palette colour by `index`. The flag marks foveated modes.
 fn mode_color(label: &str, index: usize) -> (RGBColor, bool) {
-    let l = label.trim_start().to_ascii_lowercase();
-    if l.starts_with("regular") {
-        (BLACK, false)
-    } else if l.starts_with("forward") || l.starts_with("foveated") {
-        (RED, true)
-    } else if l.starts_with("corner") {
-        (BLUE, true)
-    } else {
-        (PALETTE[index % PALETTE.len()], false)
-    }
+    let lower = label.to_ascii_lowercase();
+    let mode = lower
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .find_map(|w| match w {
+            "regular" => Some((BLACK, false)),
+            "forward" | "foveated" => Some((RED, true)),
+            "corner" => Some((BLUE, true)),
+            _ => None,
+        });
+    mode.unwrap_or((PALETTE[index % PALETTE.len()], false))
 }
 
 /// Line style for [`frame_rate_lines`]: foveated runs thinner and lighter so
@@ -507,6 +510,7 @@ impl Figure for LinesFig<'_> {
             .configure_mesh()
             .x_desc("frame")
             .y_desc("fps")
+            .x_label_formatter(&|x| format!("{x:.0}"))
             .label_style(axis_font())
             .axis_desc_style(axis_font())
             .draw()?;
@@ -639,9 +643,14 @@ struct ErrorFig<'a> {
     curves: &'a [Curve],
 }
 
+/// Values a log axis accepts. Bounded because plotters' log key-point search
+/// loops about log10(max/min) times: an unbounded ratio (e.g. 1e-308 to 1e308
+/// overflows to ∞) would hang it.
+const LOG_LIMITS: std::ops::RangeInclusive<f64> = 1e-100..=1e100;
+
 /// Whether a point can be placed on log-log axes.
 fn loggable(p: &CurvePoint) -> bool {
-    p.ms.is_finite() && p.ms > 0.0 && p.error.is_finite() && p.error > 0.0
+    LOG_LIMITS.contains(&p.ms) && LOG_LIMITS.contains(&p.error)
 }
 
 /// Compact tick label for log axes, whose ticks span decades.
@@ -828,6 +837,7 @@ mod tests {
             vec![dot("one", 3.0, 0.0)],
             vec![dot("nan", f64::NAN, f64::NAN)],
             vec![dot("neg", 2.0, -1.0)],
+            vec![dot("huge", f64::MAX, f64::MAX), dot("tiny", -f64::MAX, 1.0)],
         ]
         .iter()
         .enumerate()
@@ -879,7 +889,12 @@ mod tests {
         }];
         let extreme = [Curve {
             label: "x".into(),
-            points: vec![pt(f64::MIN_POSITIVE, f64::MAX, 1), pt(f64::MAX, 5e-324, 2)],
+            points: vec![
+                pt(f64::MIN_POSITIVE, f64::MAX, 1),
+                pt(1e-100, 1e100, 2),
+                pt(1e100, 1e-100, 4),
+                pt(f64::MAX, 5e-324, 8),
+            ],
         }];
         for (i, c) in [&one[..], &bad[..], &extreme[..], &[]].iter().enumerate() {
             check_chart(
@@ -888,6 +903,14 @@ mod tests {
             );
         }
         let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn mode_colours_follow_the_thesis() {
+        assert_eq!(mode_color("regular", 5), (BLACK, false));
+        assert_eq!(mode_color("Forward r3", 0), (RED, true));
+        assert_eq!(mode_color("cubes corner", 0), (BLUE, true));
+        assert_eq!(mode_color("other", 1), (PALETTE[1], false));
     }
 
     fn solid(label: &str, w: u32, h: u32, rgb: [u8; 3]) -> Panel {

@@ -140,8 +140,8 @@ pub struct Impact {
 /// regular mean is ≤ 0 (no meaningful ratio).
 pub fn impact(regular: &Summary, foveated: &Summary) -> Option<Impact> {
     let (mr, sr, mf, sf) = (regular.mean, regular.std, foveated.mean, foveated.std);
-    let sane = |v: f64| v.is_finite();
-    if !(sane(mr) && sane(sr) && sane(mf) && sane(sf)) || sr < 0.0 || sf < 0.0 || mr <= 0.0 {
+    let finite = [mr, sr, mf, sf].iter().all(|v| v.is_finite());
+    if !finite || sr < 0.0 || sf < 0.0 || mr <= 0.0 {
         return None;
     }
     let upper_den = mr - sr;
