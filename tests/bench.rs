@@ -1,27 +1,11 @@
 //! `fovea bench` as a user runs it, on lavapipe with validation on: every file is written and
 //! parses, row counts follow the protocol, and a killed run resumes to the same rows.
 
+mod common;
+
+use common::fovea;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn fovea(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
-        .args(args)
-        .env("FOVEA_VALIDATION", "1")
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        !text.contains("panicked"),
-        "fovea {args:?} panicked:\n{text}"
-    );
-    (out.status.success(), text)
-}
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("fovea-bench-{}-{name}", std::process::id()));
@@ -80,6 +64,19 @@ fn keys(path: &Path, columns: usize) -> BTreeSet<Vec<String>> {
         .collect();
     assert_eq!(keys.len(), rows.len(), "{}: duplicate rows", path.display());
     keys
+}
+
+/// trace.json of a run, which must parse as one JSON array.
+fn trace_events(run: &Path) -> Vec<serde_json::Value> {
+    serde_json::from_str(&std::fs::read_to_string(run.join("trace.json")).unwrap()).unwrap()
+}
+
+/// The CPU frame slices of a trace: one per timed frame.
+fn frame_slices(trace: &[serde_json::Value]) -> u64 {
+    trace
+        .iter()
+        .filter(|e| e["ph"] == "X" && e["name"].as_str().unwrap().starts_with("frame"))
+        .count() as u64
 }
 
 #[test]
@@ -147,13 +144,8 @@ fn a_quick_run_writes_every_file_and_they_parse() {
     }
 
     // trace.json: a JSON array with a CPU frame slice and GPU pass slices for every frame.
-    let trace: Vec<serde_json::Value> =
-        serde_json::from_str(&std::fs::read_to_string(run.join("trace.json")).unwrap()).unwrap();
-    let frame_slices = trace
-        .iter()
-        .filter(|e| e["ph"] == "X" && e["name"].as_str().unwrap().starts_with("frame"))
-        .count() as u64;
-    assert_eq!(frame_slices, SCENES * RUNS_PER_SCENE * FRAMES);
+    let trace = trace_events(&run);
+    assert_eq!(frame_slices(&trace), SCENES * RUNS_PER_SCENE * FRAMES);
     assert!(trace.iter().any(|e| e["name"] == "right merge"));
 
     // report.md names every scene and links files that exist.
@@ -212,13 +204,7 @@ fn a_killed_run_resumes_to_the_rows_of_an_uninterrupted_one() {
         serde_json::from_str(&std::fs::read_to_string(killed.join("summary.json")).unwrap())
             .unwrap();
     assert_eq!(summary["complete"], true);
-    let trace: Vec<serde_json::Value> =
-        serde_json::from_str(&std::fs::read_to_string(killed.join("trace.json")).unwrap()).unwrap();
-    let frame_slices = trace
-        .iter()
-        .filter(|e| e["ph"] == "X" && e["name"].as_str().unwrap().starts_with("frame"))
-        .count() as u64;
-    assert_eq!(frame_slices, SCENES * RUNS_PER_SCENE * FRAMES);
+    assert_eq!(frame_slices(&trace_events(&killed)), SCENES * RUNS_PER_SCENE * FRAMES);
 
     // A finished run resumed again measures nothing new.
     let before = std::fs::read_to_string(killed.join("frames.csv")).unwrap();

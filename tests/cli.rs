@@ -1,25 +1,9 @@
 //! The `fovea` binary as a user meets it: a real render writes real files; bad input gets a
 //! clear message and a non-zero exit, never a panic.
 
-use std::process::Command;
+mod common;
 
-fn fovea(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
-        .args(args)
-        .env("FOVEA_VALIDATION", "1")
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        !text.contains("panicked"),
-        "fovea {args:?} panicked:\n{text}"
-    );
-    (out.status.success(), text)
-}
+use common::fovea;
 
 #[test]
 fn render_writes_png_and_exr_and_reports_time_and_counters() {
