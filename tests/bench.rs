@@ -204,7 +204,10 @@ fn a_killed_run_resumes_to_the_rows_of_an_uninterrupted_one() {
         serde_json::from_str(&std::fs::read_to_string(killed.join("summary.json")).unwrap())
             .unwrap();
     assert_eq!(summary["complete"], true);
-    assert_eq!(frame_slices(&trace_events(&killed)), SCENES * RUNS_PER_SCENE * FRAMES);
+    assert_eq!(
+        frame_slices(&trace_events(&killed)),
+        SCENES * RUNS_PER_SCENE * FRAMES
+    );
 
     // A finished run resumed again measures nothing new.
     let before = std::fs::read_to_string(killed.join("frames.csv")).unwrap();

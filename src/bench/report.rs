@@ -25,11 +25,11 @@ pub fn write_all(
     dir: &Path,
     plan: &BenchPlan,
     device: &DeviceInfo,
-    command: &str,
+    commands: &[&str],
     frames: &[FrameRow],
     quality: &[QualityRow],
 ) -> Result<(), BenchError> {
-    let summary = summarize_run(plan, device, command, frames, quality);
+    let summary = summarize_run(plan, device, commands, frames, quality);
     let path = dir.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).expect("summaries serialize");
     std::fs::write(&path, json).map_err(|e| BenchError::file(&path, e))?;
@@ -157,7 +157,10 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         s.device.driver,
         s.device.api_version
     );
-    let _ = writeln!(md, "Command: `{}`\n", s.command);
+    for (i, command) in s.commands.iter().enumerate() {
+        let what = if i == 0 { "Command" } else { "Resumed by" };
+        let _ = writeln!(md, "{what}: `{command}`\n");
+    }
     if !s.complete {
         let _ = writeln!(
             md,
@@ -225,11 +228,12 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         md,
         "`{}` (a row per frame and eye), `{}` (a row per scene, mode, spp, eye and region), `summary.json` \
          (these statistics, the device and every parameter), `{}` (open in ui.perfetto.dev), `{}` (the plan; \
-         `fovea bench --resume DIR` completes an interrupted run).",
+         `fovea bench --resume DIR` completes an interrupted run), `{}` (every command that measured here).",
         runner::FRAMES_FILE,
         runner::QUALITY_FILE,
         runner::TRACE_FILE,
-        runner::PLAN_FILE
+        runner::PLAN_FILE,
+        runner::COMMANDS_FILE
     );
     md
 }
@@ -302,7 +306,7 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
         }
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.4} | {:.3e} | {:.2} | {:.4} |",
+            "| {} | {} | {} | {:.3e} | {:.3e} | {:.2} | {:.4} |",
             q.mode.name(),
             q.region,
             q.pixels,

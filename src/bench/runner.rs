@@ -24,6 +24,9 @@ pub const PLAN_FILE: &str = "plan.json";
 pub const FRAMES_FILE: &str = "frames.csv";
 pub const QUALITY_FILE: &str = "quality.csv";
 pub const TRACE_FILE: &str = "trace.json";
+/// Every command line that measured into the directory, one per line: the first one started
+/// the run, later ones resumed it.
+pub const COMMANDS_FILE: &str = "commands.txt";
 
 pub struct RunOptions {
     /// Where converged references are cached, shared between runs.
@@ -99,6 +102,12 @@ pub fn run(
         let json = serde_json::to_string_pretty(plan).expect("plans serialize");
         std::fs::write(&plan_path, json).map_err(|e| BenchError::file(&plan_path, e))?;
     }
+
+    let commands_path = dir.join(COMMANDS_FILE);
+    let mut commands = std::fs::read_to_string(&commands_path).unwrap_or_default();
+    commands.push_str(&options.command_line);
+    commands.push('\n');
+    std::fs::write(&commands_path, &commands).map_err(|e| BenchError::file(&commands_path, e))?;
 
     // Frames whose two eye rows are both there are done; a lone eye row is measured again.
     let (mut frames_log, frame_rows) =
@@ -290,7 +299,7 @@ pub fn run(
         dir,
         plan,
         &ctx.info,
-        &options.command_line,
+        &commands.lines().collect::<Vec<_>>(),
         &frame_rows,
         &quality_rows,
     )

@@ -19,7 +19,8 @@ pub struct Device {
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     pub fovea_version: String,
-    pub command: String,
+    /// The command that started the run, then any that resumed it.
+    pub commands: Vec<String>,
     /// UTC, when this summary was written.
     pub written_at: String,
     /// Every planned frame was measured.
@@ -114,7 +115,7 @@ pub fn mode_summary(mode: Mode, rows: &[&FrameRow]) -> ModeSummary {
 pub fn summarize_run(
     plan: &BenchPlan,
     device: &DeviceInfo,
-    command: &str,
+    commands: &[&str],
     frames: &[FrameRow],
     quality: &[QualityRow],
 ) -> Summary {
@@ -149,7 +150,7 @@ pub fn summarize_run(
     let expected = plan.expected_frame_rows();
     Summary {
         fovea_version: env!("CARGO_PKG_VERSION").to_string(),
-        command: command.to_string(),
+        commands: commands.iter().map(|c| c.to_string()).collect(),
         written_at: utc_now(),
         complete: frames.len() as u64 == expected,
         frame_rows: frames.len() as u64,
@@ -292,7 +293,7 @@ mod tests {
             timestamp_period_ns: 1.0,
             max_storage_buffer_range: 0,
         };
-        let s = summarize_run(&plan, &device, "fovea bench", &rows, &[]);
+        let s = summarize_run(&plan, &device, &["fovea bench"], &rows, &[]);
         assert!(!s.complete, "corner is missing");
         assert_eq!(s.frame_rows, 8);
         assert_eq!(s.expected_frame_rows, 12);
