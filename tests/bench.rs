@@ -217,6 +217,17 @@ fn a_killed_run_resumes_to_the_rows_of_an_uninterrupted_one() {
         std::fs::read_to_string(killed.join("frames.csv")).unwrap(),
         before
     );
+    // The report names the command that started the run and each that resumed it.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(killed.join("summary.json")).unwrap())
+            .unwrap();
+    let commands = summary["commands"].as_array().unwrap();
+    assert_eq!(commands.len(), 3);
+    assert!(commands[0]
+        .as_str()
+        .unwrap()
+        .contains("--abort-after-frames 7"));
+    assert!(commands[2].as_str().unwrap().contains("--resume"));
 }
 
 #[test]
