@@ -6,19 +6,12 @@ use super::plots::{image_strip, Panel};
 use super::protocol::{BenchPlan, Mode};
 use super::quality::{eye_image, Point};
 use crate::metrics::magma_rgb8;
-use crate::render::output::linear_to_srgb;
+use crate::render::output::linear_to_srgb8;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub fn strip_path(dir: &Path, scene: &str) -> PathBuf {
     dir.join("images").join(format!("{scene}.png"))
-}
-
-/// 8-bit sRGB, as our PNGs store it.
-fn srgb8(rgb: &[f32]) -> Vec<u8> {
-    rgb.iter()
-        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
-        .collect()
 }
 
 /// Writes the strip; `reference` is the side-by-side reference of both eyes, `shown` the
@@ -38,12 +31,12 @@ pub fn write_strip(
     };
     let mut panels = vec![panel(
         format!("reference ({} spp)", plan.reference_spp),
-        srgb8(&eye_image(reference, super::protocol::EYES, w, h, 0)),
+        linear_to_srgb8(&eye_image(reference, super::protocol::EYES, w, h, 0)),
     )];
     for (mode, point) in shown {
         panels.push(panel(
             format!("{} ({} spp)", mode.name(), plan.spp),
-            srgb8(&point.left_rgb),
+            linear_to_srgb8(&point.left_rgb),
         ));
     }
     if let Some(forward) = shown.get(&Mode::Forward) {

@@ -7,7 +7,7 @@
 
 use super::{check_per_pixel, check_rgb, pixel_count, MetricsError};
 use crate::foveation::view::{angle_between, ImageGeometry};
-use crate::render::output::linear_to_srgb;
+use crate::render::output::linear_to_srgb8;
 
 /// A FLIP error map and its mean.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,14 +16,6 @@ pub struct FlipResult {
     pub mean: f64,
     /// FLIP per pixel, in [0, 1], row-major from the top-left.
     pub map: Vec<f32>,
-}
-
-/// The 8-bit sRGB encoding of a linear image, exactly as our PNGs store it.
-fn to_srgb8(linear: &[f32]) -> Vec<u8> {
-    linear
-        .iter()
-        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
-        .collect()
 }
 
 /// LDR-FLIP of `test` against `reference`, linear RGB `width`×`height` images, both first
@@ -61,8 +53,8 @@ pub fn flip(
             map: Vec::new(),
         });
     }
-    let r = nv_flip::FlipImageRgb8::with_data(width, height, &to_srgb8(reference));
-    let t = nv_flip::FlipImageRgb8::with_data(width, height, &to_srgb8(test));
+    let r = nv_flip::FlipImageRgb8::with_data(width, height, &linear_to_srgb8(reference));
+    let t = nv_flip::FlipImageRgb8::with_data(width, height, &linear_to_srgb8(test));
     // Sizes were checked above: nv_flip::flip panics on a mismatch.
     let map = nv_flip::flip(r, t, ppd).to_vec();
     // FlipPool's mean sums in f32, which drifts on megapixel images; sum in f64 instead.
@@ -153,9 +145,9 @@ mod tests {
     #[test]
     fn encoding_matches_the_png_writer() {
         for byte in 0..=255u8 {
-            assert_eq!(to_srgb8(&[linear_of(byte)]), [byte]);
+            assert_eq!(linear_to_srgb8(&[linear_of(byte)]), [byte]);
         }
-        assert_eq!(to_srgb8(&[f32::NAN, 7.0, -1.0]), [0, 255, 0]);
+        assert_eq!(linear_to_srgb8(&[f32::NAN, 7.0, -1.0]), [0, 255, 0]);
     }
 
     #[test]

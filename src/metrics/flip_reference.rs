@@ -205,7 +205,7 @@ fn checkerboard_against_its_mean(ppd: f64) -> (FlipResult, f64) {
     // The colour term alone cannot exceed this: the spatial filters are non-negative and
     // normalised, so a filtered pixel of the board is a grey between lo and hi, and for
     // greys ΔE_c grows with the luminance difference.
-    let srgb8 = |v: f32| [to_srgb8(&[v])[0]; 3];
+    let srgb8 = |v: f32| [linear_to_srgb8(&[v])[0]; 3];
     let bound = flip_uniform(srgb8(lo), srgb8(mean)).max(flip_uniform(srgb8(hi), srgb8(mean)));
     (f, bound)
 }

@@ -24,6 +24,15 @@ pub fn linear_to_srgb(v: f32) -> f32 {
     }
 }
 
+/// The 8-bit sRGB encoding of linear values, as our PNGs store them (and as FLIP and the
+/// bench's pictures see them).
+pub fn linear_to_srgb8(linear: &[f32]) -> Vec<u8> {
+    linear
+        .iter()
+        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
+        .collect()
+}
+
 pub fn write_png(frame: &Frame, path: &Path) -> Result<(), RenderError> {
     let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), frame.width, frame.height);
@@ -31,11 +40,7 @@ pub fn write_png(frame: &Frame, path: &Path) -> Result<(), RenderError> {
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
     let mut writer = encoder.write_header().map_err(|e| output_error(path, e))?;
-    let bytes: Vec<u8> = frame
-        .rgb
-        .iter()
-        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
-        .collect();
+    let bytes = linear_to_srgb8(&frame.rgb);
     writer
         .write_image_data(&bytes)
         .map_err(|e| output_error(path, e))?;
