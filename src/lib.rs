@@ -3,6 +3,7 @@
 //! `scene` describes what to render, `gpu` owns every Vulkan handle, `render` drives a frame.
 
 pub mod bench;
+pub mod check;
 pub mod foveation;
 pub mod gpu;
 pub mod metrics;

@@ -1,0 +1,1 @@
+//! Convergence of the integrators: RMSE against a converged reference as spp grows.

@@ -1,0 +1,6 @@
+//! Numerical stress checks behind `fovea check` and the accuracy tests: watertight traversal of
+//! closed meshes, scale and self-intersection invariance, material extremes under a white
+//! furnace, and convergence of both integrators against converged references. Each check
+//! returns counts and measured figures; the caller decides what is a failure.
+
+pub mod convergence;
