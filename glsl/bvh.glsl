@@ -9,6 +9,11 @@
 
 // Ize 2013: widen t_max by 2*gamma(3) so rounding in the slab test never culls a box the ray touches.
 const float CONSERVATIVE_TMAX = 1.0000004;
+// The quantized slab distances lo * adj_inv_d + adj_o round relative to their two terms, which
+// can be far larger than the distance itself (a node origin far behind the ray origin): each
+// axis' interval is also widened by 4 ulps of the larger term, absolutely. Without this, rays
+// aimed exactly at an edge shared by two boxes (flat faces of a closed mesh) slip between them.
+const float SLAB_ROUNDING = 4.0 / 8388608.0;
 
 struct Hit {
     float t;
@@ -29,6 +34,7 @@ uint intersect_node(uvec4 n0, uvec4 n1, uvec4 n2, uvec4 n3, uvec4 n4,
                     uintBitsToFloat(((n0.w >> 16) & 0xffu) << 23));
     vec3 adj_inv_d = ext * inv_d;
     vec3 adj_o = (p - o) * inv_d;
+    vec3 slack = (abs(adj_o) + 255.0 * abs(adj_inv_d)) * SLAB_ROUNDING;
     uint hitmask = 0u;
     for (uint h = 0u; h < 2u; ++h) {
         uint meta4 = h == 0u ? n1.z : n1.w;
@@ -46,8 +52,8 @@ uint intersect_node(uvec4 n0, uvec4 n1, uvec4 n2, uvec4 n3, uvec4 n4,
             vec3 hi = vec3(float((hi_x >> s) & 0xffu), float((hi_y >> s) & 0xffu), float((hi_z >> s) & 0xffu));
             vec3 t0 = lo * adj_inv_d + adj_o;
             vec3 t1 = hi * adj_inv_d + adj_o;
-            vec3 tn = min(t0, t1);
-            vec3 tf = max(t0, t1);
+            vec3 tn = min(t0, t1) - slack;
+            vec3 tf = max(t0, t1) + slack;
             float tmin = max(max(tn.x, tn.y), max(tn.z, t_min));
             float tmax = min(min(tf.x, tf.y), min(tf.z, t_max)) * CONSERVATIVE_TMAX;
             if (tmin <= tmax) {

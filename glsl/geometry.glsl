@@ -9,19 +9,26 @@ const float PI = 3.14159265358979;
 
 // Moves p off the surface with geometric normal n by a few ulps of p's integer representation,
 // so the offset scales with the magnitude of the coordinates (no acne far from the origin).
-vec3 offset_ray_origin(vec3 p, vec3 n) {
+// `from` is the origin of the ray whose hit p is: p = from + t d carries rounding of a few
+// ulps of |from| too, which dominates when a surface near the world origin is seen from far
+// away (a camera 200 units above a ground plane through y = 0), so the offset also covers
+// 64 ulps of from's largest coordinate.
+vec3 offset_ray_origin(vec3 p, vec3 n, vec3 from) {
     const float origin = 1.0 / 32.0;
     const float float_scale = 1.0 / 65536.0;
     const float int_scale = 256.0;
+    const float from_scale = 64.0 / 8388608.0;
     ivec3 of_i = ivec3(int_scale * n);
     vec3 p_i = vec3(
         intBitsToFloat(floatBitsToInt(p.x) + ((p.x < 0.0) ? -of_i.x : of_i.x)),
         intBitsToFloat(floatBitsToInt(p.y) + ((p.y < 0.0) ? -of_i.y : of_i.y)),
         intBitsToFloat(floatBitsToInt(p.z) + ((p.z < 0.0) ? -of_i.z : of_i.z)));
-    return vec3(
+    vec3 moved = vec3(
         abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
         abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
         abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+    vec3 a = abs(from);
+    return moved + (from_scale * max(max(a.x, a.y), a.z)) * n;
 }
 
 // Replaces zero direction components by a tiny signed value so 1/d is finite and the slab

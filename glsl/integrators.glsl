@@ -80,7 +80,7 @@ vec3 trace_seed(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overf
             energy *= 2.0 * s.m.kd.xyz * dot(s.ng, d) / (1.0 - p_s);
         }
         if (all(equal(energy, vec3(0.0)))) break;
-        o = offset_ray_origin(s.p, s.ng);
+        o = offset_ray_origin(s.p, s.ng, o);
     }
     return L;
 }
@@ -130,7 +130,7 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
         if (bounce == MAX_BOUNCES) break;
         vec3 wo = -d;
         vec3 n = s.ng;
-        vec3 origin = offset_ray_origin(s.p, n);
+        vec3 origin = offset_ray_origin(s.p, n, o);
         float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
         bool mirror = HAS_SPECULAR && is_mirror(s.m);
 
@@ -151,7 +151,7 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
                 vec3 f = brdf_eval(s.m, wo, wi, n);
                 float bpdf = brdf_pdf(s.m, wo, wi, n);
                 // Shadow ray to just short of the light's surface.
-                vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l));
+                vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p);
                 vec3 seg = target - origin;
                 rays++;
                 if (unoccluded(origin, seg, 1.0, overflow)) {
@@ -170,7 +170,10 @@ vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflo
             prev_delta = true;
         } else {
             if (spec_pick) {
-                wi = sample_power_cosine(u, reflect(d, n), s.m.kd.w);
+                // alpha = 0 is the constant lobe (cos^0 = 1 even where theta_r > 90 deg):
+                // sample it over the hemisphere around n, which is where it is non-zero.
+                float alpha = s.m.kd.w;
+                wi = sample_power_cosine(u, alpha == 0.0 ? n : reflect(d, n), alpha);
             } else {
                 wi = sample_power_cosine(u, n, 1.0);
             }

@@ -3,4 +3,9 @@
 //! furnace, and convergence of both integrators against converged references. Each check
 //! returns counts and measured figures; the caller decides what is a failure.
 
+pub mod closed_meshes;
 pub mod convergence;
+pub mod materials;
+mod rng;
+pub mod scale;
+pub mod watertight;

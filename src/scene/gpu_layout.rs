@@ -62,6 +62,7 @@ fn specular_probability(kd: Vec3, ks: Vec3) -> f32 {
 
 impl GpuScene {
     pub fn build(scene: &Scene) -> Result<Self, SceneError> {
+        super::validate::validate(scene)?;
         let invalid = |problem: String| SceneError::Invalid {
             scene: scene.name.clone(),
             problem,

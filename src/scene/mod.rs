@@ -8,6 +8,7 @@ pub mod glb_write;
 pub mod gltf_load;
 pub mod gpu_layout;
 pub mod types;
+pub mod validate;
 
 pub use error::SceneError;
 pub use features::SceneFeatures;
