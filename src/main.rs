@@ -23,6 +23,9 @@ enum Command {
     /// The thesis' evaluation, unattended: scenes x regular/forward/corner x frames x repeats,
     /// GPU timestamps, error against converged references, CSV/JSON/Markdown/plots/trace.
     Bench(Box<commands::bench::BenchArgs>),
+    /// Numerical stress report: watertightness, scale invariance, white furnace, emission,
+    /// convergence; prints the counts that must be zero and fails if any check does.
+    Check(Box<commands::check::CheckArgs>),
     /// List the built-in scenes with their triangle counts and what they need.
     Scenes,
 }
@@ -44,6 +47,7 @@ fn main() {
                 .expect("the bench subcommand was parsed");
             commands::bench::run(args, sub)
         }
+        Command::Check(args) => commands::check::run(args),
         Command::Scenes => commands::scenes::run(),
     };
     if let Err(e) = result {

@@ -136,3 +136,49 @@ fn enormous_emission_scales_the_image_linearly_without_overflow() {
         assert!((r.ratio - 1.0).abs() < 1e-3, "{r:?}");
     }
 }
+
+#[test]
+fn fovea_check_prints_the_counts_and_writes_the_report() {
+    let json = std::env::temp_dir().join(format!("fovea-check-{}.json", std::process::id()));
+    let (ok, text) = common::fovea(&[
+        "check",
+        "--only",
+        "watertight,emission",
+        "--rays",
+        "30000",
+        "--size",
+        "16",
+        "--spp",
+        "4",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("counts: 30000 rays tried, 0 escapes, 0 overshoots, 0 non-finite samples"),
+        "{text}"
+    );
+    assert!(text.contains("all checks passed"), "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    std::fs::remove_file(&json).unwrap();
+    assert_eq!(report["watertight"].as_array().unwrap().len(), 3);
+    assert_eq!(report["emission"].as_array().unwrap().len(), 3);
+    assert!(report["furnace"].as_array().unwrap().is_empty());
+
+    for (args, words) in [
+        (&["check", "--rays", "0"][..], "--rays 0 is out of range"),
+        (&["check", "--size", "0"][..], "out of range"),
+        (
+            &["check", "--reference-spp", "100"][..],
+            "reference spp 100",
+        ),
+        (
+            &["check", "--only", "nothing"][..],
+            "invalid value 'nothing'",
+        ),
+    ] {
+        let (ok, text) = common::fovea(args);
+        assert!(!ok && text.contains(words), "fovea {args:?}:\n{text}");
+    }
+}

@@ -1,6 +1,7 @@
 //! One file per subcommand, plus what they share: GPU selection and the validation check.
 
 pub mod bench;
+pub mod check;
 pub mod render;
 pub mod render_bench;
 pub mod scenes;
