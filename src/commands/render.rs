@@ -7,7 +7,7 @@ use clap::Args;
 use fovea::foveation::{FoveationConfig, GazeChoice};
 use fovea::render::{
     eye_views, output, DebugView, FovChoice, Frame, FrameRequest, Integrator, RenderSettings,
-    Renderer,
+    Renderer, MAX_SIDE,
 };
 use fovea::scene;
 use std::path::PathBuf;
@@ -27,28 +27,36 @@ pub struct RenderArgs {
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Width of one eye's image in pixels.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, allow_negative_numbers = true,
+          value_parser = whole_number(format!("a width in pixels from 1 to {MAX_SIDE}")))]
     pub width: u32,
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, allow_negative_numbers = true,
+          value_parser = whole_number(format!("a height in pixels from 1 to {MAX_SIDE}")))]
     pub height: u32,
     /// Samples per target pixel. Default: 16 without foveation, each layer's own (4 in the
     /// thesis config) with it; given with foveation, it replaces every layer's.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_number(format!(
+        "a number of samples per pixel from 1 to {}",
+        RenderSettings::MAX_SPP
+    )))]
     pub spp: Option<u32>,
     /// Random seed: the same seed gives a bit-identical image.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true,
+          value_parser = whole_number(format!("a seed from 0 to {}", u32::MAX)))]
     pub seed: u32,
     #[arg(long, value_enum, default_value_t = Integrator::Pt)]
     pub integrator: Integrator,
     /// Maximum number of bounces after the camera ray's hit.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, allow_negative_numbers = true, value_parser = whole_number(
+        format!("a number of bounces from 0 to {}", RenderSettings::MAX_BOUNCES)
+    ))]
     pub max_bounces: u32,
     /// Foveation layers: off (regular rendering), thesis (6°/10°/20° + background, spacings
     /// 1-4, 4 spp), or a TOML file (see assets/foveation/).
     #[arg(long, default_value = "off")]
     pub foveation: String,
     /// Gaze: forward (the view axis), corner (top left) or X,Y in pixels; LEFT:RIGHT per eye.
-    #[arg(long, default_value = "forward")]
+    #[arg(long, default_value = "forward", allow_hyphen_values = true)]
     pub gaze: GazeChoice,
     /// Render both eyes (IPD 63 mm), side by side in one image.
     #[arg(long)]
@@ -67,7 +75,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub bench: bool,
     /// Frames timed per scene and mode in --bench (the median is reported).
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, allow_negative_numbers = true,
+          value_parser = whole_number("a number of frames, 1 or more".into()))]
     pub bench_frames: u32,
     #[command(flatten)]
     pub gpu: GpuArgs,
@@ -109,10 +118,35 @@ impl RenderArgs {
     }
 }
 
+/// A clap parser for a whole-number option whose message says what the option takes; clap's
+/// own says "invalid digit found in string" for `-5` or `1e9`. `what`: "a width in pixels
+/// from 1 to 16384". Ranges are checked with the other settings.
+fn whole_number(what: String) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync {
+    move |text: &str| {
+        let text = text.trim();
+        let (negative, digits) = match text.strip_prefix('-') {
+            Some(rest) => (true, rest),
+            None => (false, text.strip_prefix('+').unwrap_or(text)),
+        };
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(format!("not a whole number; give {what}"));
+        }
+        if negative && digits.bytes().any(|b| b != b'0') {
+            return Err(format!("negative; give {what}"));
+        }
+        digits
+            .parse::<u32>()
+            .map_err(|_| format!("far too large; give {what}"))
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<()> {
     let config = args.foveation()?;
     let settings = args.settings(&config);
     settings.validate().map_err(anyhow::Error::msg)?;
+    if args.bench && args.bench_frames == 0 {
+        bail!("--bench-frames 0 times nothing: give 1 or more frames per scene and mode");
+    }
     let ctx = gpu_context(&args.gpu)?;
     println!(
         "device: {} ({}; {})",

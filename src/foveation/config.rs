@@ -34,10 +34,51 @@ pub struct Layer {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius_deg: Option<f32>,
     /// Lattice spacing in pixels: one target pixel per `spacing` x `spacing` block.
+    #[serde(deserialize_with = "deserialize_spacing")]
     pub spacing: u32,
     /// Samples per target pixel.
-    #[serde(default = "default_spp")]
+    #[serde(default = "default_spp", deserialize_with = "deserialize_spp")]
     pub spp: u32,
+}
+
+/// A layer's whole-number field, read with a message that says what it takes (serde's own
+/// says "expected u32" for `spacing = -1` or `spp = 1.5`). The range is checked by `validate`.
+#[derive(Clone, Copy)]
+enum WholeNumber {
+    Spacing,
+    Spp,
+}
+
+impl serde::de::Visitor<'_> for WholeNumber {
+    type Value = u32;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            WholeNumber::Spacing => write!(f, "a whole number of pixels from 1 to {MAX_SPACING}"),
+            WholeNumber::Spp => write!(
+                f,
+                "a whole number of samples per target pixel from 1 to {MAX_LAYER_SPP}"
+            ),
+        }
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<u32, E> {
+        u32::try_from(v).map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<u32, E> {
+        u32::try_from(v).map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+    }
+}
+
+/// serde's `deserialize_with = "..."` needs a function path.
+fn deserialize_spacing<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    d.deserialize_u32(WholeNumber::Spacing)
+}
+
+/// serde's `deserialize_with = "..."` needs a function path.
+fn deserialize_spp<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    d.deserialize_u32(WholeNumber::Spp)
 }
 
 /// serde's `default = "..."` needs a function path.
@@ -665,6 +706,33 @@ mod tests {
                 .to_string();
         assert!(error.contains("`blend`"), "{error}");
         assert!(error.contains("top.toml"), "{error}");
+    }
+
+    #[test]
+    fn bad_whole_numbers_say_what_the_field_takes() {
+        for (text, needles) in [
+            (
+                "spacing = -1",
+                &["`-1`", "whole number of pixels from 1 to 64"][..],
+            ),
+            ("spacing = 1.5", &["1.5", "whole number of pixels"][..]),
+            ("spacing = \"a\"", &["whole number of pixels"][..]),
+            (
+                "spacing = 1\nspp = 99999999999",
+                &["99999999999", "samples per target pixel"][..],
+            ),
+            (
+                "spacing = 1\nspp = -4",
+                &["`-4`", "samples per target pixel"][..],
+            ),
+        ] {
+            let error = FoveationConfig::from_toml_str(&format!("[[layer]]\n{text}\n"), "n.toml")
+                .unwrap_err()
+                .to_string();
+            for needle in needles {
+                assert!(error.contains(needle), "{text}: {error} lacks {needle}");
+            }
+        }
     }
 
     #[test]

@@ -27,6 +27,8 @@ pub struct Buffer {
     pub(crate) buffer: vk::Buffer,
     allocation: Option<Allocation>,
     pub size: u64,
+    /// (bytes, host-visible) counted against the context's memory use.
+    counted: (u64, bool),
 }
 
 impl Buffer {
@@ -45,29 +47,41 @@ impl Buffer {
         let buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: buffer was created from this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-        let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
-            name,
-            requirements,
-            location,
-            linear: true,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        });
+        let host_visible = location != MemoryLocation::GpuOnly;
+        let allocation = ctx
+            .reserve(name, requirements.size, host_visible)
+            .and_then(|()| {
+                ctx.allocator()
+                    .allocate(&AllocationCreateDesc {
+                        name,
+                        requirements,
+                        location,
+                        linear: true,
+                        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                    })
+                    .map_err(|e| {
+                        ctx.release(requirements.size, host_visible);
+                        allocation_error(name, size, e)
+                    })
+            });
         let allocation = match allocation {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: the buffer has no memory bound and is not in use.
                 unsafe { device.destroy_buffer(buffer, None) };
-                return Err(allocation_error(name, size, e));
+                return Err(e);
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
         let bound =
             unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
+        // Built before the bind is checked so that drop frees both on failure.
         let this = Self {
             ctx: ctx.clone(),
             buffer,
             allocation: Some(allocation),
             size,
+            counted: (requirements.size, host_visible),
         };
         bound.vk("vkBindBufferMemory")?;
         Ok(this)
@@ -126,6 +140,7 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         if let Some(allocation) = self.allocation.take() {
             let _ = self.ctx.allocator().free(allocation);
+            self.ctx.release(self.counted.0, self.counted.1);
         }
         // SAFETY: users wait for the GPU before dropping the resources they used.
         unsafe { self.ctx.device.destroy_buffer(self.buffer, None) };
@@ -139,6 +154,8 @@ pub struct StorageImage {
     pub(crate) image: vk::Image,
     pub(crate) view: vk::ImageView,
     allocation: Option<Allocation>,
+    /// Bytes counted against the context's memory use.
+    counted: u64,
     pub width: u32,
     pub height: u32,
     pub layers: u32,
@@ -205,33 +222,43 @@ impl StorageImage {
         let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
         // SAFETY: image from this device.
         let requirements = unsafe { device.get_image_memory_requirements(image) };
-        let allocation = match ctx.allocator().allocate(&AllocationCreateDesc {
-            name,
-            requirements,
-            location: MemoryLocation::GpuOnly,
-            linear: false,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        }) {
+        let allocation = ctx.reserve(name, requirements.size, false).and_then(|()| {
+            ctx.allocator()
+                .allocate(&AllocationCreateDesc {
+                    name,
+                    requirements,
+                    location: MemoryLocation::GpuOnly,
+                    linear: false,
+                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                })
+                .map_err(|e| {
+                    ctx.release(requirements.size, false);
+                    allocation_error(name, requirements.size, e)
+                })
+        });
+        let allocation = match allocation {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: unbound, unused image.
                 unsafe { device.destroy_image(image, None) };
-                return Err(allocation_error(name, requirements.size, e));
+                return Err(e);
             }
         };
+        // SAFETY: the allocation satisfies the image's requirements.
+        let bound =
+            unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) };
+        // Built before the bind is checked so that drop frees the memory on failure too.
         let mut this = Self {
             ctx: ctx.clone(),
             image,
             view: vk::ImageView::null(),
-            allocation: None,
+            allocation: Some(allocation),
+            counted: requirements.size,
             width,
             height,
             layers,
         };
-        // SAFETY: the allocation satisfies the image's requirements.
-        unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
-            .vk("vkBindImageMemory")?;
-        this.allocation = Some(allocation);
+        bound.vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
             .view_type(view_type)
@@ -395,6 +422,7 @@ impl Drop for StorageImage {
         }
         if let Some(allocation) = self.allocation.take() {
             let _ = self.ctx.allocator().free(allocation);
+            self.ctx.release(self.counted, false);
         }
     }
 }

@@ -12,8 +12,10 @@ mod validation;
 pub use validation::ValidationLog;
 
 pub use ash::vk;
-pub use context::{DeviceInfo, GpuContext, GpuOptions};
-pub use error::GpuError;
+pub use context::{
+    DeviceInfo, GpuContext, GpuOptions, PlannedAllocation, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR,
+};
+pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage};
 pub use pipeline::{ComputePipeline, PipelineLayout};
 pub use timestamps::{PassTime, TimestampPool};

@@ -1,4 +1,5 @@
-//! GPU time per pass from timestamp queries: two queries around every pass in a frame.
+//! GPU time per pass from timestamp queries: two queries around every pass in a frame, and
+//! after each pass its crash marker (see `GpuContext::submit_and_wait`).
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
@@ -51,11 +52,18 @@ impl TimestampPool {
         };
     }
 
-    /// Records `work` between two timestamps under `name`.
+    /// Records `work` between two timestamps under `name`, then the pass's crash marker (see
+    /// [`GpuContext::submit_and_wait`]), so a device loss names the pass as the timings do.
+    /// Records nothing once an injected device loss (`FOVEA_INJECT_DEVICE_LOST`) has ended the
+    /// command buffer.
     pub(crate) fn cmd_timed(&mut self, cmd: vk::CommandBuffer, name: &str, work: impl FnOnce()) {
+        if !self.ctx.begin_pass(name) {
+            return;
+        }
         let index = self.names.len() as u32 * 2;
         if index + 1 >= self.capacity {
             work();
+            self.ctx.cmd_pass_done(cmd);
             return;
         }
         self.names.push(name.to_string());
@@ -74,6 +82,7 @@ impl TimestampPool {
                 index + 1,
             )
         };
+        self.ctx.cmd_pass_done(cmd);
     }
 
     /// Every timed pass of the last submitted frame (which must have completed).

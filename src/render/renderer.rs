@@ -11,7 +11,10 @@ use super::RenderError;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer};
 use crate::gpu::shared::*;
-use crate::gpu::{shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, TimestampPool};
+use crate::gpu::{
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation,
+    TimestampPool,
+};
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use gpu_allocator::MemoryLocation;
@@ -66,22 +69,11 @@ impl Renderer {
     /// Builds the BVHs and uploads the scene once.
     pub fn new(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Self, RenderError> {
         let gpu = GpuScene::build(scene)?;
-        let limit = ctx.info.max_storage_buffer_range;
-        let largest = [
-            std::mem::size_of_val(gpu.blas_nodes.as_slice()),
-            std::mem::size_of_val(gpu.triangles.as_slice()),
-            std::mem::size_of_val(gpu.emitters.as_slice()),
-        ]
-        .into_iter()
-        .max()
-        .unwrap_or(0) as u64;
-        if largest > limit {
-            return Err(RenderError::Settings(format!(
-                "scene '{}' needs a {largest}-byte buffer but the device allows {limit} bytes per buffer (total scene {} bytes); simplify the scene",
-                scene.name,
-                gpu.byte_size()
-            )));
-        }
+        ctx.check_memory(
+            &format!("scene '{}'", scene.name),
+            &scene_plan(&gpu),
+            "simplify the scene (fewer or smaller meshes)",
+        )?;
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
         let buffers = SceneBuffers {
             blas_nodes: upload("blas nodes", bytemuck::cast_slice(&gpu.blas_nodes))?,
@@ -213,6 +205,23 @@ impl Renderer {
             std::mem::swap(&mut self.targets, &mut self.spare_targets);
             return Ok(());
         }
+        // Make room before anything is built: drop the spare targets, then the current ones,
+        // if the new ones would not fit beside them; if they still do not, say why (sizes).
+        if key.check_images(&self.ctx).is_err() {
+            self.spare_targets = None;
+        }
+        if key.check_images(&self.ctx).is_err() {
+            self.targets = None;
+        }
+        key.check_images(&self.ctx)?;
+        let eyes = key.fovs.len() as u64;
+        if key.width as u64 * eyes > super::settings::MAX_SIDE as u64 {
+            return Err(RenderError::Settings(format!(
+                "{eyes} eyes of width {} do not fit one {}-pixel-wide image; use a smaller --width",
+                key.width,
+                super::settings::MAX_SIDE
+            )));
+        }
         self.spare_targets = self.targets.take();
         self.targets = Some(FrameTargets::new(&self.ctx, key)?);
         Ok(())
@@ -301,13 +310,6 @@ impl Renderer {
             return Err(RenderError::Settings(format!(
                 "a frame has one or two eyes, not {}",
                 request.eyes.len()
-            )));
-        }
-        if s.width as u64 * request.eyes.len() as u64 > super::settings::MAX_SIDE as u64 {
-            return Err(RenderError::Settings(format!(
-                "two eyes of width {} do not fit one {}-pixel-wide image; use a smaller --width",
-                s.width,
-                super::settings::MAX_SIDE
             )));
         }
         self.ensure_pipelines(s)?;
@@ -547,6 +549,35 @@ impl Renderer {
         let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
         Ok((hits, overflows))
     }
+}
+
+/// Every allocation [`Renderer::new`] makes for a scene, for the memory check before them.
+fn scene_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
+    use std::mem::size_of_val;
+    // Buffer::new gives an empty array one 16-byte element.
+    let bytes = |b: usize| (b as u64).max(16);
+    let buffers = [
+        ("blas nodes", bytes(size_of_val(gpu.blas_nodes.as_slice()))),
+        ("tlas nodes", bytes(size_of_val(gpu.tlas_nodes.as_slice()))),
+        ("triangles", bytes(size_of_val(gpu.triangles.as_slice()))),
+        ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
+        ("materials", bytes(size_of_val(gpu.materials.as_slice()))),
+        ("emitters", bytes(size_of_val(gpu.emitters.as_slice()))),
+        ("scene info", bytes(size_of_val(&gpu.info))),
+    ];
+    let largest = buffers.iter().map(|b| b.1).max().unwrap_or(0);
+    let mut plan: Vec<PlannedAllocation> = buffers
+        .iter()
+        .map(|(name, b)| PlannedAllocation::storage(name, *b))
+        .collect();
+    // Each buffer is uploaded through its own staging buffer, freed before the next.
+    plan.push(PlannedAllocation::host("upload staging", largest, false));
+    plan.push(PlannedAllocation::host(
+        "stats",
+        (STAT_COUNT * STAT_EYES) as u64 * 4,
+        true,
+    ));
+    plan
 }
 
 /// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.

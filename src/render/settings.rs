@@ -56,6 +56,11 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// [`MAX_SPP`], for callers outside this module (the CLI's messages).
+    pub const MAX_SPP: u32 = MAX_SPP;
+    /// [`MAX_BOUNCES`], for callers outside this module (the CLI's messages).
+    pub const MAX_BOUNCES: u32 = MAX_BOUNCES;
+
     /// Rejects sizes, sample counts and depths that cannot make a sensible image.
     pub fn validate(&self) -> Result<(), String> {
         if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {

@@ -5,7 +5,7 @@
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::shared::{GpuLayer, GpuSpan};
-use crate::gpu::{vk, Buffer, GpuContext, StorageImage};
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -39,8 +39,67 @@ fn host_buffer(ctx: &Arc<GpuContext>, name: &str, bytes: u64) -> Result<Buffer, 
     )?)
 }
 
+/// Room in the span buffer for this many spans before a frame has to grow it.
+const INITIAL_SPANS: u64 = 4096;
+
+/// What to change when a frame's targets do not fit the device.
+const ADVICE: &str = "use a smaller --width/--height, mono instead of --stereo, or fewer \
+     layers";
+
+impl TargetKey {
+    /// The frame these targets are for, for messages: "the frame targets of a 512x512 stereo
+    /// frame with 4 layers".
+    pub fn describe(&self) -> String {
+        let eyes = match self.fovs.len() {
+            1 => "mono".to_owned(),
+            2 => "stereo".to_owned(),
+            n => format!("{n}-eye"),
+        };
+        let layers = self.config.layers.len();
+        format!(
+            "the frame targets of a {}x{} {eyes} frame with {layers} layer{}",
+            self.width,
+            self.height,
+            if layers == 1 { "" } else { "s" }
+        )
+    }
+
+    /// Every allocation of [`FrameTargets::new`] but the ray buffer (whose size is known only
+    /// once it is built), plus the read-back of the frame: cheap to compute, so a frame far
+    /// too large for the device is refused before the ray buffer is built.
+    pub fn image_plan(&self) -> Vec<PlannedAllocation> {
+        let (w, h) = (self.width as u64, self.height as u64);
+        let eyes = self.fovs.len() as u64;
+        let layers = self.config.layers.len() as u64;
+        let texel = 16; // RGBA32F, StorageImage::FORMAT
+        vec![
+            PlannedAllocation::image("layer images", w * h * texel * eyes * layers),
+            PlannedAllocation::image("frame image", w * eyes * h * texel),
+            PlannedAllocation::host("frame read-back", w * eyes * h * texel, false),
+            PlannedAllocation::host(
+                "frame layers",
+                eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
+                true,
+            ),
+            PlannedAllocation::host(
+                "frame spans",
+                INITIAL_SPANS * std::mem::size_of::<GpuSpan>() as u64,
+                true,
+            ),
+        ]
+    }
+
+    /// Checks that the targets' images fit the device beside what fovea already holds.
+    pub fn check_images(&self, ctx: &GpuContext) -> Result<(), RenderError> {
+        Ok(ctx.check_memory(&self.describe(), &self.image_plan(), ADVICE)?)
+    }
+}
+
 impl FrameTargets {
+    /// Builds the ray buffer, checks that everything fits the device (sizes, per-buffer and
+    /// per-allocation limits) and only then allocates.
     pub fn new(ctx: &Arc<GpuContext>, key: TargetKey) -> Result<Self, RenderError> {
+        key.check_images(ctx)?;
         let images: Vec<ImageGeometry> = key
             .fovs
             .iter()
@@ -49,14 +108,14 @@ impl FrameTargets {
         let buffer = RayBuffer::build(&key.config, &images);
         let eyes = images.len() as u32;
         let layer_count = buffer.layers.len() as u32;
-        let limit = ctx.info.max_storage_buffer_range;
-        let bytes = std::mem::size_of_val(buffer.offsets.as_slice()) as u64;
-        if bytes > limit {
-            return Err(RenderError::Settings(format!(
-                "the ray buffer for this layer config at {}x{} needs {bytes} bytes but the device allows {limit} per buffer; use fewer or coarser layers or a smaller image",
-                key.width, key.height
-            )));
-        }
+        // The ray buffer's upload staging is freed before the images are allocated, so it is
+        // not part of the peak; the allocation itself is still checked against any limit.
+        let mut plan = key.image_plan();
+        plan.push(PlannedAllocation::storage(
+            "ray buffer",
+            std::mem::size_of_val(buffer.offsets.as_slice()) as u64,
+        ));
+        ctx.check_memory(&key.describe(), &plan, ADVICE)?;
         let ray_buffer =
             Buffer::with_data(ctx, "ray buffer", bytemuck::cast_slice(&buffer.offsets))?;
         let layer_images = StorageImage::new_array(
@@ -75,7 +134,7 @@ impl FrameTargets {
         let spans = host_buffer(
             ctx,
             "frame spans",
-            4096 * std::mem::size_of::<GpuSpan>() as u64,
+            INITIAL_SPANS * std::mem::size_of::<GpuSpan>() as u64,
         )?;
         Ok(Self {
             key,

@@ -84,3 +84,24 @@ pub fn render(ctx: &Arc<GpuContext>, scene: &Scene, s: &RenderSettings) -> Frame
     );
     frame
 }
+
+/// Like [`fovea`] (validation on, fails the test on a panic), with extra environment
+/// variables, which may also override `FOVEA_VALIDATION`.
+pub fn fovea_with_env(args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
+        .args(args)
+        .env("FOVEA_VALIDATION", "1")
+        .envs(env.iter().copied())
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        !text.contains("panicked"),
+        "fovea {args:?} with {env:?} panicked:\n{text}"
+    );
+    (out.status.success(), text)
+}
