@@ -3,8 +3,9 @@
 
 mod common;
 
+use fovea::check::scale::quad;
 use fovea::render::Integrator;
-use fovea::scene::{Camera, Environment, Instance, Material, Mesh, Scene, Sphere};
+use fovea::scene::{Camera, Environment, Instance, Material, Scene, Sphere};
 use glam::{Mat4, Vec3};
 
 fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
@@ -17,20 +18,6 @@ fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
         materials: vec![],
         camera,
         environment,
-    }
-}
-
-/// A 2x2 quad in the y = 0 plane, facing +Y (counter-clockwise seen from above).
-fn quad() -> Mesh {
-    Mesh {
-        name: "quad".into(),
-        positions: vec![
-            Vec3::new(-1.0, 0.0, -1.0),
-            Vec3::new(-1.0, 0.0, 1.0),
-            Vec3::new(1.0, 0.0, 1.0),
-            Vec3::new(1.0, 0.0, -1.0),
-        ],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
     }
 }
 

@@ -92,6 +92,14 @@ pub fn quantile_sorted(sorted: &[f64], p: f64) -> Option<f64> {
     Some(sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo]))
 }
 
+/// The median of `values` in any order (the R-7 quantile at 1/2: the mean of the middle two
+/// for an even count); NaN for none.
+pub fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    quantile_sorted(&sorted, 0.5).unwrap_or(f64::NAN)
+}
+
 /// Frame-rate statistics of one run: per-frame fps and per-frame time.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct FrameRates {

@@ -22,6 +22,7 @@
 //! the error against the exact image and a finite reference does not flatten the slope at the
 //! high-spp end. The uncorrected RMSE is kept beside it.
 
+use crate::bench::stats::median;
 use crate::gpu::GpuContext;
 use crate::metrics;
 use crate::render::{Integrator, RenderError, RenderSettings, Renderer};
@@ -312,15 +313,6 @@ struct Tally {
     renders: u64,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
-}
-
 /// Renders each integrator's reference, then every point of `options.spp` with
 /// `options.seeds` seeds for each integrator (the integrators alternating), and fits the
 /// results. `scene` must have been built for the aspect `width / height`.
@@ -403,7 +395,7 @@ pub fn measure(
                 rmse: (own - noise[i]).max(0.0).sqrt(),
                 rmse_raw: own.sqrt(),
                 rmse_vs_pt: (vs_pt - pt_noise).max(0.0).sqrt(),
-                gpu_ms: median(std::mem::take(&mut ms[i])),
+                gpu_ms: median(&ms[i]),
             });
         }
     }
@@ -423,7 +415,7 @@ pub fn measure(
             points,
             reference_spp: chunks * chunk_spp,
             reference_noise_rmse: noise[i].sqrt(),
-            reference_ms_per_spp: median(std::mem::take(&mut reference_ms[i])),
+            reference_ms_per_spp: median(&reference_ms[i]),
         })
         .collect();
 

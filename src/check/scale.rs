@@ -45,8 +45,8 @@ pub struct PlaneRadiance {
     pub stack_overflows: u64,
 }
 
-/// A 2 × 2 quad in the y = 0 plane facing +Y.
-fn quad() -> Mesh {
+/// A 2 × 2 quad in the y = 0 plane facing +Y (counter-clockwise seen from above).
+pub fn quad() -> Mesh {
     Mesh {
         name: "plane".into(),
         positions: vec![

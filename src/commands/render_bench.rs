@@ -6,6 +6,7 @@
 use super::check_validation;
 use super::render::{render_named, RenderArgs};
 use anyhow::Result;
+use fovea::bench::stats::median;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::gpu::GpuContext;
 use fovea::render::{eye_views, DebugView, FrameRequest, RenderSettings, Renderer};
@@ -20,16 +21,6 @@ struct Mode {
     gpu_ms: Vec<f64>,
     trace_ms: Vec<f64>,
     samples: u64,
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut v = v.to_vec();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => 0.0,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
 }
 
 pub fn run(

@@ -12,21 +12,7 @@ use std::sync::Arc;
 /// Runs the `fovea` binary with the validation layer on; returns success and all it printed.
 /// Fails the test if it panicked: bad input must get a message, never a panic.
 pub fn fovea(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
-        .args(args)
-        .env("FOVEA_VALIDATION", "1")
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        !text.contains("panicked"),
-        "fovea {args:?} panicked:\n{text}"
-    );
-    (out.status.success(), text)
+    fovea_with_env(args, &[])
 }
 
 pub fn context() -> Arc<GpuContext> {
