@@ -2,8 +2,12 @@
 //! passes; everything here owns raw handles and destroys them on drop.
 
 mod context;
+mod crash_markers;
+mod device_pick;
 mod error;
 mod memory;
+mod memory_budget;
+mod options;
 mod pipeline;
 pub mod shaders;
 pub mod shared;
@@ -12,10 +16,11 @@ mod validation;
 pub use validation::ValidationLog;
 
 pub use ash::vk;
-pub use context::{
-    DeviceInfo, GpuContext, GpuOptions, PlannedAllocation, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR,
-};
+pub use context::GpuContext;
+pub use device_pick::DeviceInfo;
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage};
+pub use memory_budget::PlannedAllocation;
+pub use options::{GpuOptions, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
 pub use pipeline::{ComputePipeline, PipelineLayout};
 pub use timestamps::{PassTime, TimestampPool};

@@ -1,0 +1,179 @@
+//! Choosing the physical device: what each offers, which ones can run fovea, and which wins.
+
+use super::error::GpuError;
+use ash::vk;
+use std::ffi::{c_char, CStr};
+
+/// Facts about the chosen device, for reports.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub kind: String,
+    pub driver: String,
+    pub api_version: String,
+    /// Nanoseconds per timestamp tick.
+    pub timestamp_period_ns: f64,
+    pub max_storage_buffer_range: u64,
+}
+
+/// The chosen device, its compute queue family and what it offers.
+pub(super) struct Picked {
+    pub(super) physical_device: vk::PhysicalDevice,
+    pub(super) family: u32,
+    pub(super) info: DeviceInfo,
+    /// VK_EXT_memory_budget is supported.
+    pub(super) budget: bool,
+    /// VK_AMD_buffer_marker is supported.
+    pub(super) amd_marker: bool,
+}
+
+/// Device preference: a discrete GPU beats an integrated one, which beats a CPU driver.
+fn device_rank(kind: vk::PhysicalDeviceType) -> u32 {
+    match kind {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    }
+}
+
+fn cstr_to_string(bytes: &[c_char]) -> String {
+    // SAFETY: Vulkan fills these fixed arrays with NUL-terminated strings.
+    unsafe { CStr::from_ptr(bytes.as_ptr()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// The loader's driver-selecting environment variables that are set, for a no-device message.
+pub(super) fn driver_env() -> String {
+    let set: Vec<String> = [
+        "VK_DRIVER_FILES",
+        "VK_ICD_FILENAMES",
+        "VK_ADD_DRIVER_FILES",
+        "VK_LOADER_DRIVERS_SELECT",
+        "VK_LOADER_DRIVERS_DISABLE",
+    ]
+    .iter()
+    .filter_map(|var| std::env::var(var).ok().map(|v| format!("{var}={v}")))
+    .collect();
+    match set.is_empty() {
+        true => String::new(),
+        false => format!(
+            " ({} is set and limits the drivers the loader tries: unset it to use the installed ones)",
+            set.join(", ")
+        ),
+    }
+}
+
+pub(super) fn pick_device(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+) -> Result<Picked, GpuError> {
+    // SAFETY: enumeration on a valid instance.
+    let devices = match unsafe { instance.enumerate_physical_devices() } {
+        Ok(devices) => devices,
+        Err(result @ vk::Result::ERROR_INITIALIZATION_FAILED) => {
+            return Err(GpuError::NoDevice {
+                detail: format!(
+                    "the Vulkan loader found drivers but none found a device (vkEnumeratePhysicalDevices: {result}){}",
+                    driver_env()
+                ),
+            })
+        }
+        Err(result) => {
+            return Err(GpuError::Vulkan {
+                call: "vkEnumeratePhysicalDevices",
+                result,
+            })
+        }
+    };
+    let mut candidates = Vec::new();
+    let mut unusable = Vec::new();
+    for pd in devices {
+        // SAFETY: pd was just enumerated from this instance.
+        let (props, families) = unsafe {
+            (
+                instance.get_physical_device_properties(pd),
+                instance.get_physical_device_queue_family_properties(pd),
+            )
+        };
+        let name = cstr_to_string(&props.device_name);
+        if props.api_version < vk::API_VERSION_1_2 {
+            unusable.push(format!(
+                "{name} (Vulkan 1.{}, fovea needs 1.2)",
+                vk::api_version_minor(props.api_version)
+            ));
+            continue;
+        }
+        let Some(family) = families.iter().position(|f| {
+            f.queue_flags.contains(vk::QueueFlags::COMPUTE) && f.timestamp_valid_bits > 0
+        }) else {
+            unusable.push(format!("{name} (no compute queue with timestamps)"));
+            continue;
+        };
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        // SAFETY: Vulkan 1.2 device, properties2 is core.
+        unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+        // SAFETY: pd was enumerated from this instance.
+        let extensions =
+            unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default();
+        let has = |wanted: &CStr| {
+            extensions
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(wanted))
+        };
+        let info = DeviceInfo {
+            name,
+            kind: format!("{:?}", props.device_type),
+            driver: format!(
+                "{} {}",
+                cstr_to_string(&driver.driver_name),
+                cstr_to_string(&driver.driver_info)
+            ),
+            api_version: format!(
+                "{}.{}.{}",
+                vk::api_version_major(props.api_version),
+                vk::api_version_minor(props.api_version),
+                vk::api_version_patch(props.api_version)
+            ),
+            timestamp_period_ns: props.limits.timestamp_period as f64,
+            max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+        };
+        candidates.push((
+            device_rank(props.device_type),
+            Picked {
+                physical_device: pd,
+                family: family as u32,
+                info,
+                budget: has(ash::ext::memory_budget::NAME),
+                amd_marker: has(ash::amd::buffer_marker::NAME),
+            },
+        ));
+    }
+    if candidates.is_empty() {
+        let detail = match unusable.is_empty() {
+            true => format!("the Vulkan loader lists no device{}", driver_env()),
+            false => format!("none of the devices can run fovea: {}", unusable.join(", ")),
+        };
+        return Err(GpuError::NoDevice { detail });
+    }
+    if let Some(wanted) = wanted {
+        let needle = wanted.to_lowercase();
+        let available = candidates
+            .iter()
+            .map(|c| c.1.info.name.clone())
+            .collect::<Vec<_>>()
+            .join(", ");
+        candidates.retain(|c| c.1.info.name.to_lowercase().contains(&needle));
+        if candidates.is_empty() {
+            return Err(GpuError::DeviceNotFound {
+                wanted: wanted.to_string(),
+                available,
+            });
+        }
+    }
+    candidates.sort_by_key(|c| c.0);
+    Ok(candidates.swap_remove(0).1)
+}

@@ -1,0 +1,289 @@
+//! What fovea may allocate: the device's heaps and limits, the memory fovea holds now, and
+//! the check of a whole plan of allocations before any of it is made.
+
+use super::context::GpuContext;
+use super::error::{exact_bytes, human_bytes, GpuError, MemoryShortfall, ResourceLimit};
+use super::options::MEMORY_LIMIT_VAR;
+use ash::vk;
+use std::sync::atomic::Ordering;
+
+/// One allocation of a plan checked by [`GpuContext::check_memory`] before any is made.
+#[derive(Clone, Debug)]
+pub struct PlannedAllocation {
+    /// As the message should name it, e.g. "layer images".
+    pub name: String,
+    pub bytes: u64,
+    /// In host-visible memory (staging, per-frame uploads, read-backs), not device-local.
+    pub host_visible: bool,
+    /// Bound as one storage buffer, so also limited by maxStorageBufferRange.
+    pub storage_buffer: bool,
+}
+
+impl PlannedAllocation {
+    /// A device-local storage buffer.
+    pub fn storage(name: &str, bytes: u64) -> Self {
+        Self {
+            name: name.into(),
+            bytes,
+            host_visible: false,
+            storage_buffer: true,
+        }
+    }
+
+    /// A device-local image.
+    pub fn image(name: &str, bytes: u64) -> Self {
+        Self {
+            name: name.into(),
+            bytes,
+            host_visible: false,
+            storage_buffer: false,
+        }
+    }
+
+    /// A host-visible buffer (`storage_buffer`: bound to a shader, not only copied).
+    pub fn host(name: &str, bytes: u64, storage_buffer: bool) -> Self {
+        Self {
+            name: name.into(),
+            bytes,
+            host_visible: true,
+            storage_buffer,
+        }
+    }
+}
+
+/// Memory facts of the device, fixed at creation.
+pub(super) struct MemoryFacts {
+    pub(super) physical_device: vk::PhysicalDevice,
+    /// Size of every heap.
+    pub(super) heaps: Vec<u64>,
+    /// The largest heap with a device-local memory type (where images and static buffers go).
+    pub(super) device_heap: usize,
+    /// The largest heap with a host-visible memory type (staging, read-backs). The same as
+    /// `device_heap` on unified-memory devices (integrated GPUs, lavapipe).
+    pub(super) host_heap: usize,
+    /// VK_EXT_memory_budget is enabled: the current budget can be asked for.
+    pub(super) budget: bool,
+    pub(super) max_memory_allocation_size: u64,
+    pub(super) limit: Option<u64>,
+}
+
+/// The heaps, where allocations go, and the per-allocation limit of a device.
+pub(super) fn memory_facts(
+    instance: &ash::Instance,
+    physical_device: vk::PhysicalDevice,
+    budget: bool,
+    limit: Option<u64>,
+) -> MemoryFacts {
+    // SAFETY: physical_device was enumerated from this instance.
+    let props = unsafe { instance.get_physical_device_memory_properties(physical_device) };
+    let heaps: Vec<u64> = props
+        .memory_heaps_as_slice()
+        .iter()
+        .map(|h| h.size)
+        .collect();
+    let largest_with = |flag: vk::MemoryPropertyFlags| {
+        props
+            .memory_types_as_slice()
+            .iter()
+            .filter(|t| t.property_flags.contains(flag))
+            .map(|t| t.heap_index as usize)
+            .max_by_key(|&h| heaps.get(h).copied().unwrap_or(0))
+            .unwrap_or(0)
+    };
+    let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut maintenance3);
+    // SAFETY: a Vulkan 1.2 device: properties2 and maintenance3 are core.
+    unsafe { instance.get_physical_device_properties2(physical_device, &mut props2) };
+    MemoryFacts {
+        physical_device,
+        device_heap: largest_with(vk::MemoryPropertyFlags::DEVICE_LOCAL),
+        host_heap: largest_with(vk::MemoryPropertyFlags::HOST_VISIBLE),
+        heaps,
+        budget,
+        max_memory_allocation_size: maintenance3.max_memory_allocation_size,
+        limit,
+    }
+}
+
+impl GpuContext {
+    /// The GPU memory cap from
+    /// [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit), if any.
+    pub fn memory_limit(&self) -> Option<u64> {
+        self.memory.limit
+    }
+
+    /// Bytes of GPU memory fovea's buffers and images hold now.
+    pub fn memory_in_use(&self) -> u64 {
+        self.allocated
+            .iter()
+            .map(|a| a.load(Ordering::Relaxed))
+            .sum()
+    }
+
+    fn heap_of(&self, host_visible: bool) -> usize {
+        match host_visible {
+            true => self.memory.host_heap,
+            false => self.memory.device_heap,
+        }
+    }
+
+    /// (budget, usage) of every heap now, with VK_EXT_memory_budget.
+    fn budget_now(&self) -> Option<Vec<(u64, u64)>> {
+        if !self.memory.budget {
+            return None;
+        }
+        let mut budget = vk::PhysicalDeviceMemoryBudgetPropertiesEXT::default();
+        let mut props = vk::PhysicalDeviceMemoryProperties2::default().push_next(&mut budget);
+        // SAFETY: VK_EXT_memory_budget is enabled on the device; the chain lives for the call.
+        unsafe {
+            self.instance
+                .get_physical_device_memory_properties2(self.memory.physical_device, &mut props)
+        };
+        Some(
+            (0..self.memory.heaps.len())
+                .map(|h| (budget.heap_budget[h], budget.heap_usage[h]))
+                .collect(),
+        )
+    }
+
+    /// Checks, before anything is allocated, that `plan` fits: the total against the memory
+    /// the device offers (heap size, and the budget with VK_EXT_memory_budget) beside what
+    /// fovea already holds and against
+    /// [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit); each item against
+    /// maxMemoryAllocationSize, and storage buffers against maxStorageBufferRange. `what`
+    /// names the plan ("scene 'bunny'", "frame targets of ..."); `advice` says what to change.
+    pub fn check_memory(
+        &self,
+        what: &str,
+        plan: &[PlannedAllocation],
+        advice: &str,
+    ) -> Result<(), GpuError> {
+        let needed: u64 = plan.iter().map(|p| p.bytes).sum();
+        let in_use = self.memory_in_use();
+        let heaps = &self.memory.heaps;
+        let mut needed_on = vec![0u64; heaps.len()];
+        for p in plan {
+            needed_on[self.heap_of(p.host_visible)] += p.bytes;
+        }
+        let mut held_on = vec![0u64; heaps.len()];
+        for (host, held) in [(false, &self.allocated[0]), (true, &self.allocated[1])] {
+            held_on[self.heap_of(host)] += held.load(Ordering::Relaxed);
+        }
+        let budget = self.budget_now();
+        let mut fits = true;
+        let mut offered = Vec::new();
+        for (h, &size) in heaps.iter().enumerate() {
+            if needed_on[h] == 0 {
+                continue;
+            }
+            let kind = match (h == self.memory.device_heap, h == self.memory.host_heap) {
+                (true, true) => "device-local, also host-visible",
+                (true, false) => "device-local",
+                _ => "host-visible",
+            };
+            let mut free = size.saturating_sub(held_on[h]);
+            let mut text = format!("memory heap {h} ({kind}) has {}", exact_bytes(size));
+            if let Some((heap_budget, usage)) = budget.as_ref().map(|b| b[h]) {
+                let within = heap_budget.saturating_sub(usage);
+                free = free.min(within);
+                text += &format!(
+                    ", {} of it free within the driver's budget (VK_EXT_memory_budget)",
+                    exact_bytes(within)
+                );
+            }
+            fits &= needed_on[h] <= free;
+            offered.push(text);
+        }
+        if let Some(limit) = self.memory.limit {
+            fits &= in_use.saturating_add(needed) <= limit;
+            offered.push(format!(
+                "{MEMORY_LIMIT_VAR} caps fovea at {}",
+                exact_bytes(limit)
+            ));
+        }
+        if !fits {
+            let mut items: Vec<&PlannedAllocation> = plan.iter().filter(|p| p.bytes > 0).collect();
+            items.sort_by_key(|p| std::cmp::Reverse(p.bytes));
+            let breakdown = items
+                .iter()
+                .map(|p| format!("{} {}", p.name, human_bytes(p.bytes)))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let mut advice = advice.to_owned();
+            if self.memory.limit.is_some() {
+                advice += &format!(", or raise or unset {MEMORY_LIMIT_VAR}");
+            }
+            return Err(GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
+                what: what.to_owned(),
+                needed: format!(
+                    "it needs {}, {needed} bytes ({breakdown})",
+                    human_bytes(needed)
+                ),
+                in_use: human_bytes(in_use),
+                offered: offered.join(" and "),
+                advice,
+            })));
+        }
+        for p in plan {
+            let limits = [
+                (
+                    p.storage_buffer,
+                    "storage buffer",
+                    self.info.max_storage_buffer_range,
+                    "maxStorageBufferRange",
+                ),
+                (
+                    true,
+                    "allocation",
+                    self.memory.max_memory_allocation_size,
+                    "maxMemoryAllocationSize",
+                ),
+            ];
+            for (applies, kind, limit, limit_name) in limits {
+                if applies && p.bytes > limit {
+                    return Err(GpuError::ResourceTooLarge(Box::new(ResourceLimit {
+                        what: what.to_owned(),
+                        item: p.name.clone(),
+                        kind,
+                        bytes: exact_bytes(p.bytes),
+                        limit: exact_bytes(limit),
+                        limit_name,
+                        advice: advice.to_owned(),
+                    })));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Counts an allocation of `bytes` that memory.rs is about to make, refusing one that
+    /// would take fovea past [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit).
+    pub(crate) fn reserve(
+        &self,
+        name: &str,
+        bytes: u64,
+        host_visible: bool,
+    ) -> Result<(), GpuError> {
+        let in_use = self.memory_in_use();
+        if let Some(limit) = self.memory.limit {
+            if in_use.saturating_add(bytes) > limit {
+                return Err(GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
+                    what: name.to_owned(),
+                    needed: format!("it needs {}", exact_bytes(bytes)),
+                    in_use: human_bytes(in_use),
+                    offered: format!("{MEMORY_LIMIT_VAR} caps fovea at {}", exact_bytes(limit)),
+                    advice: format!(
+                        "raise or unset {MEMORY_LIMIT_VAR}, or use a smaller scene or resolution"
+                    ),
+                })));
+            }
+        }
+        self.allocated[host_visible as usize].fetch_add(bytes, Ordering::Relaxed);
+        Ok(())
+    }
+
+    /// Uncounts an allocation counted by [`Self::reserve`] once it is freed (or failed).
+    pub(crate) fn release(&self, bytes: u64, host_visible: bool) {
+        self.allocated[host_visible as usize].fetch_sub(bytes, Ordering::Relaxed);
+    }
+}
