@@ -14,6 +14,8 @@
 //! - checks the known validator traps before validation runs ([`precheck`]),
 //! - reads every accessor (dense and sparse) with checked offsets ([`read_accessor`]),
 //! - walks the node graph iteratively and rejects cycles and shared children,
+//! - bounds every vertex, instance and camera coordinate by [`MAX_COORDINATE`], so that
+//!   framing, BVH bounds and ray arithmetic cannot overflow to ±∞ or NaN,
 //! - checks file sizes before reading anything.
 //!
 //! # Material mapping (metallic-roughness → the thesis' Lambert + Phong BRDF)
@@ -25,7 +27,8 @@
 //! For `base ≤ 1`, `k_d + k_s = (1−m)(0.96·base + 0.04) + m·base ≤ 1` per channel, so the
 //! mapping conserves energy by construction (it is still enforced against rounding).
 
-use std::collections::{BTreeSet, HashMap};
+use std::borrow::Cow;
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3, Vec4};
@@ -42,6 +45,11 @@ pub const DIELECTRIC_F0: f32 = 0.04;
 pub const MAX_PHONG_ALPHA: f32 = 1e6;
 /// Roughness floor of the α mapping (`2/r⁴` overflows the useful range below it).
 const MIN_ROUGHNESS: f32 = 1e-3;
+/// Largest coordinate magnitude accepted for vertices (object and world space) and cameras:
+/// a terametre, far beyond any real scene, yet far enough below `f32::MAX` (~3.4·10³⁸) that
+/// bounding boxes, their extents and the ray arithmetic (squared lengths, cross products, BVH
+/// slab tests) stay finite.
+pub const MAX_COORDINATE: f32 = 1e12;
 /// An accessor without a buffer view is all zeros; refuse absurd counts rather than allocate them.
 const MAX_VIEWLESS_COUNT: usize = 1 << 24;
 /// Vertical field of view of the camera made up when the file has none.
@@ -106,7 +114,9 @@ pub fn material_from_metallic_roughness(
 /// Loads a `.gltf` or `.glb` file as a [`Scene`] (see the module docs for what is read).
 ///
 /// Every primitive of the walked node tree becomes one object-space [`Mesh`] (shared by all
-/// nodes that use the same glTF mesh) and one [`Instance`] per node. The camera is the first
+/// nodes that use the same glTF mesh, and by all primitives that read the same accessors in
+/// the same mode, and by equal geometry) and one [`Instance`] per node. Triangles no ray can
+/// hit (zero area, or a repeat with the same winding) are dropped with a warning. The camera is the first
 /// perspective camera in depth-first node order, with the vertical field of view of the file
 /// and the horizontal one from `aspect` (width / height); without one the scene's bounding
 /// box is framed from +Z, slightly above, with a 40° vertical field of view. The environment
@@ -116,25 +126,103 @@ pub fn material_from_metallic_roughness(
 /// winding is reversed in world space, as glTF prescribes for the renderer to handle.
 pub fn load_gltf(path: &Path, aspect: f32) -> Result<Scene, SceneError> {
     let origin = Origin { path };
-    if !(aspect.is_finite() && aspect > 0.0) {
-        return Err(origin.invalid(format!(
+    check_aspect(aspect, &origin)?;
+    let bytes = read_file(path).map_err(|problem| origin.load(problem))?;
+    let base_dir = path.parent().unwrap_or_else(|| Path::new(""));
+    scene_from_bytes(bytes.into(), &origin, Some(base_dir), aspect)
+}
+
+/// Loads a `.glb`, or a `.gltf` whose buffers are all embedded (`data:` URIs), held in memory:
+/// the same parsing, validation and result as [`load_gltf`], with `what` standing for the path
+/// (errors name it, the scene is named after its stem, and a name ending in `.glb` requires
+/// the GLB container). Buffers in external files are an error, as there is no directory to
+/// find them in.
+pub fn load_gltf_bytes(bytes: &[u8], what: &str, aspect: f32) -> Result<Scene, SceneError> {
+    let path = PathBuf::from(what);
+    let origin = Origin { path: &path };
+    check_aspect(aspect, &origin)?;
+    check_size(bytes, &origin)?;
+    scene_from_bytes(bytes.into(), &origin, None, aspect)
+}
+
+/// Parses a `.glb` held in memory (e.g. from `include_bytes!`) and merges all its triangles,
+/// with node transforms applied, into one [`Mesh`] named `what`. Materials and cameras are
+/// dropped; mirrored nodes get their winding flipped so front faces stay front faces. Only the
+/// GLB binary chunk and `data:` URIs can be used as buffers. Errors name `what` as the path.
+pub fn mesh_from_glb_bytes(bytes: &[u8], what: &str) -> Result<Mesh, SceneError> {
+    let path = PathBuf::from(what);
+    let origin = Origin { path: &path };
+    check_size(bytes, &origin)?;
+    let walked = walk_bytes(bytes.into(), &origin, true, None)?;
+
+    let mut merged = Mesh {
+        name: what.to_owned(),
+        ..Mesh::default()
+    };
+    for instance in &walked.instances {
+        let Some(mesh) = walked.meshes.get(instance.mesh as usize) else {
+            continue;
+        };
+        let base = u32::try_from(merged.positions.len())
+            .ok()
+            .filter(|_| u32::try_from(merged.positions.len() + mesh.positions.len()).is_ok())
+            .ok_or_else(|| origin.invalid("the merged mesh has more than 2³² vertices".into()))?;
+        let mirrored = instance.transform.determinant() < 0.0;
+        merged.positions.extend(
+            mesh.positions
+                .iter()
+                .map(|&p| instance.transform.transform_point3(p)),
+        );
+        merged.indices.extend(mesh.indices.iter().map(|&[a, b, c]| {
+            if mirrored {
+                [base + a, base + c, base + b]
+            } else {
+                [base + a, base + b, base + c]
+            }
+        }));
+    }
+    if merged.indices.is_empty() {
+        return Err(origin.invalid("the data contains no triangles".into()));
+    }
+    Ok(merged)
+}
+
+/// Refuses an aspect ratio that is not a positive number.
+fn check_aspect(aspect: f32, origin: &Origin) -> Result<(), SceneError> {
+    if aspect.is_finite() && aspect > 0.0 {
+        Ok(())
+    } else {
+        Err(origin.invalid(format!(
             "the image aspect ratio {aspect} is not a positive number; give a width and height > 0"
+        )))
+    }
+}
+
+/// Refuses in-memory data over [`MAX_FILE_BYTES`], as [`read_file`] refuses such files.
+fn check_size(bytes: &[u8], origin: &Origin) -> Result<(), SceneError> {
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(origin.load(format!(
+            "the data is {} bytes; glTF data over 2 GiB is not supported (simplify the model)",
+            bytes.len()
         )));
     }
-    let bytes = read_file(path).map_err(|problem| origin.load(problem))?;
+    Ok(())
+}
+
+/// The one path from the bytes of a `.gltf`/`.glb` to a [`Scene`], shared by [`load_gltf`]
+/// and [`load_gltf_bytes`]: parse, load buffers, walk, then pick or make up the camera.
+fn scene_from_bytes(
+    bytes: Cow<[u8]>,
+    origin: &Origin,
+    base_dir: Option<&Path>,
+    aspect: f32,
+) -> Result<Scene, SceneError> {
+    let path = origin.path;
     let binary_by_name = path
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
-    let parsed = parse_document(&bytes, &origin, binary_by_name)?;
-    drop(bytes);
-    let base_dir = path.parent().unwrap_or_else(|| Path::new(""));
-    let buffers = load_buffers(&parsed.document, parsed.blob, Some(base_dir), &origin)?;
-
-    let mut warnings = Warnings::default();
-    note_ignored_features(&parsed.document, &mut warnings);
-    let walked = walk(&parsed.document, &buffers, &origin, &mut warnings)?;
-    warnings.emit(&origin);
+    let walked = walk_bytes(bytes, origin, binary_by_name, base_dir)?;
 
     let triangles: usize = walked
         .instances
@@ -183,56 +271,23 @@ pub fn load_gltf(path: &Path, aspect: f32) -> Result<Scene, SceneError> {
     })
 }
 
-/// Parses a `.glb` held in memory (e.g. from `include_bytes!`) and merges all its triangles,
-/// with node transforms applied, into one [`Mesh`] named `what`. Materials and cameras are
-/// dropped; mirrored nodes get their winding flipped so front faces stay front faces. Only the
-/// GLB binary chunk and `data:` URIs can be used as buffers. Errors name `what` as the path.
-pub fn mesh_from_glb_bytes(bytes: &[u8], what: &str) -> Result<Mesh, SceneError> {
-    let path = PathBuf::from(what);
-    let origin = Origin { path: &path };
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(origin.load(format!(
-            "the data is {} bytes; glTF data over 2 GiB is not supported",
-            bytes.len()
-        )));
-    }
-    let parsed = parse_document(bytes, &origin, true)?;
-    let buffers = load_buffers(&parsed.document, parsed.blob, None, &origin)?;
+/// Parses the document, loads its buffers (external files relative to `base_dir`; `None`
+/// forbids them) and walks the node tree, reporting ignored features once per kind. The
+/// file's bytes are released once parsed, before the buffers are loaded.
+fn walk_bytes(
+    bytes: Cow<[u8]>,
+    origin: &Origin,
+    binary_expected: bool,
+    base_dir: Option<&Path>,
+) -> Result<Walked, SceneError> {
+    let parsed = parse_document(&bytes, origin, binary_expected)?;
+    drop(bytes);
+    let buffers = load_buffers(&parsed.document, parsed.blob, base_dir, origin)?;
     let mut warnings = Warnings::default();
     note_ignored_features(&parsed.document, &mut warnings);
-    let walked = walk(&parsed.document, &buffers, &origin, &mut warnings)?;
-    warnings.emit(&origin);
-
-    let mut merged = Mesh {
-        name: what.to_owned(),
-        ..Mesh::default()
-    };
-    for instance in &walked.instances {
-        let Some(mesh) = walked.meshes.get(instance.mesh as usize) else {
-            continue;
-        };
-        let base = u32::try_from(merged.positions.len())
-            .ok()
-            .filter(|_| u32::try_from(merged.positions.len() + mesh.positions.len()).is_ok())
-            .ok_or_else(|| origin.invalid("the merged mesh has more than 2³² vertices".into()))?;
-        let mirrored = instance.transform.determinant() < 0.0;
-        merged.positions.extend(
-            mesh.positions
-                .iter()
-                .map(|&p| instance.transform.transform_point3(p)),
-        );
-        merged.indices.extend(mesh.indices.iter().map(|&[a, b, c]| {
-            if mirrored {
-                [base + a, base + c, base + b]
-            } else {
-                [base + a, base + b, base + c]
-            }
-        }));
-    }
-    if merged.indices.is_empty() {
-        return Err(origin.invalid("the data contains no triangles".into()));
-    }
-    Ok(merged)
+    let walked = walk(&parsed.document, &buffers, origin, &mut warnings)?;
+    warnings.emit(origin);
+    Ok(walked)
 }
 
 /// Where the data came from; turns problems into errors that name it.
@@ -550,7 +605,12 @@ fn short(uri: &str) -> String {
 /// Resolves a buffer URI that is not a `data:` URI to a file path.
 fn external_path(uri: &str, base_dir: Option<&Path>) -> Result<PathBuf, String> {
     let Some(base_dir) = base_dir else {
-        return Err("external files cannot be used here; embed the buffers (use a .glb)".into());
+        return Err(
+            "the buffer is an external file, which cannot be found for glTF data loaded from \
+             memory (there is no directory to look in); embed the buffers as data: URIs or \
+             use a .glb"
+                .into(),
+        );
     };
     let has_scheme = uri.split_once(':').is_some_and(|(scheme, _)| {
         scheme.len() > 1
@@ -701,10 +761,13 @@ fn walk(
         camera: None,
         skipped_primitives: 0,
     };
-    // (glTF mesh, primitive) → Mesh index, or None when the primitive has no triangles.
-    let mut mesh_ids: HashMap<(usize, usize), Option<u32>> = HashMap::new();
+    // (POSITION accessor, indices accessor, mode) → Mesh index, or None when the primitive has
+    // no triangles.
+    let mut mesh_ids: HashMap<(Option<usize>, Option<usize>, u32), Option<u32>> = HashMap::new();
     // glTF material index (None: the default material) → Scene material index.
     let mut material_ids: HashMap<Option<usize>, u32> = HashMap::new();
+    let mut meshes_by_content = MeshDedup::default();
+    let mut materials_by_value: HashMap<([[u32; 3]; 3], u32), u32> = HashMap::new();
     let mut visited = vec![false; node_count];
     let mut stack: Vec<(gltf::Node, Mat4)> = roots
         .into_iter()
@@ -755,17 +818,19 @@ fn walk(
 
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
-                let key = (mesh.index(), primitive.index());
+                // Primitives that read the same accessors in the same mode are one mesh.
+                let key = (
+                    primitive.get(&gltf::Semantic::Positions).map(|a| a.index()),
+                    primitive.indices().map(|a| a.index()),
+                    primitive.mode().as_gl_enum(),
+                );
                 let mesh_id = match mesh_ids.get(&key) {
                     Some(&id) => id,
                     None => {
                         let built = build_primitive(&mesh, &primitive, buffers, warnings)
                             .map_err(|p| origin.invalid(p))?;
                         let id = match built {
-                            Some(m) => {
-                                walked.meshes.push(m);
-                                Some((walked.meshes.len() - 1) as u32)
-                            }
+                            Some(m) => Some(meshes_by_content.add(m, &mut walked.meshes)),
                             None => {
                                 if !is_triangles(primitive.mode()) {
                                     walked.skipped_primitives += 1;
@@ -778,6 +843,16 @@ fn walk(
                     }
                 };
                 let Some(mesh_id) = mesh_id else { continue };
+                let reach = world_reach(meshes_by_content.reach(mesh_id), world);
+                if !reach.is_finite() || reach.max_element() > MAX_COORDINATE {
+                    return Err(origin.invalid(format!(
+                        "{label}: it places mesh #{} where its vertices reach coordinates up to \
+                         {:e}, beyond ±{MAX_COORDINATE:e} (where f32 ray arithmetic \
+                         overflows); the node transforms or the export scale are wrong",
+                        mesh.index(),
+                        reach.max_element()
+                    )));
+                }
                 let gltf_material = primitive.material();
                 let material_id = match material_ids.get(&gltf_material.index()) {
                     Some(&id) => id,
@@ -787,8 +862,19 @@ fn walk(
                                 .map_err(|p| origin.invalid(p))?,
                             None => default_material(),
                         };
-                        walked.materials.push(material);
-                        let id = (walked.materials.len() - 1) as u32;
+                        // Materials with equal values are one material.
+                        let bits = [
+                            material.kd.to_array(),
+                            material.ks.to_array(),
+                            material.emission.to_array(),
+                        ]
+                        .map(|v| v.map(f32::to_bits));
+                        let id = *materials_by_value
+                            .entry((bits, material.alpha.to_bits()))
+                            .or_insert_with(|| {
+                                walked.materials.push(material);
+                                (walked.materials.len() - 1) as u32
+                            });
                         material_ids.insert(gltf_material.index(), id);
                         id
                     }
@@ -862,6 +948,59 @@ fn local_transform(node: &gltf::Node) -> Result<Mat4, String> {
     }
 }
 
+/// Adds meshes to a scene's list, reusing an equal mesh (same positions and triangles) when
+/// there is one, so identical geometry is stored and BVH-built once. Also keeps each mesh's
+/// reach (the largest magnitude per axis of its vertices, object space) for [`world_reach`].
+#[derive(Default)]
+struct MeshDedup {
+    /// Hash of positions and triangles → indices of the meshes with that hash.
+    by_hash: HashMap<u64, Vec<u32>>,
+    reaches: Vec<Vec3>,
+}
+
+impl MeshDedup {
+    fn add(&mut self, mesh: Mesh, meshes: &mut Vec<Mesh>) -> u32 {
+        use std::hash::{Hash, Hasher};
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        for p in &mesh.positions {
+            p.to_array().map(f32::to_bits).hash(&mut hasher);
+        }
+        mesh.indices.hash(&mut hasher);
+        let same = self.by_hash.entry(hasher.finish()).or_default();
+        if let Some(&id) = same.iter().find(|&&id| {
+            meshes
+                .get(id as usize)
+                .is_some_and(|m| m.positions == mesh.positions && m.indices == mesh.indices)
+        }) {
+            return id;
+        }
+        let id = meshes.len() as u32;
+        same.push(id);
+        self.reaches.push(
+            mesh.positions
+                .iter()
+                .fold(Vec3::ZERO, |r, p| r.max(p.abs())),
+        );
+        meshes.push(mesh);
+        id
+    }
+
+    fn reach(&self, id: u32) -> Vec3 {
+        self.reaches.get(id as usize).copied().unwrap_or(Vec3::ZERO)
+    }
+}
+
+/// An upper bound, per world axis, of `|world · p|` over vertices whose per-axis magnitudes
+/// are at most `r` ([`MeshDedup::reach`]): interval arithmetic, so it costs nothing per instance
+/// vertex, and it is finite only if every transformed vertex is.
+fn world_reach(r: Vec3, world: Mat4) -> Vec3 {
+    let axis = |v: Vec4| v.truncate().abs();
+    axis(world.x_axis) * r.x
+        + axis(world.y_axis) * r.y
+        + axis(world.z_axis) * r.z
+        + axis(world.w_axis)
+}
+
 /// A camera at the node's world transform looking down its −Z with +Y up.
 fn node_camera(world: Mat4, yfov: f32) -> Result<NodeCamera, String> {
     if !(yfov.is_finite() && yfov > 0.0 && yfov < std::f32::consts::PI) {
@@ -870,6 +1009,13 @@ fn node_camera(world: Mat4, yfov: f32) -> Result<NodeCamera, String> {
         ));
     }
     let position = world.transform_point3(Vec3::ZERO);
+    if !position.is_finite() || position.abs().max_element() > MAX_COORDINATE {
+        return Err(format!(
+            "it is at a coordinate of {:e}, beyond ±{MAX_COORDINATE:e} (where f32 ray \
+             arithmetic overflows); fix the node transforms",
+            position.abs().max_element()
+        ));
+    }
     let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     let up = world.transform_vector3(Vec3::Y);
     // Non-uniform scale or shear can tilt +Y off the image plane: re-orthogonalise.
@@ -946,11 +1092,19 @@ fn convert_material(
     if a < 1.0 && material.alpha_mode() != gltf::material::AlphaMode::Opaque {
         warnings.add("transparency (alpha; materials are opaque)");
     }
+    let emission = emissive * strength;
+    if !emission.is_finite() {
+        return Err(format!(
+            "{label}: its emission (emissiveFactor up to {:e} × emissiveStrength {strength:e}) \
+             overflows to infinity; use a finite light intensity",
+            emissive.max_element()
+        ));
+    }
     Ok(material_from_metallic_roughness(
         Vec3::new(r, g, b),
         metallic,
         roughness,
-        emissive * strength,
+        emission,
     ))
 }
 
@@ -1070,33 +1224,65 @@ fn build_primitive(
         return Ok(None);
     }
 
-    // Keep referenced vertices only, in first-use order, and check that they are finite.
+    // Every referenced vertex must be finite and in range. Triangles that no ray can hit are
+    // dropped: zero-area ones (coincident or collinear corners) and repeats of a triangle with
+    // the same winding. Both are useless to render, and large numbers of identical primitives
+    // make BVH construction quadratic (a file of a few kilobytes could stall it for hours).
+    // Only vertices of kept triangles are kept, in first-use order.
     let mut remap = vec![u32::MAX; vertex_count];
     let mut kept = Vec::new();
     let mut compact = Vec::with_capacity(triangles.len());
+    let mut seen: HashSet<[u32; 3]> = HashSet::with_capacity(triangles.len());
     for tri in &triangles {
+        let mut corners = [Vec3::ZERO; 3];
+        for (corner, &v) in corners.iter_mut().zip(tri) {
+            let p = *positions
+                .get(v as usize)
+                .ok_or_else(|| format!("{label}: index {v} out of range"))?;
+            if !p.is_finite() {
+                return Err(format!(
+                    "{mesh_name}: vertex {v} of primitive #{} has a non-finite position \
+                     {p} (NaN or ±∞); repair the mesh and re-export it",
+                    primitive.index()
+                ));
+            }
+            if p.abs().max_element() > MAX_COORDINATE {
+                return Err(format!(
+                    "{mesh_name}: vertex {v} of primitive #{} has a coordinate of {:e}, \
+                     beyond ±{MAX_COORDINATE:e} (where f32 ray arithmetic overflows); the mesh \
+                     is corrupt or its export scale is wrong",
+                    primitive.index(),
+                    p.abs().max_element()
+                ));
+            }
+            *corner = p;
+        }
+        let [a, b, c] = corners;
+        if (b - a).cross(c - a) == Vec3::ZERO {
+            warnings.add("zero-area triangles (no ray can hit them)");
+            continue;
+        }
+        // The same triangle with the same winding, whichever corner comes first.
+        let first = (0..3).min_by_key(|&k| tri[k]).unwrap_or(0);
+        if !seen.insert([tri[first], tri[(first + 1) % 3], tri[(first + 2) % 3]]) {
+            warnings.add("repeated triangles (each is kept once)");
+            continue;
+        }
         let mut out = [0u32; 3];
         for (slot, &v) in out.iter_mut().zip(tri) {
             let entry = remap
                 .get_mut(v as usize)
                 .ok_or_else(|| format!("{label}: index {v} out of range"))?;
             if *entry == u32::MAX {
-                let p = *positions
-                    .get(v as usize)
-                    .ok_or_else(|| format!("{label}: index {v} out of range"))?;
-                if !p.is_finite() {
-                    return Err(format!(
-                        "{mesh_name}: vertex {v} of primitive #{} has a non-finite position \
-                         {p} (NaN or ±∞); repair the mesh and re-export it",
-                        primitive.index()
-                    ));
-                }
                 *entry = kept.len() as u32;
-                kept.push(p);
+                kept.push(positions[v as usize]);
             }
             *slot = *entry;
         }
         compact.push(out);
+    }
+    if compact.is_empty() {
+        return Ok(None);
     }
     let name = match (mesh.name(), mesh.primitives().len()) {
         (Some(name), 1) => name.to_owned(),
