@@ -227,9 +227,10 @@ pub fn emission_scaling(
         integrator: Integrator::Pt,
         max_bounces: 8,
     };
-    let mean = |rgb: &[f32]| rgb.iter().map(|&v| v as f64).sum::<f64>() / rgb.len().max(1) as f64;
+    // Frame::mean per channel, averaged: the image's mean radiance.
+    let mean = |frame: &crate::render::Frame| frame.mean().iter().sum::<f64>() / 3.0;
     let base = Renderer::new(ctx, scene)?.render(&scene.camera, &settings)?;
-    let base_mean = mean(&base.rgb);
+    let base_mean = mean(&base);
     let mut out = Vec::new();
     for &factor in factors {
         let mut bright = scene.clone();
@@ -240,7 +241,7 @@ pub fn emission_scaling(
         out.push(EmissionScaling {
             scene: scene.name.clone(),
             factor,
-            ratio: mean(&frame.rgb) / (factor as f64 * base_mean),
+            ratio: mean(&frame) / (factor as f64 * base_mean),
             nonfinite_samples: frame.stats.nonfinite_samples,
             nonfinite_pixels: frame.rgb.iter().filter(|v| !v.is_finite()).count() as u64,
         });

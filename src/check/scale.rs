@@ -4,6 +4,7 @@
 //! should depend on the scale — acne shows as darkening, light leaks as brightening.
 
 use crate::gpu::GpuContext;
+use crate::metrics;
 use crate::render::{Frame, Integrator, RenderError, RenderSettings, Renderer};
 use crate::scene::{Camera, Environment, Instance, Material, Mesh, Scene, Sphere};
 use glam::{Mat4, Vec3};
@@ -193,7 +194,7 @@ pub fn scaled_scene(
         },
     )?;
     drop(renderer);
-    let noise = rmse(&base, &other_seed);
+    let noise = rmse(&base, &other_seed)?;
     let base_mean = channel_mean(&base);
     let mut out = Vec::new();
     for &scale in scales {
@@ -203,7 +204,7 @@ pub fn scaled_scene(
             scene: scene.name.clone(),
             scale,
             mean_ratio: channel_mean(&frame) / base_mean,
-            rmse_over_noise: rmse(&frame, &base) / noise,
+            rmse_over_noise: rmse(&base, &frame)? / noise,
             nonfinite_samples: frame.stats.nonfinite_samples,
             stack_overflows: frame.stats.stack_overflows,
         });
@@ -226,12 +227,15 @@ fn channel_mean(frame: &Frame) -> f64 {
     frame.mean().iter().sum::<f64>() / 3.0
 }
 
-fn rmse(a: &Frame, b: &Frame) -> f64 {
-    let sum: f64 = a
-        .rgb
-        .iter()
-        .zip(&b.rgb)
-        .map(|(x, y)| (*x as f64 - *y as f64).powi(2))
-        .sum();
-    (sum / a.rgb.len().max(1) as f64).sqrt()
+/// RMSE of `test` against `reference` over all pixels and channels.
+fn rmse(reference: &Frame, test: &Frame) -> Result<f64, RenderError> {
+    metrics::image_error(
+        &reference.rgb,
+        &test.rgb,
+        reference.width,
+        reference.height,
+        None,
+    )
+    .map(|e| e.mse.sqrt())
+    .map_err(|e| RenderError::Settings(e.to_string()))
 }
