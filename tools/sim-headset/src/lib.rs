@@ -1,0 +1,1 @@
+//! The simulated headset (in progress).
