@@ -2,7 +2,7 @@
 //! command pool: everything else in gpu/ borrows from a `GpuContext`.
 
 use super::crash_markers::{create_marker_buffer, Markers};
-use super::device_pick::{driver_env, pick_device, DeviceInfo, Picked};
+use super::device_pick::{driver_env, pick_device, DeviceInfo, DeviceWanted, Picked};
 use super::error::{human_bytes, GpuError, VkContext};
 use super::memory_budget::{memory_facts, MemoryFacts};
 use super::options::GpuOptions;
@@ -17,7 +17,7 @@ use std::sync::{Arc, Mutex};
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 pub struct GpuContext {
-    _entry: ash::Entry,
+    entry: ash::Entry,
     pub(crate) instance: ash::Instance,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation_log: Arc<ValidationLog>,
@@ -31,6 +31,8 @@ pub struct GpuContext {
     pub(super) allocated: [AtomicU64; 2],
     pub(super) inject_device_lost: Option<String>,
     pub info: DeviceInfo,
+    physical_device: vk::PhysicalDevice,
+    queue_family: u32,
 }
 
 /// An instance (and its debug messenger) whose device set-up failed, with the reason.
@@ -40,8 +42,43 @@ type PartialInstance = (
     Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
 );
 
+/// What a caller beyond headless rendering needs from the context: a window needs surface
+/// extensions and a queue that can present; an OpenXR session needs the runtime to create the
+/// instance and the device (XR_KHR_vulkan_enable2) and a graphics queue.
+#[derive(Default)]
+pub struct ContextNeeds<'a> {
+    pub instance_extensions: Vec<&'static CStr>,
+    pub device_extensions: Vec<&'static CStr>,
+    /// The queue must support graphics (blits into swapchain images need it), not only compute.
+    pub graphics_queue: bool,
+    /// Creates the instance and device in place of fovea (an OpenXR runtime does).
+    pub creator: Option<&'a dyn VulkanCreator>,
+}
+
+/// Creates the Vulkan instance and device on fovea's behalf, with the create infos fovea
+/// built (an OpenXR runtime adds what it needs, e.g. XR_KHR_vulkan_enable2).
+pub trait VulkanCreator {
+    fn create_instance(
+        &self,
+        entry: &ash::Entry,
+        info: &vk::InstanceCreateInfo,
+    ) -> Result<vk::Instance, GpuError>;
+    /// The one physical device the creator requires fovea to use.
+    fn physical_device(&self, instance: vk::Instance) -> Result<vk::PhysicalDevice, GpuError>;
+    fn create_device(
+        &self,
+        entry: &ash::Entry,
+        physical_device: vk::PhysicalDevice,
+        info: &vk::DeviceCreateInfo,
+    ) -> Result<vk::Device, GpuError>;
+}
+
 impl GpuContext {
     pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
+        Self::new_with(options, &ContextNeeds::default())
+    }
+
+    pub fn new_with(options: &GpuOptions, needs: &ContextNeeds) -> Result<Self, GpuError> {
         if let Some((var, value, problem)) = &options.env_problem {
             return Err(GpuError::BadEnvironment {
                 var,
@@ -66,6 +103,7 @@ impl GpuContext {
             layers.push(VALIDATION_LAYER.as_ptr());
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
         }
+        extensions.extend(needs.instance_extensions.iter().map(|e| e.as_ptr()));
         let app = vk::ApplicationInfo::default()
             .application_name(c"fovea")
             .engine_name(c"fovea")
@@ -74,11 +112,26 @@ impl GpuContext {
             .application_info(&app)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
-        // SAFETY: the create info and the arrays it points to live until the call returns.
-        let instance = match unsafe { entry.create_instance(&create, None) } {
+        let created = match needs.creator {
+            Some(creator) => creator.create_instance(&entry, &create).map(|handle| {
+                // SAFETY: the creator returned a live instance made from this entry's loader.
+                unsafe { ash::Instance::load(entry.static_fn(), handle) }
+            }),
+            // SAFETY: the create info and the arrays it points to live until the call returns.
+            None => {
+                unsafe { entry.create_instance(&create, None) }.map_err(|result| GpuError::Vulkan {
+                    call: "vkCreateInstance",
+                    result,
+                })
+            }
+        };
+        let instance = match created {
             Ok(instance) => instance,
             // What the loader returns when it finds no driver at all.
-            Err(result @ vk::Result::ERROR_INCOMPATIBLE_DRIVER) => {
+            Err(GpuError::Vulkan {
+                result: result @ vk::Result::ERROR_INCOMPATIBLE_DRIVER,
+                ..
+            }) => {
                 return Err(GpuError::NoDevice {
                     detail: format!(
                         "the Vulkan loader found no driver (vkCreateInstance: {result}){}",
@@ -86,12 +139,7 @@ impl GpuContext {
                     ),
                 })
             }
-            Err(result) => {
-                return Err(GpuError::Vulkan {
-                    call: "vkCreateInstance",
-                    result,
-                })
-            }
+            Err(e) => return Err(e),
         };
         let validation_log = Arc::<ValidationLog>::default();
         let debug = if options.validation {
@@ -123,7 +171,14 @@ impl GpuContext {
             None
         };
         // The entry (the loaded library) must outlive the instance on the error path too.
-        match Self::with_instance(entry.clone(), instance, debug, validation_log, options) {
+        match Self::with_instance(
+            entry.clone(),
+            instance,
+            debug,
+            validation_log,
+            options,
+            needs,
+        ) {
             Ok(ctx) => Ok(ctx),
             Err(failed) => {
                 let (e, instance, debug) = *failed;
@@ -147,8 +202,22 @@ impl GpuContext {
         debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
         validation_log: Arc<ValidationLog>,
         options: &GpuOptions,
+        needs: &ContextNeeds,
     ) -> Result<Self, Box<PartialInstance>> {
-        let picked = match pick_device(&instance, options.device.as_deref()) {
+        let required = match needs.creator {
+            Some(creator) => match creator.physical_device(instance.handle()) {
+                Ok(pd) => Some(pd),
+                Err(e) => return Err(Box::new((e, instance, debug))),
+            },
+            None => None,
+        };
+        let wanted = DeviceWanted {
+            name: options.device.as_deref(),
+            physical_device: required,
+            graphics: needs.graphics_queue,
+            extensions: &needs.device_extensions,
+        };
+        let picked = match pick_device(&instance, &wanted) {
             Ok(p) => p,
             Err(e) => return Err(Box::new((e, instance, debug))),
         };
@@ -170,24 +239,30 @@ impl GpuContext {
         if amd_marker {
             device_extensions.push(ash::amd::buffer_marker::NAME.as_ptr());
         }
+        device_extensions.extend(needs.device_extensions.iter().map(|e| e.as_ptr()));
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&device_extensions)
             .push_next(&mut features12);
-        // SAFETY: physical_device came from this instance; the create info outlives the call.
-        let device = match unsafe { instance.create_device(physical_device, &device_info, None) } {
+        let created = match needs.creator {
+            Some(creator) => creator
+                .create_device(&entry, physical_device, &device_info)
+                .map(|handle| {
+                    // SAFETY: the creator returned a live device of this instance.
+                    unsafe { ash::Device::load(instance.fp_v1_0(), handle) }
+                }),
+            // SAFETY: physical_device came from this instance; the create info outlives the call.
+            None => unsafe { instance.create_device(physical_device, &device_info, None) }.map_err(
+                |result| GpuError::Vulkan {
+                    call: "vkCreateDevice",
+                    result,
+                },
+            ),
+        };
+        let device = match created {
             Ok(d) => d,
-            Err(result) => {
-                return Err(Box::new((
-                    GpuError::Vulkan {
-                        call: "vkCreateDevice",
-                        result,
-                    },
-                    instance,
-                    debug,
-                )));
-            }
+            Err(e) => return Err(Box::new((e, instance, debug))),
         };
         // SAFETY: queue 0 of a family we requested.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
@@ -263,7 +338,7 @@ impl GpuContext {
             human_bytes(memory.heaps[memory.device_heap])
         );
         Ok(Self {
-            _entry: entry,
+            entry,
             instance,
             debug,
             validation_log,
@@ -277,7 +352,32 @@ impl GpuContext {
             allocated: [AtomicU64::new(0), AtomicU64::new(0)],
             inject_device_lost: options.inject_device_lost.clone(),
             info,
+            physical_device,
+            queue_family,
         })
+    }
+
+    pub(crate) fn entry(&self) -> &ash::Entry {
+        &self.entry
+    }
+
+    pub(crate) fn physical_device(&self) -> vk::PhysicalDevice {
+        self.physical_device
+    }
+
+    /// The family of [`Self::queue`], the one queue fovea submits to.
+    pub fn queue_family(&self) -> u32 {
+        self.queue_family
+    }
+
+    /// Raw handles, for an OpenXR graphics binding.
+    pub fn raw_handles(&self) -> (vk::Instance, vk::PhysicalDevice, vk::Device, vk::Queue) {
+        (
+            self.instance.handle(),
+            self.physical_device,
+            self.device.handle(),
+            self.queue,
+        )
     }
 
     /// Every validation message reported since the last call (empty without validation).

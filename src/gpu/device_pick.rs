@@ -66,9 +66,20 @@ pub(super) fn driver_env() -> String {
     }
 }
 
+/// What the caller asks of the device beyond fovea's own needs.
+pub(super) struct DeviceWanted<'a> {
+    /// `--device`: a part of the device's name.
+    pub(super) name: Option<&'a str>,
+    /// The device an OpenXR runtime requires (the one driving the headset).
+    pub(super) physical_device: Option<vk::PhysicalDevice>,
+    /// The queue must support graphics as well as compute.
+    pub(super) graphics: bool,
+    pub(super) extensions: &'a [&'static CStr],
+}
+
 pub(super) fn pick_device(
     instance: &ash::Instance,
-    wanted: Option<&str>,
+    wanted: &DeviceWanted,
 ) -> Result<Picked, GpuError> {
     // SAFETY: enumeration on a valid instance.
     let devices = match unsafe { instance.enumerate_physical_devices() } {
@@ -91,6 +102,12 @@ pub(super) fn pick_device(
     let mut candidates = Vec::new();
     let mut unusable = Vec::new();
     for pd in devices {
+        if wanted
+            .physical_device
+            .is_some_and(|required| required != pd)
+        {
+            continue;
+        }
         // SAFETY: pd was just enumerated from this instance.
         let (props, families) = unsafe {
             (
@@ -106,10 +123,15 @@ pub(super) fn pick_device(
             ));
             continue;
         }
-        let Some(family) = families.iter().position(|f| {
-            f.queue_flags.contains(vk::QueueFlags::COMPUTE) && f.timestamp_valid_bits > 0
-        }) else {
-            unusable.push(format!("{name} (no compute queue with timestamps)"));
+        let mut flags = vk::QueueFlags::COMPUTE;
+        if wanted.graphics {
+            flags |= vk::QueueFlags::GRAPHICS;
+        }
+        let Some(family) = families
+            .iter()
+            .position(|f| f.queue_flags.contains(flags) && f.timestamp_valid_bits > 0)
+        else {
+            unusable.push(format!("{name} (no {flags:?} queue with timestamps)"));
             continue;
         };
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
@@ -124,6 +146,10 @@ pub(super) fn pick_device(
                 .iter()
                 .any(|e| e.extension_name_as_c_str() == Ok(wanted))
         };
+        if let Some(missing) = wanted.extensions.iter().find(|e| !has(e)) {
+            unusable.push(format!("{name} (no {})", missing.to_string_lossy()));
+            continue;
+        }
         let info = DeviceInfo {
             name,
             kind: format!("{:?}", props.device_type),
@@ -159,7 +185,7 @@ pub(super) fn pick_device(
         };
         return Err(GpuError::NoDevice { detail });
     }
-    if let Some(wanted) = wanted {
+    if let Some(wanted) = wanted.name {
         let needle = wanted.to_lowercase();
         let available = candidates
             .iter()

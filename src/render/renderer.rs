@@ -13,7 +13,7 @@ use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer};
 use crate::gpu::shared::*;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation,
-    TimestampPool,
+    StorageImage, TimestampPool,
 };
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
@@ -114,6 +114,12 @@ impl Renderer {
 
     pub fn context(&self) -> &Arc<GpuContext> {
         &self.ctx
+    }
+
+    /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL
+    /// layout), for passes that follow the frame (accumulation) and for presenting it.
+    pub fn output_image(&self) -> Option<&StorageImage> {
+        self.targets.as_ref().map(|t| &t.output)
     }
 
     fn specialization(&self, integrator: u32, max_bounces: u32) -> Vec<(u32, u32)> {
