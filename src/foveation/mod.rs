@@ -10,9 +10,11 @@ pub mod gaze;
 pub mod plan;
 pub mod ray_buffer;
 pub mod view;
+pub mod visibility_mask;
 
 pub use config::*;
 pub use gaze::{Gaze, GazeChoice};
 pub use plan::{EyePlan, LayerPlan, Span};
 pub use ray_buffer::RayBuffer;
 pub use view::{EyeFov, ImageGeometry};
+pub use visibility_mask::VisibilityMask;

@@ -6,6 +6,7 @@
 
 use super::ray_buffer::RayBuffer;
 use super::view::{direction, ImageGeometry};
+use super::visibility_mask::VisibilityMask;
 
 /// A run of consecutive ray-buffer entries of one layer, all traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,6 +134,18 @@ impl EyePlan {
     /// Plans one eye's frame. `gaze_px` must be finite and on the image (see
     /// `Gaze::resolve`).
     pub fn new(buffer: &RayBuffer, image: &ImageGeometry, gaze_px: [f64; 2]) -> Self {
+        Self::masked(buffer, image, gaze_px, None)
+    }
+
+    /// Plans one eye's frame, tracing no lattice point that the lens's visibility mask
+    /// makes useless (see [`VisibilityMask::needed`]; the mask must be prepared for every
+    /// layer spacing of `buffer` and be of the image's size).
+    pub fn masked(
+        buffer: &RayBuffer,
+        image: &ImageGeometry,
+        gaze_px: [f64; 2],
+        mask: Option<&VisibilityMask>,
+    ) -> Self {
         let regions = Regions::new(buffer, image, gaze_px);
         let (w, h) = (image.width as i32, image.height as i32);
         let mut spans = Vec::new();
@@ -170,7 +183,7 @@ impl EyePlan {
             };
             // A layer without limits (regular rendering, an unmasked background) traces whole
             // rows: one span each, without testing every point.
-            let whole_rows = regions.traces_everything(k);
+            let whole_rows = regions.traces_everything(k) && mask.is_none();
             for j in j0..=j1 {
                 if whole_rows {
                     if i0 <= i1 {
@@ -182,7 +195,9 @@ impl EyePlan {
                 let mut run: Option<(i32, u32)> = None;
                 for i in i0..=i1 + 1 {
                     let x = anchor[0] + i * d;
-                    let inside = i <= i1 && regions.traced(k, x as i64, y as i64);
+                    let inside = i <= i1
+                        && regions.traced(k, x as i64, y as i64)
+                        && mask.is_none_or(|m| m.needed(l.spacing, x as u32, y as u32));
                     match (inside, &mut run) {
                         (true, Some((_, count))) => *count += 1,
                         (true, None) => run = Some((i, 1)),
@@ -239,7 +254,7 @@ mod tests {
     use super::*;
     use crate::foveation::ray_buffer::unpack_offset;
     use crate::foveation::view::EyeFov;
-    use crate::foveation::{FoveationConfig, Gaze, Layer};
+    use crate::foveation::{FoveationConfig, Gaze, Layer, VisibilityMask};
 
     /// Counts traced rays per layer by visiting every pixel of the image: on the layer's
     /// lattice (relative to its anchor) and inside its region.
@@ -405,5 +420,44 @@ mod tests {
         let area = std::f64::consts::PI * r * r;
         let got = plan.layers[0].targets as f64;
         assert!((got / area - 1.0).abs() < 0.03, "{got} vs {area}");
+    }
+
+    #[test]
+    fn a_visibility_mask_removes_exactly_the_hidden_rays() {
+        let image = ImageGeometry::new(64, 48, EyeFov::VIVE_PRO_EYE_LEFT);
+        // Hidden: a triangle over the top-left corner (in tangent space).
+        let corner = |x: f64, y: f64| {
+            let t = image.tan_of(x, y);
+            [t[0] as f32, t[1] as f32]
+        };
+        let vertices = [corner(-1.0, -1.0), corner(40.0, -1.0), corner(-1.0, 30.0)];
+        let mut mask = VisibilityMask::from_hidden_triangles(&image, &vertices, &[0, 1, 2]);
+        let hidden = 64 * 48 - mask.visible_count() as u64;
+        assert!(hidden > 500, "{hidden}");
+        // Regular (spacing 1): every visible pixel once, no hidden one.
+        let buffer = RayBuffer::build(&FoveationConfig::regular(1), &[image]);
+        mask.prepare(1);
+        let plan = EyePlan::masked(&buffer, &image, [32.0, 24.0], Some(&mask));
+        assert_eq!(plan.layers[0].targets, 64 * 48 - hidden);
+        for span in &plan.spans {
+            for i in span.first..span.first + span.count {
+                let (dx, dy) = unpack_offset(buffer.offsets[i as usize]);
+                assert!(
+                    mask.visible(dx as u32, dy as u32),
+                    "traced hidden pixel {dx},{dy}"
+                );
+            }
+        }
+        // Foveated: fewer rays than unmasked, and more than the visible fraction alone
+        // would give (lattice points near the edge are kept for the fill).
+        let config = FoveationConfig::thesis();
+        let buffer = RayBuffer::build(&config, &[image]);
+        for l in &buffer.layers {
+            mask.prepare(l.spacing);
+        }
+        let gaze = [32.0, 24.0];
+        let open = EyePlan::new(&buffer, &image, gaze).samples(&buffer);
+        let masked = EyePlan::masked(&buffer, &image, gaze, Some(&mask)).samples(&buffer);
+        assert!(masked < open, "{masked} vs {open}");
     }
 }

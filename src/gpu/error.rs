@@ -54,6 +54,9 @@ pub enum GpuError {
     Allocation { what: String, detail: String },
     #[error("{0}")]
     Limit(String),
+    /// A failure in whoever created the instance or device for fovea (an OpenXR runtime).
+    #[error("{0}")]
+    External(String),
 }
 
 /// What a plan of allocations needs and what the device offers (see

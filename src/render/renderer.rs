@@ -9,7 +9,7 @@ use super::settings::RenderSettings;
 use super::targets::{FrameTargets, TargetKey};
 use super::RenderError;
 use crate::foveation::gaze::GazeFix;
-use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer};
+use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer, VisibilityMask};
 use crate::gpu::shared::*;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation,
@@ -55,6 +55,8 @@ pub struct Renderer {
     /// reallocate the images every frame.
     spare_targets: Option<FrameTargets>,
     probe: Option<(Buffer, Buffer)>,
+    /// Per eye, the lens's visibility mask (OpenXR): hidden pixels are never traced.
+    masks: Vec<VisibilityMask>,
     stats: Buffer,
     buffers: SceneBuffers,
     layout: PipelineLayout,
@@ -100,6 +102,7 @@ impl Renderer {
             targets: None,
             spare_targets: None,
             probe: None,
+            masks: Vec::new(),
             stats,
             buffers,
             layout: PipelineLayout::new(ctx)?,
@@ -114,6 +117,12 @@ impl Renderer {
 
     pub fn context(&self) -> &Arc<GpuContext> {
         &self.ctx
+    }
+
+    /// Sets each eye's visibility mask (eye order as in the frame's eyes; empty for none). A
+    /// mask applies to frames whose eye image has the mask's size.
+    pub fn set_visibility_masks(&mut self, masks: Vec<VisibilityMask>) {
+        self.masks = masks;
     }
 
     /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL
@@ -350,7 +359,17 @@ impl Renderer {
                 ),
             }
             gazes.push((gaze_px, fix));
-            let plan = EyePlan::new(&targets.buffer, image, gaze_px);
+            let mask = self
+                .masks
+                .get_mut(e)
+                .filter(|m| m.width == image.width && m.height == image.height);
+            let mask = mask.map(|m| {
+                for l in &targets.buffer.layers {
+                    m.prepare(l.spacing);
+                }
+                &*m
+            });
+            let plan = EyePlan::masked(&targets.buffer, image, gaze_px, mask);
             for (k, l) in plan.layers.iter().enumerate() {
                 layer_samples[k] += l.targets * targets.buffer.layers[k].spp as u64;
             }
