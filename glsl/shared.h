@@ -193,4 +193,21 @@ struct GpuProbeHit {
     uint overflow; // 1 when the traversal stack overflowed
 };
 
+// ---- progressive accumulation and the viewer's debug views (accumulate.comp) ----------------
+// accumulate.comp adds OUTPUT (a just-rendered frame) to a running mean kept in LAYER_IMAGES
+// layer PushConstants.layer, PushConstants.sample_offset frames having been added before
+// (0 starts a new mean), then writes what PushConstants.debug asks for back into OUTPUT.
+#define ACCUM_LAYER_MAIN 0    // the mean of the frames the viewer shows
+#define ACCUM_LAYER_REGULAR 1 // the mean of regular frames at the same seeds (difference view)
+#define ACCUM_LAYERS 2
+#define ACCUM_SHOW_MEAN 0     // the running mean
+#define ACCUM_SHOW_NOTHING 1  // accumulate only; OUTPUT keeps the frame
+#define ACCUM_SHOW_DIFF 2     // |main mean - regular mean| x ACCUM_DIFF_GAIN
+#define ACCUM_SHOW_HEAT 3     // camera samples per pixel so far, log2 on a colour ramp
+// Differences are mostly a few percent of the image: x4 makes them visible on a display.
+#define ACCUM_DIFF_GAIN 4
+// The heat map's range, log2 samples per pixel: 1/64 (blue) to 1024 (dark red).
+#define ACCUM_HEAT_LOG2_MIN -6 // src/gpu/shared.rs mirrors it (build.rs skips negatives)
+#define ACCUM_HEAT_LOG2_MAX 10
+
 #endif

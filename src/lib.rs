@@ -9,3 +9,5 @@ pub mod gpu;
 pub mod metrics;
 pub mod render;
 pub mod scene;
+pub mod viewer;
+pub mod xr;

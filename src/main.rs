@@ -28,6 +28,11 @@ enum Command {
     Check(Box<commands::check::CheckArgs>),
     /// List the built-in scenes with their triangle counts and what they need.
     Scenes,
+    /// A desktop window: the mouse is the gaze, live foveation controls, progressive refinement.
+    View(Box<commands::view::ViewArgs>),
+    /// An OpenXR headset session (SteamVR, Vive Pro Eye): the eye tracker moves each eye's
+    /// foveation; --simulated runs it on the built-in simulated headset.
+    Xr(Box<commands::xr::XrArgs>),
 }
 
 fn main() {
@@ -49,6 +54,8 @@ fn main() {
         }
         Command::Check(args) => commands::check::run(args),
         Command::Scenes => commands::scenes::run(),
+        Command::View(args) => commands::view::run(args),
+        Command::Xr(args) => commands::xr::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -25,6 +25,12 @@ pub enum Mode {
     Forward,
     /// Foveated, gaze on the top-left corner.
     Corner,
+    /// Foveated around the headset's eye gaze: a `fovea xr --session` recording, never
+    /// part of a bench run (not in [`Mode::ALL`]).
+    Headset,
+    /// Foveated, gaze replayed from `--gaze-trace` (frame k of a repeat takes row k); in a
+    /// run only when the plan has a trace (see [`BenchPlan::modes`]).
+    Trace,
 }
 
 impl Mode {
@@ -35,6 +41,8 @@ impl Mode {
             Mode::Regular => "regular",
             Mode::Forward => "forward",
             Mode::Corner => "corner",
+            Mode::Headset => "headset",
+            Mode::Trace => "trace",
         }
     }
 
@@ -73,6 +81,10 @@ pub struct BenchPlan {
     pub sweep_spp: Vec<u32>,
     /// Frames timed per point of the sweep (the median is used).
     pub sweep_frames: u32,
+    /// `--gaze-trace`: a gaze trace (absolute path) that drives the `trace` mode. Absent from
+    /// plan.json without one, so earlier plans still read and compare equal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gaze_trace: Option<std::path::PathBuf>,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -118,6 +130,7 @@ impl BenchPlan {
             reference_spp: 1024,
             sweep_spp: vec![1, 2, 4, 8, 16],
             sweep_frames: 3,
+            gaze_trace: None,
         }
     }
 
@@ -170,6 +183,15 @@ impl BenchPlan {
         self.foveation.validate().map_err(|e| e.to_string())
     }
 
+    /// The modes the run measures: the thesis' three, then `trace` when there is a trace.
+    pub fn modes(&self) -> Vec<Mode> {
+        let mut modes = Mode::ALL.to_vec();
+        if self.gaze_trace.is_some() {
+            modes.push(Mode::Trace);
+        }
+        modes
+    }
+
     pub fn repeats(&self, mode: Mode) -> u32 {
         match mode {
             Mode::Regular => self.repeats_regular,
@@ -192,7 +214,8 @@ impl BenchPlan {
         let mut units = Vec::new();
         for scene in &self.scenes {
             for repeat in 0..most {
-                let modes: Vec<Mode> = Mode::ALL
+                let modes: Vec<Mode> = self
+                    .modes()
                     .into_iter()
                     .filter(|&m| repeat < self.repeats(m))
                     .collect();
@@ -226,7 +249,7 @@ impl BenchPlan {
 
     /// Rows frames.csv holds when the run is complete: scenes × modes × repeats × frames × eyes.
     pub fn expected_frame_rows(&self) -> u64 {
-        let per_scene: u64 = Mode::ALL.iter().map(|&m| self.repeats(m) as u64).sum();
+        let per_scene: u64 = self.modes().iter().map(|&m| self.repeats(m) as u64).sum();
         self.scenes.len() as u64 * per_scene * self.frames as u64 * EYES as u64
     }
 
@@ -322,6 +345,35 @@ mod tests {
             ..BenchPlan::quick()
         };
         assert_eq!(plan.sweep(), vec![1, 2, 3, 8]);
+    }
+
+    #[test]
+    fn a_gaze_trace_adds_the_trace_mode_to_every_repeat() {
+        let plan = BenchPlan {
+            scenes: vec!["control".into()],
+            frames: 2,
+            repeats_foveated: 2,
+            gaze_trace: Some("/tmp/gaze.csv".into()),
+            ..BenchPlan::quick()
+        };
+        assert_eq!(plan.modes().last(), Some(&Mode::Trace));
+        let units = plan.units();
+        assert_eq!(units[0].modes.len(), 4);
+        assert_eq!(
+            units[1].modes,
+            vec![Mode::Forward, Mode::Corner, Mode::Trace]
+        );
+        // (1 regular + 3 foveated × 2 repeats) runs × 2 frames × 2 eyes.
+        assert_eq!(plan.expected_frame_rows(), 7 * 2 * 2);
+        assert_eq!(
+            plan.frame_keys().len() as u64 * 2,
+            plan.expected_frame_rows()
+        );
+        let json = serde_json::to_string(&plan).unwrap();
+        assert_eq!(serde_json::from_str::<BenchPlan>(&json).unwrap(), plan);
+        // Without a trace the plan's JSON has no such field: earlier plans compare equal.
+        let json = serde_json::to_string(&BenchPlan::quick()).unwrap();
+        assert!(!json.contains("gaze_trace"), "{json}");
     }
 
     #[test]

@@ -93,7 +93,8 @@ fn write_plots(
             &dots,
         )?;
         for (region, what) in [("whole", "whole image"), ("0-6", "fovea (0-6°)")] {
-            let curves: Vec<Curve> = Mode::ALL
+            let curves: Vec<Curve> = plan
+                .modes()
                 .into_iter()
                 .map(|mode| Curve {
                     label: mode.name().to_string(),
@@ -201,6 +202,7 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
     );
 
     let _ = writeln!(md, "## Impact factors beside the thesis'\n");
+    let mut trace_impacts = Vec::new();
     let _ = writeln!(
         md,
         "| scene | forward (range) | corner (range) | thesis forward | thesis corner |"
@@ -208,6 +210,9 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
     let _ = writeln!(md, "|---|---|---|---|---|");
     for scene in &s.scenes {
         let thesis = THESIS_IMPACT.iter().find(|t| t.0 == scene.scene);
+        if let Some(trace) = scene.modes.iter().find(|m| m.mode == Mode::Trace) {
+            trace_impacts.push(format!("{} {}", scene.scene, fmt_impact(trace)));
+        }
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {} |",
@@ -219,6 +224,15 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         );
     }
     let _ = writeln!(md);
+    if let Some(path) = &p.gaze_trace {
+        let _ = writeln!(
+            md,
+            "Mode `trace` follows the gaze trace `{}` (frame k of a repeat takes its row k); \
+             its impact (range): {}.\n",
+            path.display(),
+            trace_impacts.join(", ")
+        );
+    }
 
     for scene in &s.scenes {
         scene_section(&mut md, s, scene);

@@ -10,7 +10,7 @@ use super::protocol::{BenchPlan, FrameKey, Mode, EYES};
 use super::quality::{self, Point};
 use super::rows::{FrameRow, QualityRow};
 use super::{images, report};
-use crate::foveation::{Gaze, GazeChoice};
+use crate::foveation::{Gaze, GazeChoice, GazeTrace};
 use crate::gpu::GpuContext;
 use crate::render::{eye_views, DebugView, EyeView, FrameRequest, Renderer};
 use crate::scene::{self, Scene};
@@ -73,6 +73,43 @@ pub fn mode_eyes(scene: &Scene, plan: &BenchPlan, mode: Mode) -> Vec<EyeView> {
     )
 }
 
+/// The eyes of frame `frame` of the trace mode: `eyes` with each eye's gaze from row `frame`
+/// of the trace (its last row past its end).
+pub fn trace_eyes(
+    eyes: &[EyeView],
+    plan: &BenchPlan,
+    trace: &GazeTrace,
+    frame: u64,
+) -> Vec<EyeView> {
+    let images: Vec<_> = eyes
+        .iter()
+        .map(|e| e.image(plan.width, plan.height))
+        .collect();
+    let (row, _) = trace.row(frame);
+    eyes.iter()
+        .zip(row.gazes(&images))
+        .map(|(e, gaze)| EyeView { gaze, ..*e })
+        .collect()
+}
+
+/// Reads the plan's gaze trace, if it has one, and says once if it is shorter than a repeat.
+fn read_trace(plan: &BenchPlan) -> Result<Option<GazeTrace>, BenchError> {
+    let Some(path) = &plan.gaze_trace else {
+        return Ok(None);
+    };
+    let trace = GazeTrace::read(path).map_err(|e| BenchError::Plan(e.to_string()))?;
+    if trace.rows.len() < plan.frames as usize {
+        tracing::warn!(
+            "gaze trace {} has {} rows for {} frames per repeat: the trace mode's later frames \
+             hold its last row",
+            path.display(),
+            trace.rows.len(),
+            plan.frames
+        );
+    }
+    Ok(Some(trace))
+}
+
 /// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
 pub fn run(
     ctx: &Arc<GpuContext>,
@@ -87,6 +124,7 @@ pub fn run(
     for name in &plan.scenes {
         scene::load(name, aspect)?;
     }
+    let gaze_trace = read_trace(plan)?;
     std::fs::create_dir_all(dir).map_err(|e| BenchError::file(dir, e))?;
     let plan_path = dir.join(PLAN_FILE);
     if plan_path.exists() {
@@ -150,7 +188,7 @@ pub fn run(
         .flat_map(|s| {
             plan.sweep()
                 .into_iter()
-                .flat_map(move |spp| Mode::ALL.map(|m| (s.clone(), m, spp)))
+                .flat_map(move |spp| plan.modes().into_iter().map(move |m| (s.clone(), m, spp)))
         })
         .filter(|p| !done_points.contains(p))
         .collect();
@@ -177,11 +215,20 @@ pub fn run(
         bar.set_message(format!("{scene_name}: loading"));
         let scene = scene::load(scene_name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(scene_name))?;
-        let eyes: BTreeMap<Mode, Vec<EyeView>> = Mode::ALL
+        // The trace mode's entry is its first row's eyes: its warm-up and quality frames.
+        let eyes: BTreeMap<Mode, Vec<EyeView>> = plan
+            .modes()
             .into_iter()
-            .map(|m| (m, mode_eyes(&scene, plan, m)))
+            .map(|m| {
+                let eyes = mode_eyes(&scene, plan, m);
+                match (m, &gaze_trace) {
+                    (Mode::Trace, Some(trace)) => (m, trace_eyes(&eyes, plan, trace, 0)),
+                    _ => (m, eyes),
+                }
+            })
             .collect();
-        let configs: BTreeMap<Mode, _> = Mode::ALL
+        let configs: BTreeMap<Mode, _> = plan
+            .modes()
             .into_iter()
             .map(|m| (m, plan.config(m, plan.spp)))
             .collect();
@@ -194,25 +241,34 @@ pub fn run(
                 continue;
             }
             bar.set_message(format!("{scene_name}: repeat {}", unit.repeat + 1));
-            let request = |m: Mode| FrameRequest {
-                settings: quality::settings(plan, plan.spp),
-                foveation: &configs[&m],
-                eyes: &eyes[&m],
-                debug: DebugView::None,
+            let settings = quality::settings(plan, plan.spp);
+            let mut measure = |m: Mode, eyes: &[EyeView]| {
+                renderer
+                    .measure_frame(&FrameRequest {
+                        settings,
+                        foveation: &configs[&m],
+                        eyes,
+                        debug: DebugView::None,
+                    })
+                    .map_err(BenchError::render(scene_name))
             };
             for &mode in &unit.modes {
-                renderer
-                    .measure_frame(&request(mode))
-                    .map_err(BenchError::render(scene_name))?;
+                measure(mode, &eyes[&mode])?;
             }
             for key in todo {
+                let traced;
+                let key_eyes = match (key.mode, &gaze_trace) {
+                    (Mode::Trace, Some(t)) => {
+                        traced = trace_eyes(&eyes[&key.mode], plan, t, key.frame as u64);
+                        &traced[..]
+                    }
+                    _ => &eyes[&key.mode][..],
+                };
                 let wall_us = SystemTime::now()
                     .duration_since(UNIX_EPOCH)
                     .map_or(0, |d| d.as_micros() as u64);
                 let start = Instant::now();
-                let frame = renderer
-                    .measure_frame(&request(key.mode))
-                    .map_err(BenchError::render(scene_name))?;
+                let frame = measure(key.mode, key_eyes)?;
                 let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
                 let rows = FrameRow::from_frame(key, &frame, cpu_ms, wall_us);
                 for row in &rows {
@@ -270,7 +326,7 @@ pub fn run(
         if !strip.exists() {
             // Images of the protocol's spp measured in an earlier, interrupted run are
             // rendered again (their numbers are already in quality.csv).
-            for mode in Mode::ALL {
+            for mode in plan.modes() {
                 if let std::collections::btree_map::Entry::Vacant(slot) = shown.entry(mode) {
                     slot.insert(quality::measure_point(
                         &mut renderer,

@@ -123,7 +123,8 @@ pub fn summarize_run(
         .scenes
         .iter()
         .map(|scene| {
-            let mut modes: Vec<ModeSummary> = Mode::ALL
+            let mut modes: Vec<ModeSummary> = plan
+                .modes()
                 .into_iter()
                 .map(|mode| {
                     let rows: Vec<&FrameRow> = frames

@@ -6,12 +6,12 @@ use anyhow::{Context, Result};
 use clap::Args;
 use fovea::bench::summary::utc_stamp;
 use fovea::bench::{self, BenchPlan, RunOptions};
-use fovea::foveation::FoveationConfig;
+use fovea::foveation::{FoveationConfig, GazeTrace};
 use fovea::render::{FovChoice, Integrator};
 use std::path::PathBuf;
 
 /// Flags that set the plan; none may be given with --resume.
-const PLAN_FLAGS: [&str; 16] = [
+const PLAN_FLAGS: [&str; 17] = [
     "quick",
     "scenes",
     "frames",
@@ -28,6 +28,7 @@ const PLAN_FLAGS: [&str; 16] = [
     "reference_spp",
     "sweep_spp",
     "sweep_frames",
+    "gaze_trace",
 ];
 
 #[derive(Args)]
@@ -78,6 +79,10 @@ pub struct BenchArgs {
     /// Frames timed per sweep point; the median is used (default 3).
     #[arg(long)]
     pub sweep_frames: Option<u32>,
+    /// Adds a fourth mode, `trace`, whose gaze follows this recorded trace (CSV, as
+    /// `--record-gaze` writes): frame k of each repeat takes row k.
+    #[arg(long, value_name = "FILE")]
+    pub gaze_trace: Option<PathBuf>,
     /// Directory under which each run gets its own bench-results/<UTC time>/.
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
@@ -120,6 +125,14 @@ impl BenchArgs {
                      (thesis or a TOML file)"
                 )
             })?;
+        }
+        if let Some(path) = &self.gaze_trace {
+            // Checked now, before any GPU work; stored absolute so --resume finds it anywhere.
+            GazeTrace::read(path)?;
+            plan.gaze_trace = Some(
+                std::fs::canonicalize(path)
+                    .with_context(|| format!("gaze trace {}", path.display()))?,
+            );
         }
         plan.validate().map_err(anyhow::Error::msg)?;
         Ok(plan)
@@ -179,9 +192,17 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
 fn print_impacts(dir: &std::path::Path) -> Result<()> {
     let text = std::fs::read_to_string(dir.join("summary.json"))?;
     let summary: serde_json::Value = serde_json::from_str(&text)?;
+    let traced = !summary["parameters"]["gaze_trace"].is_null();
     println!(
-        "{:<14} {:>18} {:>18}",
-        "scene", "impact forward", "impact corner"
+        "{:<14} {:>18} {:>18}{}",
+        "scene",
+        "impact forward",
+        "impact corner",
+        if traced {
+            format!(" {:>18}", "impact trace")
+        } else {
+            String::new()
+        }
     );
     for scene in summary["scenes"].as_array().into_iter().flatten() {
         let impact = |i: usize| {
@@ -190,10 +211,15 @@ fn print_impacts(dir: &std::path::Path) -> Result<()> {
                 .map_or("-".to_string(), |f| format!("{f:.2}"))
         };
         println!(
-            "{:<14} {:>18} {:>18}",
+            "{:<14} {:>18} {:>18}{}",
             scene["scene"].as_str().unwrap_or("?"),
             impact(1),
-            impact(2)
+            impact(2),
+            if traced {
+                format!(" {:>18}", impact(3))
+            } else {
+                String::new()
+            }
         );
     }
     println!("report: {}", dir.join("report.md").display());

@@ -5,6 +5,8 @@ pub mod check;
 pub mod render;
 pub mod render_bench;
 pub mod scenes;
+pub mod view;
+pub mod xr;
 
 use anyhow::{bail, Result};
 use clap::Args;
@@ -31,7 +33,11 @@ pub fn gpu_context(args: &GpuArgs) -> Result<Arc<GpuContext>> {
 }
 
 pub fn check_validation(ctx: &GpuContext) -> Result<()> {
-    let messages = ctx.take_validation_messages();
+    check_validation_messages(&ctx.take_validation_messages())
+}
+
+/// Fails with the messages, if the validation layer reported any.
+pub fn check_validation_messages(messages: &[String]) -> Result<()> {
     if !messages.is_empty() {
         bail!(
             "the Vulkan validation layer reported {} message(s):\n{}",

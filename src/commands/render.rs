@@ -4,12 +4,14 @@
 use super::{check_validation, gpu_context, GpuArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use fovea::foveation::{FoveationConfig, GazeChoice};
-use fovea::render::{
-    eye_views, output, DebugView, FovChoice, Frame, FrameRequest, Integrator, RenderSettings,
-    Renderer, MAX_SIDE,
+use fovea::foveation::{
+    FoveationConfig, GazeChoice, GazeSource, GazeTrace, ImageGeometry, TraceReplay,
 };
-use fovea::scene;
+use fovea::render::{
+    eye_views, output, DebugView, EyeView, FovChoice, Frame, FrameRequest, Integrator,
+    RenderSettings, Renderer, MAX_SIDE,
+};
+use fovea::scene::{self, Camera};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -58,6 +60,15 @@ pub struct RenderArgs {
     /// Gaze: forward (the view axis), corner (top left) or X,Y in pixels; LEFT:RIGHT per eye.
     #[arg(long, default_value = "forward", allow_hyphen_values = true)]
     pub gaze: GazeChoice,
+    /// Gaze from a recorded trace (CSV: frame,time_s,left_tan_x,left_tan_y,right_tan_x,
+    /// right_tan_y,status). One frame uses row --trace-frame; --bench gives each measured
+    /// frame the next row.
+    #[arg(long, value_name = "FILE", conflicts_with = "gaze")]
+    pub gaze_trace: Option<PathBuf>,
+    /// The row of --gaze-trace a single frame uses (0 = the first; past the end, the last).
+    #[arg(long, value_name = "N", requires = "gaze_trace", allow_negative_numbers = true,
+          value_parser = whole_number("a row of the gaze trace, 0 or more".into()))]
+    pub trace_frame: Option<u32>,
     /// Render both eyes (IPD 63 mm), side by side in one image.
     #[arg(long)]
     pub stereo: bool,
@@ -71,7 +82,7 @@ pub struct RenderArgs {
     #[arg(long, default_value = "fovea.png")]
     pub out: PathBuf,
     /// Instead of one image, time every built-in scene: regular, and with --foveation other
-    /// than off also forward and corner gaze.
+    /// than off also forward and corner gaze (and the trace's gaze with --gaze-trace).
     #[arg(long)]
     pub bench: bool,
     /// Frames timed per scene and mode in --bench (the median is reported).
@@ -147,13 +158,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.bench && args.bench_frames == 0 {
         bail!("--bench-frames 0 times nothing: give 1 or more frames per scene and mode");
     }
+    // Read before any GPU work: a bad trace should fail at once.
+    let trace = args
+        .gaze_trace
+        .as_deref()
+        .map(GazeTrace::read)
+        .transpose()?;
+    if args.bench && trace.is_some() && config.is_regular() {
+        bail!(
+            "--gaze-trace with --bench times foveated frames following the gaze; give \
+             --foveation (e.g. thesis)"
+        );
+    }
     let ctx = gpu_context(&args.gpu)?;
     println!(
         "device: {} ({}; {})",
         ctx.info.name, ctx.info.kind, ctx.info.driver
     );
     if args.bench {
-        return super::render_bench::run(&ctx, args, &config, &settings);
+        return super::render_bench::run(&ctx, args, &config, &settings, trace);
     }
     let aspect = settings.width as f32 / settings.height as f32;
     let scene = scene::load(&args.scene, aspect)?;
@@ -169,7 +192,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         renderer.features().describe(),
         setup.as_secs_f64() * 1e3
     );
-    let eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, args.gaze);
+    let mut eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, args.gaze);
+    if let Some(trace) = trace {
+        let row = args.trace_frame.unwrap_or(0) as u64;
+        let mut replay = TraceReplay::new(trace);
+        eyes = with_source_gaze(&eyes, &mut replay, row, &settings);
+        println!(
+            "gaze from {} row {row} of {} ({})",
+            replay.trace().path.display(),
+            replay.trace().rows.len(),
+            replay.status().name()
+        );
+    }
     let request = FrameRequest {
         settings,
         foveation: &config,
@@ -298,6 +332,25 @@ fn identical_fraction(a: &Frame, b: &Frame) -> f64 {
         .filter(|(x, y)| x == y)
         .count();
     same as f64 / (a.rgb.len() / 3).max(1) as f64
+}
+
+/// The eyes with the gazes `source` gives for frame `frame` (time: `frame` at 90 Hz, a
+/// headset's rate; the sources here do not look at it).
+pub fn with_source_gaze(
+    eyes: &[EyeView],
+    source: &mut dyn GazeSource,
+    frame: u64,
+    settings: &RenderSettings,
+) -> Vec<EyeView> {
+    let views: Vec<(Camera, ImageGeometry)> = eyes
+        .iter()
+        .map(|e| (e.camera, e.image(settings.width, settings.height)))
+        .collect();
+    let gazes = source.gaze(frame, frame as f64 / 90.0, &views);
+    eyes.iter()
+        .zip(gazes)
+        .map(|(e, gaze)| EyeView { gaze, ..*e })
+        .collect()
 }
 
 /// Renders one frame and names the scene on failure.

@@ -1,13 +1,14 @@
 //! `fovea render --bench`: GPU time of every built-in scene at the given size, regular and —
 //! when a foveation config is given — foveated with forward and corner gaze, measured in one
 //! run with the modes interleaved frame by frame (this machine's speed drifts). Reports the
-//! ray-count ratio (the ideal speed-up) beside the measured GPU-time ratio.
+//! ray-count ratio (the ideal speed-up) beside the measured GPU-time ratio. With
+//! `--gaze-trace`, a fourth mode follows the trace: measured frame k takes row k.
 
 use super::check_validation;
-use super::render::{render_named, RenderArgs};
+use super::render::{render_named, with_source_gaze, RenderArgs};
 use anyhow::Result;
 use fovea::bench::stats::median;
-use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
+use fovea::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
 use fovea::render::{eye_views, DebugView, FrameRequest, RenderSettings, Renderer};
 use fovea::scene::{self, builtin::BUILTIN_SCENES};
@@ -17,10 +18,30 @@ use std::sync::Arc;
 struct Mode {
     name: &'static str,
     config: FoveationConfig,
-    gaze: Gaze,
+    /// `None`: the gaze trace's row of the frame.
+    gaze: Option<Gaze>,
     gpu_ms: Vec<f64>,
     trace_ms: Vec<f64>,
-    samples: u64,
+    /// Camera paths per measured frame.
+    samples: Vec<u64>,
+}
+
+impl Mode {
+    fn new(name: &'static str, config: FoveationConfig, gaze: Option<Gaze>) -> Self {
+        Self {
+            name,
+            config,
+            gaze,
+            gpu_ms: Vec::new(),
+            trace_ms: Vec::new(),
+            samples: Vec::new(),
+        }
+    }
+
+    /// Mean camera paths of a frame (the trace mode's vary from frame to frame).
+    fn mean_samples(&self) -> f64 {
+        self.samples.iter().sum::<u64>() as f64 / self.samples.len().max(1) as f64
+    }
 }
 
 pub fn run(
@@ -28,8 +49,16 @@ pub fn run(
     args: &RenderArgs,
     config: &FoveationConfig,
     settings: &RenderSettings,
+    trace: Option<GazeTrace>,
 ) -> Result<()> {
     let foveated = !config.is_regular();
+    if let Some(trace) = &trace {
+        println!(
+            "mode trace: gaze from {} ({} rows; measured frame k takes row k)",
+            trace.path.display(),
+            trace.rows.len()
+        );
+    }
     println!(
         "{}x{} per eye, {} eye(s), fov {:?}, {} frames per mode (median), {:?}, depth {}",
         settings.width,
@@ -64,35 +93,35 @@ pub fn run(
     for (name, _) in BUILTIN_SCENES {
         let scene = scene::builtin::builtin(name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene)?;
-        let mut modes = vec![Mode {
-            name: "regular",
-            config: FoveationConfig::regular(settings.spp),
-            gaze: Gaze::Forward,
-            gpu_ms: Vec::new(),
-            trace_ms: Vec::new(),
-            samples: 0,
-        }];
+        let mut modes = vec![Mode::new(
+            "regular",
+            FoveationConfig::regular(settings.spp),
+            Some(Gaze::Forward),
+        )];
         if foveated {
             for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
-                modes.push(Mode {
-                    name,
-                    config: config.clone(),
-                    gaze,
-                    gpu_ms: Vec::new(),
-                    trace_ms: Vec::new(),
-                    samples: 0,
-                });
+                modes.push(Mode::new(name, config.clone(), Some(gaze)));
             }
+        }
+        // Every scene replays the trace from its first row.
+        let mut replay = trace.clone().map(TraceReplay::new);
+        if replay.is_some() {
+            modes.push(Mode::new("trace", config.clone(), None));
         }
         let mut rays = 0;
         // Frame 0 of each mode is a warm-up (pipeline compilation, first-touch memory).
         for frame_index in 0..=args.bench_frames {
             for mode in &mut modes {
                 let gaze = GazeChoice {
-                    left: mode.gaze,
-                    right: mode.gaze,
+                    left: mode.gaze.unwrap_or(Gaze::Forward),
+                    right: mode.gaze.unwrap_or(Gaze::Forward),
                 };
-                let eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, gaze);
+                let mut eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, gaze);
+                if let (None, Some(replay)) = (mode.gaze, &mut replay) {
+                    // The warm-up frame uses row 0 too.
+                    let row = frame_index.saturating_sub(1) as u64;
+                    eyes = with_source_gaze(&eyes, replay, row, settings);
+                }
                 let request = FrameRequest {
                     settings: *settings,
                     foveation: &mode.config,
@@ -112,7 +141,7 @@ pub fn run(
                         .map(|(_, ms)| ms)
                         .sum(),
                 );
-                mode.samples = s.paths;
+                mode.samples.push(s.paths);
                 if mode.name == "regular" {
                     rays = s.rays;
                 }
@@ -120,7 +149,7 @@ pub fn run(
         }
         let ms: Vec<f64> = modes.iter().map(|m| median(&m.gpu_ms)).collect();
         if foveated {
-            let ratio = |m: &Mode| modes[0].samples as f64 / m.samples.max(1) as f64;
+            let ratio = |m: &Mode| modes[0].mean_samples() / m.mean_samples().max(1.0);
             let (fwd, cor) = (&modes[1], &modes[2]);
             println!(
                 "{:<12} {:>10.1} {:>10.1} {:>10.1} | {:>8.2} {:>8.2} {:>4.0}% | {:>8.2} {:>8.2} {:>4.0}%",
@@ -137,13 +166,24 @@ pub fn run(
             );
             for m in &modes[1..] {
                 println!(
-                    "{:<12}   {:<8} samples {:>10} (regular {}), trace {:.1} ms, fill+merge {:.1} ms",
+                    "{:<12}   {:<8} samples {:>10.0} (regular {:.0}), trace {:.1} ms, fill+merge {:.1} ms",
                     "",
                     m.name,
-                    m.samples,
-                    modes[0].samples,
+                    m.mean_samples(),
+                    modes[0].mean_samples(),
                     median(&m.trace_ms),
                     median(&m.gpu_ms) - median(&m.trace_ms)
+                );
+            }
+            if let Some(m) = modes.get(3) {
+                println!(
+                    "{:<12}   {:<8} {:.1} ms, ideal {:.2}, measured {:.2}, eff {:.0}%",
+                    "",
+                    m.name,
+                    ms[3],
+                    ratio(m),
+                    ms[0] / ms[3],
+                    100.0 * ms[0] / ms[3] / ratio(m)
                 );
             }
         } else {
@@ -152,7 +192,7 @@ pub fn run(
                 "{:<12} {:>10.1} {:>10.2} {:>12.2}",
                 name,
                 ms[0],
-                m.samples as f64 / (ms[0] * 1e3).max(1e-9),
+                m.mean_samples() / (ms[0] * 1e3).max(1e-9),
                 rays as f64 / (ms[0] * 1e3).max(1e-9)
             );
         }

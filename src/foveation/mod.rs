@@ -6,7 +6,11 @@
 pub mod blend;
 pub mod catmull_rom;
 pub mod config;
+pub mod fixation;
 pub mod gaze;
+pub mod gaze_filter;
+pub mod gaze_source;
+pub mod gaze_trace;
 pub mod plan;
 pub mod ray_buffer;
 pub mod view;
@@ -14,6 +18,9 @@ pub mod visibility_mask;
 
 pub use config::*;
 pub use gaze::{Gaze, GazeChoice};
+pub use gaze_filter::{GazeFilter, GazeStatus};
+pub use gaze_source::{FixedGaze, GazeSource, TraceReplay};
+pub use gaze_trace::{GazeTrace, TraceRow, TraceStatus, TraceWriter};
 pub use plan::{EyePlan, LayerPlan, Span};
 pub use ray_buffer::RayBuffer;
 pub use view::{EyeFov, ImageGeometry};

@@ -12,6 +12,7 @@ mod pipeline;
 mod present;
 pub mod shaders;
 pub mod shared;
+mod swapchain;
 mod timestamps;
 mod validation;
 pub use validation::ValidationLog;
@@ -25,4 +26,8 @@ pub use memory_budget::PlannedAllocation;
 pub use options::{GpuOptions, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
 pub use pipeline::{ComputePipeline, PipelineLayout};
 pub use present::{ExternalImage, SourceRect};
+pub use swapchain::{
+    surface_instance_extensions, swapchain_device_extensions, PresentPreference, Presented,
+    Swapchain,
+};
 pub use timestamps::{PassTime, TimestampPool};

@@ -141,3 +141,6 @@ pub struct GpuProbeHit {
     pub primitive: u32,
     pub overflow: u32,
 }
+
+/// shared.h's `ACCUM_HEAT_LOG2_MIN` (negative, so build.rs does not generate it).
+pub const ACCUM_HEAT_LOG2_MIN: i32 = -6;

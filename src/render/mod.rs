@@ -1,5 +1,6 @@
 //! The per-eye frame: scene upload, passes in order, timing and read-back.
 
+pub mod accumulate;
 mod frame;
 pub mod output;
 mod renderer;

@@ -2,6 +2,7 @@
 //! the GPU layout, and the feature flags that let shaders skip what a scene does not need.
 
 pub mod builtin;
+pub mod cpu_raycast;
 mod error;
 mod features;
 pub mod glb_write;
@@ -10,6 +11,7 @@ pub mod gpu_layout;
 pub mod types;
 pub mod validate;
 
+pub use cpu_raycast::CpuRaycaster;
 pub use error::SceneError;
 pub use features::SceneFeatures;
 pub use types::*;

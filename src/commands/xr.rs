@@ -1,0 +1,167 @@
+//! `fovea xr`: an OpenXR session in the headset (SteamVR on a Vive Pro Eye), the eye tracker
+//! moving each eye's foveation; or the same through the simulated headset.
+
+use super::check_validation_messages;
+use super::GpuArgs;
+use anyhow::{bail, Result};
+use clap::Args;
+use fovea::foveation::gaze_filter::DEFAULT_HOLD_S;
+use fovea::foveation::FoveationConfig;
+use fovea::gpu::GpuOptions;
+use fovea::render::{DebugView, Integrator, RenderSettings};
+use fovea::scene;
+use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct XrArgs {
+    /// A built-in scene (see `fovea scenes`) or a .gltf/.glb file; the headset starts at its
+    /// camera.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// End the session cleanly after this many frames (default: run until the runtime or
+    /// the user ends it).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Per-eye image size WIDTHxHEIGHT (default: the runtime's recommended size).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<[u32; 2]>,
+    /// Foveation layers: thesis, off (regular rendering) or a TOML file.
+    #[arg(long, default_value = "thesis")]
+    pub foveation: String,
+    /// Samples per target pixel, replacing every layer's.
+    #[arg(long)]
+    pub spp: Option<u32>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    #[arg(long, value_enum, default_value_t = Integrator::Pt)]
+    pub integrator: Integrator,
+    #[arg(long, default_value_t = 8)]
+    pub max_bounces: u32,
+    /// Colour each pixel by the layer it comes from.
+    #[arg(long, value_parser = ["layers"])]
+    pub debug: Option<String>,
+    /// Seconds a lost gaze (blink, tracking loss) is held before foveating the centre.
+    #[arg(long, default_value_t = DEFAULT_HOLD_S)]
+    pub gaze_hold: f64,
+    /// Trace every pixel the lens shows, ignoring the runtime's visibility mask.
+    #[arg(long)]
+    pub no_visibility_mask: bool,
+    /// Use the simulated headset linked into fovea instead of the system's OpenXR runtime
+    /// (configured by SIM_HEADSET_* variables, see tools/sim-headset/README.md).
+    #[arg(long)]
+    pub simulated: bool,
+    /// Profile the session into this directory: frames.csv (GPU time of every pass of both
+    /// eyes, per frame, as `fovea bench` writes), gaze.csv and session.json.
+    #[arg(long, value_name = "DIR")]
+    pub session: Option<PathBuf>,
+    /// Save the gaze trace (replay it with `render`/`bench --gaze-trace`).
+    #[arg(long, value_name = "FILE")]
+    pub record_gaze: Option<PathBuf>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+fn parse_size(text: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("size '{text}' is not understood: give WIDTHxHEIGHT, e.g. 720x800");
+    let (w, h) = text.split_once('x').ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 || w > fovea::render::MAX_SIDE || h > fovea::render::MAX_SIDE {
+        return Err(format!(
+            "size {w}x{h}: each side must be from 1 to {}",
+            fovea::render::MAX_SIDE
+        ));
+    }
+    Ok([w, h])
+}
+
+pub fn run(args: &XrArgs) -> Result<()> {
+    let mut foveation = match FoveationConfig::from_arg(&args.foveation)? {
+        Some(config) => config,
+        None => FoveationConfig::regular(args.spp.unwrap_or(4)),
+    };
+    if let Some(spp) = args.spp {
+        foveation = foveation.with_spp(spp);
+    }
+    foveation.validate()?;
+    let settings = RenderSettings {
+        seed: args.seed,
+        integrator: args.integrator,
+        max_bounces: args.max_bounces,
+        ..RenderSettings::default()
+    };
+    if !args.gaze_hold.is_finite() || args.gaze_hold < 0.0 {
+        bail!(
+            "--gaze-hold {}: give a number of seconds, 0 or more",
+            args.gaze_hold
+        );
+    }
+    if args.frames == Some(0) {
+        bail!("--frames 0 renders nothing: give 1 or more, or leave it out to run until stopped");
+    }
+    let aspect = args.size.map_or(0.9, |s| s[0] as f32 / s[1] as f32);
+    let scene = scene::load(&args.scene, aspect)?;
+    let mut gpu = GpuOptions::from_env();
+    gpu.validation |= args.gpu.validate;
+    if args.gpu.device.is_some() {
+        bail!("--device cannot be used with xr: the OpenXR runtime picks the GPU that drives the headset");
+    }
+    let mut recorder = SessionRecorder::new(
+        &scene.name,
+        foveation.layers.len() > 1 || foveation.layers[0].spacing > 1,
+        args.session.as_deref(),
+        args.record_gaze.as_deref(),
+    )?;
+    let options = XrOptions {
+        source: match args.simulated {
+            true => RuntimeSource::Simulated,
+            false => RuntimeSource::Loader,
+        },
+        gpu,
+        scene,
+        size: args.size,
+        settings,
+        foveation,
+        debug: match args.debug.as_deref() {
+            Some("layers") => DebugView::Layers,
+            _ => DebugView::None,
+        },
+        frames: args.frames,
+        gaze_hold_s: args.gaze_hold,
+        visibility_mask: !args.no_visibility_mask,
+    };
+    let summary = xr::run(options, |record| recorder.frame(record))?;
+    recorder.finish(&summary)?;
+    println!(
+        "OpenXR runtime {}; device {}; {}x{} per eye ({}); {} frames; eye gaze: {}; visibility mask: {}",
+        summary.runtime,
+        summary.device,
+        summary.eye_size[0],
+        summary.eye_size[1],
+        summary.swapchain_format,
+        summary.frames,
+        match summary.no_gaze {
+            Some(_) => "none (fixed centre foveation)",
+            None => "from the headset",
+        },
+        if summary.visibility_mask { "used" } else { "not used" },
+    );
+    println!(
+        "session states: {}",
+        summary
+            .states
+            .iter()
+            .map(|s| format!("{s:?}"))
+            .collect::<Vec<_>>()
+            .join(" → ")
+    );
+    if let Some(dir) = &args.session {
+        println!("session profile written to {}", dir.display());
+    }
+    check_validation_messages(&summary.validation)?;
+    match summary.end {
+        SessionEnd::Lost => bail!("the OpenXR session was lost after {} frames; everything rendered until then was recorded", summary.frames),
+        SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
+    }
+}

@@ -1,0 +1,278 @@
+//! Progressive refinement: the running mean of the frames rendered while the view stands
+//! still, on the GPU (glsl/accumulate.comp), and the debug views computed from it: the
+//! difference from regular rendering and a samples-per-pixel heat map. Frame `n` of a mean
+//! must be rendered with seed `seed + n` (see [`frame_seed`]); the mean of `N` frames of `s`
+//! samples per pixel is then an estimate with `N·s` samples per pixel.
+
+use super::request::EyeView;
+use super::RenderError;
+use crate::foveation::{FoveationConfig, MAX_LAYERS};
+use crate::gpu::shared::*;
+use crate::gpu::{
+    vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, StorageImage, TimestampPool,
+};
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+const ACCUMULATE_SPV: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));
+
+/// The seed of the `n`-th frame (from 0) of a running mean whose first frame uses `seed`:
+/// frame 0 is exactly the frame `fovea render --seed SEED` makes.
+pub fn frame_seed(seed: u32, n: u32) -> u32 {
+    seed.wrapping_add(n)
+}
+
+/// Which running mean a frame goes into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mean {
+    /// The frames the viewer shows (foveated or not).
+    Main,
+    /// Regular frames at the same seeds, for the difference view.
+    Regular,
+}
+
+impl Mean {
+    fn layer(self) -> u32 {
+        match self {
+            Mean::Main => ACCUM_LAYER_MAIN,
+            Mean::Regular => ACCUM_LAYER_REGULAR,
+        }
+    }
+}
+
+/// What the pass leaves in the frame image after adding it to a mean.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Show {
+    /// The running mean.
+    Mean,
+    /// Nothing: the frame stays as rendered (the first half of a difference view).
+    Nothing,
+    /// |main mean − regular mean| × `ACCUM_DIFF_GAIN`.
+    Difference,
+    /// Camera samples per pixel so far, log2 on the turbo colour ramp.
+    Heat,
+}
+
+impl Show {
+    fn id(self) -> u32 {
+        match self {
+            Show::Mean => ACCUM_SHOW_MEAN,
+            Show::Nothing => ACCUM_SHOW_NOTHING,
+            Show::Difference => ACCUM_SHOW_DIFF,
+            Show::Heat => ACCUM_SHOW_HEAT,
+        }
+    }
+}
+
+/// One frame handed to [`Accumulator::add`].
+pub struct AccumulateRequest<'a> {
+    /// The renderer's output (`Renderer::output_image`): eyes side by side, GENERAL layout.
+    /// Overwritten with what `show` asks for.
+    pub frame: &'a StorageImage,
+    /// The eyes the frame was rendered for, left first, each `eye_size` pixels.
+    pub eyes: &'a [EyeView],
+    pub eye_size: [u32; 2],
+    /// The layer config the frame was rendered with (the heat map shows its sample density).
+    pub foveation: &'a FoveationConfig,
+    pub into: Mean,
+    pub show: Show,
+}
+
+/// The running means (one image of `ACCUM_LAYERS` layers, eyes side by side) and the pass.
+pub struct Accumulator {
+    // Field order is drop order: every resource before the context.
+    pipeline: ComputePipeline,
+    timestamps: TimestampPool,
+    means: Option<StorageImage>,
+    /// Whether `means` still has to be moved from UNDEFINED to GENERAL layout.
+    fresh: bool,
+    /// Per eye and layer, what the heat map needs (see [`gpu_layers`]).
+    layers: Buffer,
+    /// Frames in each mean (indexed by `ACCUM_LAYER_*`).
+    counts: [u32; ACCUM_LAYERS as usize],
+    layout: PipelineLayout,
+    ctx: Arc<GpuContext>,
+}
+
+impl Accumulator {
+    pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, RenderError> {
+        let layout = PipelineLayout::new(ctx)?;
+        let pipeline = ComputePipeline::new(ctx, &layout, "accumulate", ACCUMULATE_SPV, &[])?;
+        let layers = Buffer::new(
+            ctx,
+            "accumulate layers",
+            (STAT_EYES as usize * MAX_LAYERS * std::mem::size_of::<GpuLayer>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        Ok(Self {
+            pipeline,
+            timestamps: TimestampPool::new(ctx, STAT_EYES)?,
+            means: None,
+            fresh: false,
+            layers,
+            counts: [0; ACCUM_LAYERS as usize],
+            layout,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Starts new means: the next frame added replaces what was accumulated.
+    pub fn reset(&mut self) {
+        self.counts = [0; ACCUM_LAYERS as usize];
+    }
+
+    /// Frames in the main mean so far.
+    pub fn frames(&self) -> u32 {
+        self.counts[ACCUM_LAYER_MAIN as usize]
+    }
+
+    /// The seed for the next frame of `into`, the mean's first frame having `seed`.
+    pub fn next_seed(&self, seed: u32, into: Mean) -> u32 {
+        frame_seed(seed, self.counts[into.layer() as usize])
+    }
+
+    /// Adds the frame to its mean and overwrites it with what `request.show` asks for.
+    /// Returns the GPU milliseconds of the pass (all eyes).
+    pub fn add(&mut self, request: &AccumulateRequest) -> Result<f64, RenderError> {
+        let eyes = request.eyes.len() as u32;
+        let [w, h] = request.eye_size;
+        if eyes == 0
+            || eyes > STAT_EYES
+            || request.frame.width != w * eyes
+            || request.frame.height != h
+        {
+            return Err(RenderError::Settings(format!(
+                "accumulate: a {}x{} frame is not {eyes} eye(s) of {w}x{h}",
+                request.frame.width, request.frame.height
+            )));
+        }
+        let layer_count = request.foveation.layers.len() as u32;
+        if self
+            .means
+            .as_ref()
+            .is_none_or(|m| m.width != request.frame.width || m.height != h)
+        {
+            self.means = None;
+            self.means = Some(StorageImage::new_array(
+                &self.ctx,
+                "running means",
+                request.frame.width,
+                h,
+                ACCUM_LAYERS,
+            )?);
+            self.fresh = true;
+            self.reset();
+        }
+        let mut gpu = Vec::with_capacity((eyes * layer_count) as usize);
+        for eye in request.eyes {
+            gpu.extend(gpu_layers(eye, request.eye_size, request.foveation));
+        }
+        self.layers.write(0, bytemuck::cast_slice(&gpu))?;
+        let means = self.means.as_ref().expect("made above");
+        self.layout.bind(
+            &[(BINDING_LAYERS, &self.layers)],
+            &[
+                (BINDING_OUTPUT, request.frame),
+                (BINDING_LAYER_IMAGES, means),
+            ],
+        );
+        let index = request.into.layer();
+        let pushes: Vec<PushConstants> = request
+            .eyes
+            .iter()
+            .enumerate()
+            .map(|(e, eye)| PushConstants {
+                cam_tan: [
+                    eye.camera.angle_left.tan(),
+                    eye.camera.angle_right.tan(),
+                    eye.camera.angle_up.tan(),
+                    eye.camera.angle_down.tan(),
+                ],
+                width: w,
+                height: h,
+                eye: e as u32,
+                layer: index,
+                layer_count,
+                sample_offset: self.counts[index as usize],
+                debug: request.show.id(),
+                ..Default::default()
+            })
+            .collect();
+        let groups = [
+            w.div_ceil(WORKGROUP_SIZE_X),
+            h.div_ceil(WORKGROUP_SIZE_Y),
+            1,
+        ];
+        let fresh = std::mem::take(&mut self.fresh);
+        let (ctx, pipeline, layout, timestamps) = (
+            &self.ctx,
+            &self.pipeline,
+            &self.layout,
+            &mut self.timestamps,
+        );
+        ctx.submit_and_wait("accumulate", |cmd| {
+            timestamps.cmd_reset(cmd);
+            if fresh {
+                means.cmd_prepare_for_write(cmd);
+            }
+            // The frame's compute writes (an earlier submission) before this pass reads them.
+            ctx.cmd_compute_barrier(cmd);
+            for (e, push) in pushes.iter().enumerate() {
+                let name = match (eyes, e) {
+                    (1, _) => "accumulate",
+                    (_, 0) => "left accumulate",
+                    _ => "right accumulate",
+                };
+                timestamps.cmd_timed(cmd, name, || {
+                    pipeline.cmd_dispatch(cmd, layout, push, groups)
+                });
+            }
+        })?;
+        self.counts[index as usize] += 1;
+        Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
+    }
+}
+
+/// The cosine of an angle limit as the shaders test it (`dot > cos`): -2 when everything is
+/// within (π or more), 2 when nothing is (0 or less). The renderer's rule, for the same
+/// layer boundaries.
+fn cos_limit(a: f64) -> f32 {
+    if a >= std::f64::consts::PI {
+        -2.0
+    } else if a <= 0.0 {
+        2.0
+    } else {
+        a.cos() as f32
+    }
+}
+
+/// What accumulate.comp's heat map reads of one eye's layers: the gaze in tangent space, each
+/// layer's radius and the occlusion radius as cosines, spacing and spp. The rest is unused.
+fn gpu_layers(eye: &EyeView, size: [u32; 2], config: &FoveationConfig) -> Vec<GpuLayer> {
+    let image = eye.image(size[0], size[1]);
+    let (gaze_px, _) = eye.gaze.resolve(&image);
+    let gaze = image.tan_of(gaze_px[0], gaze_px[1]);
+    let occlusion = config
+        .occlusion_deg
+        .map_or(f64::INFINITY, |o| (o as f64).to_radians());
+    config
+        .layers
+        .iter()
+        .map(|l| GpuLayer {
+            gaze: [gaze[0] as f32, gaze[1] as f32, 0.0, 0.0],
+            merge_cos: [
+                cos_limit(
+                    l.radius_deg
+                        .map_or(f64::INFINITY, |r| (r as f64).to_radians()),
+                ),
+                0.0,
+                cos_limit(occlusion),
+                0.0,
+            ],
+            spacing: l.spacing as i32,
+            spp: l.spp,
+            ..Default::default()
+        })
+        .collect()
+}

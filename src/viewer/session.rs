@@ -1,0 +1,188 @@
+//! The GPU side of the viewer: the scene's renderer, the running means, and one frame of
+//! each view: render → accumulate (→ the regular frame for the difference view) → the image
+//! to show, left in the renderer's output image.
+
+use super::{DebugMode, ViewError};
+use crate::foveation::FoveationConfig;
+use crate::gpu::{GpuContext, StorageImage};
+use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+use crate::render::{
+    output, DebugView, EyeView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer,
+};
+use crate::scene::{CpuRaycaster, Scene};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+pub struct Session {
+    // Field order is drop order: GPU resources before the context.
+    renderer: Renderer,
+    accumulator: Accumulator,
+    pub raycaster: CpuRaycaster,
+    pub scene: Scene,
+    pub ctx: Arc<GpuContext>,
+}
+
+/// One frame asked of [`Session::frame`].
+pub struct FrameParams<'a> {
+    pub eyes: &'a [EyeView],
+    pub eye_size: [u32; 2],
+    pub foveation: &'a FoveationConfig,
+    /// Integrator, bounces and the seed of the running mean's first frame; the size is
+    /// `eye_size` and spp the innermost layer's.
+    pub settings: RenderSettings,
+    pub debug: DebugMode,
+    /// Start a new running mean with this frame.
+    pub restart: bool,
+}
+
+/// What a frame cost.
+pub struct FrameCost {
+    /// GPU ms per pass of every frame rendered for the view, then the accumulation.
+    pub passes: Vec<(String, f64)>,
+    /// All rays traced (both frames in the difference view).
+    pub rays: u64,
+    pub nonfinite_samples: u64,
+    pub stack_overflows: u64,
+}
+
+impl Session {
+    /// Loads `scene` for eyes of aspect `aspect` and uploads it.
+    pub fn new(ctx: &Arc<GpuContext>, scene: &str, aspect: f32) -> Result<Self, ViewError> {
+        let scene = crate::scene::load(scene, aspect)?;
+        let renderer = Renderer::new(ctx, &scene)?;
+        Ok(Self {
+            renderer,
+            accumulator: Accumulator::new(ctx)?,
+            raycaster: CpuRaycaster::new(&scene),
+            scene,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Replaces the scene (the running mean restarts with the next frame).
+    pub fn load_scene(&mut self, scene: &str, aspect: f32) -> Result<(), ViewError> {
+        let scene = crate::scene::load(scene, aspect)?;
+        self.renderer = Renderer::new(&self.ctx, &scene)?;
+        self.raycaster = CpuRaycaster::new(&scene);
+        self.scene = scene;
+        self.accumulator.reset();
+        Ok(())
+    }
+
+    /// Frames in the running mean.
+    pub fn accumulated(&self) -> u32 {
+        self.accumulator.frames()
+    }
+
+    /// Renders the frame, adds it to the running mean and leaves what is shown in
+    /// [`Self::shown`].
+    pub fn frame(&mut self, p: &FrameParams) -> Result<FrameCost, ViewError> {
+        if p.restart {
+            self.accumulator.reset();
+        }
+        let settings = RenderSettings {
+            width: p.eye_size[0],
+            height: p.eye_size[1],
+            spp: p.foveation.layers[0].spp,
+            ..p.settings
+        };
+        let base_seed = p.settings.seed;
+        let request = FrameRequest {
+            settings: RenderSettings {
+                seed: self.accumulator.next_seed(base_seed, Mean::Main),
+                ..settings
+            },
+            foveation: p.foveation,
+            eyes: p.eyes,
+            debug: match p.debug {
+                DebugMode::Layers => DebugView::Layers,
+                _ => DebugView::None,
+            },
+        };
+        let mut frames = vec![self.renderer.measure_frame(&request)?];
+        let show = match p.debug {
+            DebugMode::Image | DebugMode::Layers => Show::Mean,
+            DebugMode::Difference => Show::Nothing,
+            DebugMode::Heat => Show::Heat,
+        };
+        let mut accumulate_ms = self.accumulate(p, Mean::Main, show)?;
+        if p.debug == DebugMode::Difference {
+            // The same view rendered regularly at the innermost layer's spp and the same seed,
+            // accumulated alongside: in the fovea the two are bit-identical.
+            let regular = FoveationConfig::regular(settings.spp);
+            frames.push(self.renderer.measure_frame(&FrameRequest {
+                settings: RenderSettings {
+                    seed: self.accumulator.next_seed(base_seed, Mean::Regular),
+                    ..settings
+                },
+                foveation: &regular,
+                eyes: p.eyes,
+                debug: DebugView::None,
+            })?);
+            accumulate_ms += self.accumulate(
+                &FrameParams {
+                    foveation: &regular,
+                    ..*p
+                },
+                Mean::Regular,
+                Show::Difference,
+            )?;
+        }
+        let stats: Vec<&FrameStats> = frames.iter().map(|f| &f.stats).collect();
+        let mut passes: Vec<(String, f64)> = stats
+            .iter()
+            .flat_map(|s| s.pass_ms.iter().cloned())
+            .collect();
+        passes.push(("accumulate".into(), accumulate_ms));
+        Ok(FrameCost {
+            passes,
+            rays: stats.iter().map(|s| s.rays).sum(),
+            nonfinite_samples: stats.iter().map(|s| s.nonfinite_samples).sum(),
+            stack_overflows: stats.iter().map(|s| s.stack_overflows).sum(),
+        })
+    }
+
+    fn accumulate(&mut self, p: &FrameParams, into: Mean, show: Show) -> Result<f64, ViewError> {
+        let frame = self
+            .renderer
+            .output_image()
+            .expect("a frame was rendered just before");
+        Ok(self.accumulator.add(&AccumulateRequest {
+            frame,
+            eyes: p.eyes,
+            eye_size: p.eye_size,
+            foveation: p.foveation,
+            into,
+            show,
+        })?)
+    }
+
+    /// The image shown after the last frame (eyes side by side, linear RGBA), if any.
+    pub fn shown(&self) -> Option<&StorageImage> {
+        self.renderer.output_image()
+    }
+
+    /// Writes the image shown as `fovea render` writes its frames (PNG + linear EXR, or EXR).
+    pub fn screenshot(&self, path: &Path) -> Result<Vec<PathBuf>, ViewError> {
+        let image = self.shown().ok_or_else(|| {
+            ViewError::Input(format!(
+                "no frame has been shown yet, so there is nothing to save as '{}'",
+                path.display()
+            ))
+        })?;
+        let rgba = image
+            .read_back()
+            .map_err(crate::render::RenderError::from)?;
+        let frame = Frame {
+            width: image.width,
+            height: image.height,
+            rgb: rgba
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect(),
+            gazes: Vec::new(),
+            stats: FrameStats::default(),
+        };
+        Ok(output::write_frame(&frame, path)?)
+    }
+}

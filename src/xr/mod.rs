@@ -1,0 +1,17 @@
+//! OpenXR: the headset session (XR_KHR_vulkan_enable2), per-eye swapchains, eye gaze
+//! (XR_EXT_eye_gaze_interaction) and the lens's visibility mask (XR_KHR_visibility_mask).
+//! With SteamVR on a Vive Pro Eye, or with the simulated headset in tools/sim-headset.
+
+mod error;
+mod eye_gaze;
+mod instance;
+pub mod poses;
+mod recording;
+mod session;
+mod swapchains;
+mod vulkan;
+
+pub use error::XrError;
+pub use instance::RuntimeSource;
+pub use recording::SessionRecorder;
+pub use session::{run, FrameRecord, SessionEnd, XrOptions, XrSummary};

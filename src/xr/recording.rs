@@ -1,0 +1,135 @@
+//! What a headset session leaves behind, in the bench's formats so it is analysed like a
+//! bench run: `frames.csv` (one row per frame and eye, the bench's columns: GPU time of every
+//! pass, counters, gaze pixel), `gaze.csv` (the gaze trace, replayable with `--gaze-trace`)
+//! and `session.json` (the run's facts and the bench's per-mode statistics). Rows are flushed
+//! as they are written: a session cut short keeps every frame it rendered.
+
+use super::error::XrError;
+use super::session::{FrameRecord, XrSummary};
+use crate::bench::csv_log::CsvLog;
+use crate::bench::protocol::{FrameKey, Mode};
+use crate::bench::rows::FrameRow;
+use crate::bench::summary::mode_summary;
+use crate::foveation::gaze_trace::{TraceRow, TraceStatus, TraceWriter};
+use std::path::{Path, PathBuf};
+
+pub struct SessionRecorder {
+    scene: String,
+    mode: Mode,
+    frames: Option<(PathBuf, CsvLog<FrameRow>)>,
+    gaze: Option<TraceWriter>,
+    rows: Vec<FrameRow>,
+}
+
+fn output_error(path: &Path, e: impl std::fmt::Display) -> XrError {
+    XrError::Output(format!("cannot write {}: {e}", path.display()))
+}
+
+impl SessionRecorder {
+    /// Records into `dir` (frames.csv, gaze.csv, session.json) and/or the gaze trace alone
+    /// into `gaze_file`. `foveated`: the rows' mode is `headset` (foveated around the
+    /// headset's gaze), else `regular`.
+    pub fn new(
+        scene: &str,
+        foveated: bool,
+        dir: Option<&Path>,
+        gaze_file: Option<&Path>,
+    ) -> Result<Self, XrError> {
+        let frames = match dir {
+            Some(dir) => {
+                std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
+                let path = dir.join("frames.csv");
+                if path.exists() {
+                    return Err(XrError::Output(format!(
+                        "{} already holds a session: give another --session directory",
+                        dir.display()
+                    )));
+                }
+                let (log, _) = CsvLog::open(&path).map_err(|e| output_error(&path, e))?;
+                Some((dir.to_path_buf(), log))
+            }
+            None => None,
+        };
+        let gaze_path = gaze_file
+            .map(Path::to_path_buf)
+            .or_else(|| dir.map(|d| d.join("gaze.csv")));
+        let gaze = match gaze_path {
+            Some(path) => {
+                Some(TraceWriter::create(&path).map_err(|e| XrError::Output(e.to_string()))?)
+            }
+            None => None,
+        };
+        Ok(Self {
+            scene: scene.to_string(),
+            mode: match foveated {
+                true => Mode::Headset,
+                false => Mode::Regular,
+            },
+            frames,
+            gaze,
+            rows: Vec::new(),
+        })
+    }
+
+    pub fn frame(&mut self, record: &FrameRecord) -> Result<(), XrError> {
+        if let Some((dir, log)) = &mut self.frames {
+            let key = FrameKey {
+                scene: self.scene.clone(),
+                mode: self.mode,
+                repeat: 0,
+                frame: record.index as u32,
+            };
+            let wall_us = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_micros() as u64);
+            for row in FrameRow::from_frame(&key, record.frame, record.cpu_ms, wall_us) {
+                log.append(&row)
+                    .map_err(|e| output_error(&dir.join("frames.csv"), e))?;
+                self.rows.push(row);
+            }
+        }
+        if let Some(writer) = &mut self.gaze {
+            let gazes: Vec<_> = record.frame.gazes.iter().map(|(p, _)| *p).collect();
+            let tangents: Vec<[f64; 2]> = gazes
+                .iter()
+                .zip(record.images)
+                .map(|(p, image)| image.tan_of(p[0], p[1]))
+                .collect();
+            let row = TraceRow {
+                frame: record.index,
+                time_s: record.gaze_time_s,
+                left: tangents[0],
+                right: tangents[tangents.len() - 1],
+                status: TraceStatus::from(record.gaze.status),
+            };
+            writer
+                .write(&row)
+                .map_err(|e| XrError::Output(e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// Writes session.json: the session's facts and the bench's statistics of its frames.
+    pub fn finish(self, summary: &XrSummary) -> Result<(), XrError> {
+        let Some((dir, _)) = &self.frames else {
+            return Ok(());
+        };
+        let rows: Vec<&FrameRow> = self.rows.iter().collect();
+        let json = serde_json::json!({
+            "runtime": summary.runtime,
+            "device": summary.device,
+            "scene": self.scene,
+            "eye_size": summary.eye_size,
+            "swapchain_format": summary.swapchain_format,
+            "frames": summary.frames,
+            "eye_gaze": summary.no_gaze.unwrap_or("tracked by the headset"),
+            "visibility_mask": summary.visibility_mask,
+            "end": format!("{:?}", summary.end),
+            "states": summary.states.iter().map(|s| format!("{s:?}")).collect::<Vec<_>>(),
+            "statistics": mode_summary(self.mode, &rows),
+        });
+        let path = dir.join("session.json");
+        let text = serde_json::to_string_pretty(&json).map_err(|e| output_error(&path, e))?;
+        std::fs::write(&path, text).map_err(|e| output_error(&path, e))
+    }
+}

@@ -1,0 +1,447 @@
+//! The OpenXR session from start to clean teardown, in the order of openxrs'
+//! `examples/vulkan.rs`: instance → Vulkan through the runtime → session → spaces, swapchains,
+//! eye gaze → frame loop (poll events, wait, begin, locate, render both eyes, end) → destroy in
+//! reverse. Every session state is handled; `frames` ends the session by asking the runtime
+//! to stop, as a user quitting would.
+
+use super::error::{XrContext, XrError};
+use super::eye_gaze::{EyeGaze, NoGaze};
+use super::instance::{RuntimeSource, XrInstance};
+use super::poses::SpacePlacement;
+use super::swapchains::{choose_format, EyeSwapchain};
+use super::vulkan::RuntimeVulkan;
+use crate::foveation::fixation::eye_tangents;
+use crate::foveation::gaze_filter::{FilteredGaze, GazeFilter};
+use crate::foveation::{FoveationConfig, ImageGeometry, VisibilityMask};
+use crate::gpu::{ContextNeeds, GpuContext, GpuOptions, SourceRect};
+use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
+use crate::scene::cpu_raycast::CpuRaycaster;
+use crate::scene::Scene;
+use openxr as xr;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+const VIEW_TYPE: xr::ViewConfigurationType = xr::ViewConfigurationType::PRIMARY_STEREO;
+
+/// How long to wait for the runtime to stop the session after fovea asked it to, before
+/// tearing down regardless (a runtime that never answers must not hang fovea).
+const STOP_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Sleep between polls while the session is not running (the headset not worn, or the
+/// runtime not ready): the runtime's events arrive at display rate at most.
+const IDLE_POLL: Duration = Duration::from_millis(5);
+
+pub struct XrOptions {
+    pub source: RuntimeSource,
+    pub gpu: GpuOptions,
+    pub scene: Scene,
+    /// Per-eye image size; `None`: the runtime's recommended size.
+    pub size: Option<[u32; 2]>,
+    /// Seed, integrator and bounces (width and height come from the swapchains).
+    pub settings: RenderSettings,
+    pub foveation: FoveationConfig,
+    pub debug: DebugView,
+    /// End the session cleanly after this many rendered frames.
+    pub frames: Option<u64>,
+    /// Seconds a lost gaze is held before falling back to the centre.
+    pub gaze_hold_s: f64,
+    /// Use the runtime's visibility mask where offered.
+    pub visibility_mask: bool,
+}
+
+/// One rendered frame, for whoever records the session.
+pub struct FrameRecord<'a> {
+    pub index: u64,
+    /// Predicted display time, seconds (the runtime's clock).
+    pub display_time_s: f64,
+    /// When the eye tracker took the gaze sample (XrEyeGazeSampleTimeEXT), else the display
+    /// time.
+    pub gaze_time_s: f64,
+    /// GPU timings and counters of both eyes (no pixels: the image went to the headset).
+    pub frame: &'a Frame,
+    pub gaze: &'a FilteredGaze,
+    pub images: &'a [ImageGeometry],
+    /// CPU milliseconds from the end of xrWaitFrame to the end of xrEndFrame.
+    pub cpu_ms: f64,
+}
+
+/// How a session ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SessionEnd {
+    /// fovea asked to stop (`frames` reached) and the runtime stopped the session.
+    Requested,
+    /// The runtime (or the user through it) stopped the session.
+    RuntimeExit,
+    /// The session or instance was lost (headset unplugged, runtime restarted).
+    Lost,
+}
+
+pub struct XrSummary {
+    pub runtime: String,
+    pub device: String,
+    pub frames: u64,
+    pub eye_size: [u32; 2],
+    pub swapchain_format: String,
+    /// Why there was no eye gaze, if there was none.
+    pub no_gaze: Option<&'static str>,
+    pub visibility_mask: bool,
+    pub states: Vec<xr::SessionState>,
+    pub end: SessionEnd,
+    /// Validation messages, including those reported while the Vulkan device was destroyed.
+    pub validation: Vec<String>,
+}
+
+/// Runs a session to its end; `record` sees every rendered frame.
+pub fn run(
+    options: XrOptions,
+    mut record: impl FnMut(&FrameRecord) -> Result<(), XrError>,
+) -> Result<XrSummary, XrError> {
+    let xr_instance = XrInstance::new(options.source)?;
+    let requirements = xr_instance
+        .instance
+        .graphics_requirements::<xr::Vulkan>(xr_instance.system)
+        .xr("xrGetVulkanGraphicsRequirements2KHR")?;
+    let (min, max) = (
+        requirements.min_api_version_supported,
+        requirements.max_api_version_supported,
+    );
+    if (min.major(), min.minor()) > (1, 2) || (max.major(), max.minor()) < (1, 2) {
+        return Err(XrError::VulkanVersion {
+            min: format!("{}.{}", min.major(), min.minor()),
+            max: format!("{}.{}", max.major(), max.minor()),
+        });
+    }
+    let creator = RuntimeVulkan {
+        instance: &xr_instance.instance,
+        system: xr_instance.system,
+    };
+    let ctx = Arc::new(GpuContext::new_with(
+        &options.gpu,
+        &ContextNeeds {
+            graphics_queue: true,
+            creator: Some(&creator),
+            ..ContextNeeds::default()
+        },
+    )?);
+    let validation_log = ctx.validation_log();
+    let result = run_with_context(&xr_instance, &ctx, &options, &mut record);
+    let device = ctx.info.name.clone();
+    // The session and everything in it are gone (run_with_context returned); the Vulkan
+    // device goes next, then the instance (dropped last, at the end of this function).
+    drop(ctx);
+    let mut summary = result?;
+    summary.device = device;
+    summary.validation.extend(validation_log.take());
+    Ok(summary)
+}
+
+fn run_with_context(
+    xr_instance: &XrInstance,
+    ctx: &Arc<GpuContext>,
+    options: &XrOptions,
+    record: &mut impl FnMut(&FrameRecord) -> Result<(), XrError>,
+) -> Result<XrSummary, XrError> {
+    let instance = &xr_instance.instance;
+    let system = xr_instance.system;
+    let views = instance
+        .enumerate_view_configuration_views(system, VIEW_TYPE)
+        .xr("xrEnumerateViewConfigurationViews")?;
+    if views.len() != 2 {
+        return Err(XrError::Output(format!(
+            "the headset has {} views in its stereo configuration; fovea renders two",
+            views.len()
+        )));
+    }
+    let size = options.size.unwrap_or([
+        views[0].recommended_image_rect_width,
+        views[0].recommended_image_rect_height,
+    ]);
+    let (vk_instance, physical_device, device, _) = ctx.raw_handles();
+    // SAFETY: the handles are the live instance, device and queue family made through this
+    // runtime; fovea submits to the queue only from this thread.
+    let (session, mut waiter, mut stream) = unsafe {
+        instance.create_session::<xr::Vulkan>(
+            system,
+            &xr::vulkan::SessionCreateInfo {
+                instance: ash::vk::Handle::as_raw(vk_instance) as _,
+                physical_device: ash::vk::Handle::as_raw(physical_device) as _,
+                device: ash::vk::Handle::as_raw(device) as _,
+                queue_family_index: ctx.queue_family(),
+                queue_index: 0,
+            },
+        )
+    }
+    .xr("xrCreateSession")?;
+    let gaze = EyeGaze::new(xr_instance, &session)?;
+    let no_gaze = gaze.as_ref().err().map(|why: &NoGaze| why.message());
+    if let Some(message) = no_gaze {
+        eprintln!("fovea xr: {message}");
+    }
+    let space = session
+        .create_reference_space(xr::ReferenceSpaceType::LOCAL, xr::Posef::IDENTITY)
+        .xr("xrCreateReferenceSpace")?;
+    let offered = session
+        .enumerate_swapchain_formats()
+        .xr("xrEnumerateSwapchainFormats")?;
+    let format = choose_format(&offered, ctx)?;
+    let mut swapchains = [
+        EyeSwapchain::new(&session, format, size)?,
+        EyeSwapchain::new(&session, format, size)?,
+    ];
+    let mut renderer = Renderer::new(ctx, &options.scene)?;
+    let raycaster = CpuRaycaster::new(&options.scene);
+    let placement = SpacePlacement::at_camera(&options.scene.camera);
+    let use_mask = options.visibility_mask && xr_instance.visibility_mask;
+    let mut masks_stale = use_mask;
+
+    let mut summary = XrSummary {
+        runtime: xr_instance.runtime.clone(),
+        device: String::new(),
+        frames: 0,
+        eye_size: size,
+        swapchain_format: format!("{format:?}"),
+        no_gaze,
+        visibility_mask: use_mask,
+        states: Vec::new(),
+        end: SessionEnd::RuntimeExit,
+        validation: Vec::new(),
+    };
+    let mut filter = GazeFilter::new(options.gaze_hold_s);
+    let mut running = false;
+    let mut exit_asked: Option<Instant> = None;
+    let mut gaze_judged = false;
+    // Actions are only active while the session has input focus (OpenXR 1.0 §11): whether
+    // the eye gaze action works is judged in the first focused frame.
+    let mut focused = false;
+    let mut events = xr::EventDataBuffer::new();
+    'session: loop {
+        while let Some(event) = instance.poll_event(&mut events).xr("xrPollEvent")? {
+            match event {
+                xr::Event::SessionStateChanged(change) => {
+                    let state = change.state();
+                    summary.states.push(state);
+                    focused = state == xr::SessionState::FOCUSED;
+                    tracing::info!("OpenXR session state: {state:?}");
+                    match state {
+                        xr::SessionState::READY => {
+                            session.begin(VIEW_TYPE).xr("xrBeginSession")?;
+                            running = true;
+                        }
+                        xr::SessionState::STOPPING => {
+                            session.end().xr("xrEndSession")?;
+                            running = false;
+                        }
+                        xr::SessionState::EXITING => {
+                            summary.end = match exit_asked {
+                                Some(_) => SessionEnd::Requested,
+                                None => SessionEnd::RuntimeExit,
+                            };
+                            break 'session;
+                        }
+                        xr::SessionState::LOSS_PENDING => {
+                            tracing::warn!("the OpenXR session is being lost; ending it");
+                            summary.end = SessionEnd::Lost;
+                            break 'session;
+                        }
+                        _ => {}
+                    }
+                }
+                xr::Event::InstanceLossPending(_) => {
+                    tracing::warn!("the OpenXR instance is being lost; ending the session");
+                    summary.end = SessionEnd::Lost;
+                    break 'session;
+                }
+                xr::Event::VisibilityMaskChangedKHR(_) => masks_stale = use_mask,
+                _ => {}
+            }
+        }
+        if let Some(asked) = exit_asked {
+            if asked.elapsed() > STOP_TIMEOUT {
+                tracing::warn!(
+                    "the runtime did not stop the session within {STOP_TIMEOUT:?} of fovea asking; tearing down"
+                );
+                summary.end = SessionEnd::Requested;
+                break;
+            }
+        }
+        if !running || exit_asked.is_some() {
+            std::thread::sleep(IDLE_POLL);
+            continue;
+        }
+        let state = match waiter.wait() {
+            Ok(state) => state,
+            Err(xr::sys::Result::ERROR_SESSION_LOST) => {
+                summary.end = SessionEnd::Lost;
+                break;
+            }
+            Err(e) => return Err(e).xr("xrWaitFrame"),
+        };
+        let started = Instant::now();
+        stream.begin().xr("xrBeginFrame")?;
+        if !state.should_render {
+            stream
+                .end(
+                    state.predicted_display_time,
+                    xr::EnvironmentBlendMode::OPAQUE,
+                    &[],
+                )
+                .xr("xrEndFrame")?;
+            continue;
+        }
+        let time = state.predicted_display_time;
+        let (_, located) = session
+            .locate_views(VIEW_TYPE, time, &space)
+            .xr("xrLocateViews")?;
+        let cameras: Vec<_> = located
+            .iter()
+            .map(|v| placement.eye_camera(&v.pose, &v.fov))
+            .collect();
+        let eyes_in_request: Vec<EyeView> = cameras
+            .iter()
+            .map(|c| EyeView {
+                camera: *c,
+                gaze: crate::foveation::Gaze::Forward,
+            })
+            .collect();
+        let images: Vec<ImageGeometry> = eyes_in_request
+            .iter()
+            .map(|e| e.image(size[0], size[1]))
+            .collect();
+        if masks_stale {
+            renderer.set_visibility_masks(visibility_masks(&session, &images)?);
+            masks_stale = false;
+        }
+        let time_s = time.as_nanos() as f64 * 1e-9;
+        let mut gaze_time_s = time_s;
+        let sample = match &gaze {
+            Ok(gaze) => {
+                let sample = gaze.locate(&session, &space, time)?;
+                if let Some(t) = sample.sample_time {
+                    gaze_time_s = t.as_nanos() as f64 * 1e-9;
+                }
+                if focused && !gaze_judged && !sample.active {
+                    let message = "the eye gaze action is not active (the runtime delivers no gaze; \
+                         common with SteamVR on the Vive Pro Eye without SRanipal): fixed centre \
+                         foveation until it becomes active";
+                    eprintln!("fovea xr: {message}");
+                }
+                gaze_judged |= focused;
+                sample.pose.map(|pose| {
+                    let (origin, dir) = placement.gaze_ray(&pose);
+                    eye_tangents(
+                        |o, d| raycaster.closest_hit(o, d),
+                        origin,
+                        dir,
+                        &cameras,
+                    )
+                })
+            }
+            Err(_) => None,
+        };
+        // An eye the fixation does not project into (behind it) makes the sample unusable.
+        let tangents: Option<Vec<[f64; 2]>> = sample.and_then(|t| t.into_iter().collect());
+        let filtered = filter.update(time_s, tangents.as_deref(), &images);
+        let gazes = filtered.gazes(&images);
+        let eyes: Vec<EyeView> = eyes_in_request
+            .iter()
+            .zip(&gazes)
+            .map(|(e, g)| EyeView { gaze: *g, ..*e })
+            .collect();
+        let settings = RenderSettings {
+            width: size[0],
+            height: size[1],
+            spp: options.foveation.layers[0].spp,
+            seed: options.settings.seed.wrapping_add(summary.frames as u32),
+            ..options.settings
+        };
+        let frame = renderer.measure_frame(&FrameRequest {
+            settings,
+            foveation: &options.foveation,
+            eyes: &eyes,
+            debug: options.debug,
+        })?;
+        let output = renderer
+            .output_image()
+            .expect("a frame was just rendered");
+        for (e, swapchain) in swapchains.iter_mut().enumerate() {
+            let rect = SourceRect {
+                offset: [e as u32 * size[0], 0],
+                extent: size,
+            };
+            swapchain.submit(ctx, output, rect)?;
+        }
+        let projection_views: Vec<_> = located
+            .iter()
+            .zip(&swapchains)
+            .map(|(view, swapchain)| {
+                xr::CompositionLayerProjectionView::new()
+                    .pose(view.pose)
+                    .fov(view.fov)
+                    .sub_image(swapchain.sub_image())
+            })
+            .collect();
+        stream
+            .end(
+                time,
+                xr::EnvironmentBlendMode::OPAQUE,
+                &[&xr::CompositionLayerProjection::new()
+                    .space(&space)
+                    .views(&projection_views)],
+            )
+            .xr("xrEndFrame")?;
+        let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
+        record(&FrameRecord {
+            index: summary.frames,
+            display_time_s: time_s,
+            gaze_time_s,
+            frame: &frame,
+            gaze: &filtered,
+            images: &images,
+            cpu_ms,
+        })?;
+        summary.frames += 1;
+        if options.frames.is_some_and(|n| summary.frames >= n) {
+            session.request_exit().xr("xrRequestExitSession")?;
+            exit_asked = Some(Instant::now());
+        }
+    }
+    // Teardown in reverse order of creation: the swapchains' images and the spaces belong
+    // to the session, which must go before the Vulkan device it uses.
+    drop(swapchains);
+    drop(gaze);
+    drop(space);
+    drop(stream);
+    drop(waiter);
+    drop(session);
+    drop(renderer);
+    summary.validation = ctx.take_validation_messages();
+    Ok(summary)
+}
+
+/// Each eye's visibility mask from the runtime's hidden-triangle meshes.
+fn visibility_masks(
+    session: &xr::Session<xr::Vulkan>,
+    images: &[ImageGeometry],
+) -> Result<Vec<VisibilityMask>, XrError> {
+    images
+        .iter()
+        .enumerate()
+        .map(|(e, image)| {
+            let mesh = session
+                .get_visibility_mask_khr(
+                    VIEW_TYPE,
+                    e as u32,
+                    xr::VisibilityMaskTypeKHR::HIDDEN_TRIANGLE_MESH,
+                )
+                .xr("xrGetVisibilityMaskKHR")?;
+            let vertices: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| [v.x, v.y]).collect();
+            let mask = VisibilityMask::from_hidden_triangles(image, &vertices, &mesh.indices);
+            tracing::info!(
+                "eye {e}: the lens shows {} of {} pixels",
+                mask.visible_count(),
+                image.width * image.height
+            );
+            Ok(mask)
+        })
+        .collect()
+}

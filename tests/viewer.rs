@@ -1,0 +1,420 @@
+//! `fovea view` under Xvfb on lavapipe with the validation layer on (any validation message
+//! makes the command fail): scripted runs end cleanly, the screenshot is `fovea render`'s
+//! image of the same view, the running mean is the mean of frames at successive seeds and
+//! converges, and resizing, minimising and hiding the window mid-run break nothing.
+//! Wayland cannot be tested here (no compositor); the X11 path is what runs.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+/// An Xvfb server on a display number it picks itself (`-displayfd`), so parallel tests and
+/// other X servers never collide; killed on drop.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Self {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb is needed for the viewer tests: run tools/setup.sh (package xvfb)");
+        // Xvfb writes the display number once it accepts connections.
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let number = line.trim();
+        assert!(!number.is_empty(), "Xvfb did not start");
+        Self {
+            display: format!(":{number}"),
+            child,
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fovea-viewer-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `fovea view ARGS` on the X server with validation on, on X11 even in a Wayland
+/// session; fails the test unless it succeeds. Returns everything it printed.
+fn view(x: &Xvfb, dir: &Path, args: &[&str]) -> String {
+    let started = std::time::Instant::now();
+    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
+        .arg("view")
+        .args(args)
+        .current_dir(dir)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("FOVEA_VALIDATION", "1")
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        !text.contains("panicked"),
+        "fovea view {args:?} panicked:\n{text}"
+    );
+    assert!(out.status.success(), "fovea view {args:?} failed:\n{text}");
+    assert!(!text.contains("validation"), "fovea view {args:?}:\n{text}");
+    eprintln!(
+        "fovea view {args:?}: {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    text
+}
+
+/// `fovea render ARGS` (validation on), which must succeed.
+fn render(args: &[&str]) {
+    let (ok, text) = common::fovea(&[&["render"], args].concat());
+    assert!(ok, "fovea render {args:?}:\n{text}");
+}
+
+/// Linear RGB of an EXR fovea wrote, and its size.
+fn read_exr(path: &Path) -> (usize, usize, Vec<f32>) {
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |size, _| (size.width(), vec![0.0f32; size.width() * size.height() * 3]),
+        |(w, rgb), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let i = 3 * (pos.y() * *w + pos.x());
+            rgb[i..i + 3].copy_from_slice(&[r, g, b]);
+        },
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let size = image.layer_data.size;
+    let (_, rgb) = image.layer_data.channel_data.pixels;
+    (size.width(), size.height(), rgb)
+}
+
+fn rmse(a: &[f32], b: &[f32]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (*x as f64 - *y as f64).powi(2))
+        .sum();
+    (sum / a.len() as f64).sqrt()
+}
+
+/// The frame count of the final running mean, from the summary line.
+fn accumulated(text: &str) -> u32 {
+    let line = text
+        .lines()
+        .find(|l| l.contains("in the final running mean"))
+        .unwrap_or_else(|| panic!("no summary line in:\n{text}"));
+    let before = line
+        .split(" frame(s) in the final running mean")
+        .next()
+        .unwrap();
+    before.rsplit(' ').next().unwrap().parse().unwrap()
+}
+
+/// Tolerance 0: one frame of the viewer is the frame `fovea render` makes, bit for bit: the
+/// same passes at the same seed, and the accumulation of a single frame copies it (a new
+/// mean is the frame itself, no arithmetic), so the PNG files and the EXRs' pixels are identical.
+#[test]
+fn one_frame_screenshot_is_the_rendered_frame_bit_for_bit() {
+    let x = Xvfb::start();
+    let dir = scratch("equal");
+    for (view_args, render_args) in [
+        (
+            vec!["--width", "96", "--height", "64", "--gaze", "40,30"],
+            vec!["--width", "96", "--height", "64", "--gaze", "40,30"],
+        ),
+        (
+            vec![
+                "--stereo",
+                "--width",
+                "96",
+                "--height",
+                "64",
+                "--gaze",
+                "20,30:26,30",
+            ],
+            vec![
+                "--stereo",
+                "--width",
+                "48",
+                "--height",
+                "64",
+                "--gaze",
+                "20,30:26,30",
+            ],
+        ),
+    ] {
+        let shot = dir.join("view.png");
+        let out = dir.join("render.png");
+        let shared = ["--scene", "cornell", "--foveation", "thesis", "--seed", "7"];
+        let shot_arg = shot.to_str().unwrap();
+        view(
+            &x,
+            &dir,
+            &[
+                &view_args[..],
+                &shared[..],
+                &["--frames", "1", "--screenshot", shot_arg],
+            ]
+            .concat(),
+        );
+        render(
+            &[
+                &render_args[..],
+                &shared[..],
+                &["--out", out.to_str().unwrap()],
+            ]
+            .concat(),
+        );
+        let png = |p: &Path| std::fs::read(p.with_extension("png")).unwrap();
+        assert!(
+            png(&shot) == png(&out),
+            "{view_args:?}: the viewer's PNG differs from fovea render's"
+        );
+        // Pixels, not bytes: the EXR writer compresses blocks in parallel, in varying order.
+        let (a, b) = (
+            read_exr(&shot.with_extension("exr")),
+            read_exr(&out.with_extension("exr")),
+        );
+        assert!(
+            a == b,
+            "{view_args:?}: the viewer's linear image differs from fovea render's"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A scripted run (the mouse as gaze, a camera turn and move, the camera reset, the gaze
+/// moved) ends with 4 still frames, so its screenshot must be the mean of `fovea render` at
+/// seeds 1..=4 of that view. Tolerance: 1e-5 relative (+1e-6 absolute) per channel, room for
+/// the float rounding of the running mean m += (x − m)/n over 4 frames (a few ulps, ~1e-7),
+/// and far below the per-frame noise (~1e-1) that a wrong seed or a missed restart would leave.
+#[test]
+fn scripted_run_accumulates_the_mean_of_renders_at_successive_seeds() {
+    let x = Xvfb::start();
+    let dir = scratch("mean");
+    std::fs::write(
+        dir.join("script.txt"),
+        "0 mouse 10 10\n1 turn 5 0\n1 move 0 0 0.1\n2 key R\n2 mouse 40 30\n",
+    )
+    .unwrap();
+    let size = ["--width", "96", "--height", "64"];
+    let text = view(
+        &x,
+        &dir,
+        &[
+            &size[..],
+            &[
+                "--foveation",
+                "thesis",
+                "--script",
+                "script.txt",
+                "--frames",
+                "6",
+            ],
+            &["--screenshot", "view.png"],
+        ]
+        .concat(),
+    );
+    assert_eq!(accumulated(&text), 4, "{text}");
+    let (w, h, shot) = read_exr(&dir.join("view.exr"));
+    assert_eq!((w, h), (96, 64));
+    let mut mean = vec![0.0f64; shot.len()];
+    for seed in 1..=4 {
+        let out = dir.join(format!("render-{seed}.png"));
+        let seed = seed.to_string();
+        render(
+            &[
+                &size[..],
+                &["--foveation", "thesis", "--gaze", "40,30", "--seed", &seed],
+                &["--out", out.to_str().unwrap()],
+            ]
+            .concat(),
+        );
+        for (m, v) in mean.iter_mut().zip(read_exr(&out.with_extension("exr")).2) {
+            *m += v as f64 / 4.0;
+        }
+    }
+    let worst = shot
+        .iter()
+        .zip(&mean)
+        .map(|(s, m)| (*s as f64 - m).abs() - 1e-5 * m.abs())
+        .fold(f64::MIN, f64::max);
+    assert!(
+        worst <= 1e-6,
+        "the screenshot is off the mean of the renders by {worst}"
+    );
+    // The 4 renders differ from each other by noise, so the test can tell them apart.
+    assert!(rmse(&shot, &read_exr(&dir.join("render-1.exr")).2) > 1e-3);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// While nothing moves, the error against a 256-spp reference falls as frames of 1 spp
+/// accumulate: roughly as 1/sqrt(frames) (Monte Carlo), checked as strictly falling at 1, 2,
+/// 4 and 8 frames and at most 0.6x the first frame's error after 8 frames (1/sqrt(8) = 0.35
+/// expected; the reference's own noise adds a little).
+#[test]
+fn error_against_a_converged_render_falls_as_still_frames_accumulate() {
+    let x = Xvfb::start();
+    let dir = scratch("converge");
+    std::fs::write(
+        dir.join("script.txt"),
+        "0 screenshot f1.exr\n1 screenshot f2.exr\n3 screenshot f4.exr\n7 screenshot f8.exr\n",
+    )
+    .unwrap();
+    let text = view(
+        &x,
+        &dir,
+        &[
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--foveation",
+            "off",
+            "--spp",
+            "1",
+            "--script",
+            "script.txt",
+            "--frames",
+            "8",
+        ],
+    );
+    assert_eq!(accumulated(&text), 8, "{text}");
+    let reference = dir.join("reference.exr");
+    render(&[
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--spp",
+        "256",
+        "--seed",
+        "1000",
+        "--out",
+        reference.to_str().unwrap(),
+    ]);
+    let reference = read_exr(&reference).2;
+    let errors: Vec<f64> = [1, 2, 4, 8]
+        .iter()
+        .map(|n| rmse(&read_exr(&dir.join(format!("f{n}.exr"))).2, &reference))
+        .collect();
+    eprintln!("RMSE after 1, 2, 4, 8 frames: {errors:?}");
+    assert!(errors.windows(2).all(|e| e[1] < e[0]), "{errors:?}");
+    assert!(errors[3] < 0.6 * errors[0], "{errors:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Resizing, minimising, restoring, hiding and showing the window mid-run, in stereo with
+/// the mouse as gaze, while every key binding is pressed (all debug views, foveation off and
+/// on, layer configs, spp, scene switch, camera): no crash, no validation message, and the
+/// frames after the last resize have the new size.
+#[test]
+fn window_changes_and_every_key_mid_run_break_nothing() {
+    let x = Xvfb::start();
+    let dir = scratch("resize");
+    std::fs::write(
+        dir.join("script.txt"),
+        "0 mouse 30 20\n1 resize 120 80\n2 minimise\n3 restore\n4 hide\n5 show\n\
+         6 key V\n7 key V\n7 mouse 100 10\n8 key V\n9 key V\n10 key F\n11 key F\n12 key L\n\
+         13 key +\n14 key -\n15 key N\n16 key P\n17 turn 10 5\n18 move 0 0 0.2\n\
+         19 resize 64 48\n",
+    )
+    .unwrap();
+    let text = view(
+        &x,
+        &dir,
+        &[
+            "--stereo",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--script",
+            "script.txt",
+            "--frames",
+            "22",
+            "--screenshot",
+            "end.png",
+        ],
+    );
+    let recreated: u32 = text
+        .split("swapchain recreated ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no recreation count in:\n{text}"));
+    assert!(
+        recreated >= 2,
+        "two resizes, {recreated} recreations:\n{text}"
+    );
+    assert!(
+        dir.join("end-1.png").exists(),
+        "the P key's screenshot:\n{text}"
+    );
+    let decoder = png::Decoder::new(BufReader::new(
+        std::fs::File::open(dir.join("end.png")).unwrap(),
+    ));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (64, 48));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A recorded gaze trace replays one row per frame; past its end the last row holds, so the
+/// view stands still and frames accumulate again.
+#[test]
+fn gaze_trace_replays_and_then_holds() {
+    let x = Xvfb::start();
+    let dir = scratch("trace");
+    std::fs::write(
+        dir.join("trace.csv"),
+        "frame,time_s,left_tan_x,left_tan_y,right_tan_x,right_tan_y,status\n\
+         0,0.0,0.0,0.0,0.0,0.0,tracked\n\
+         1,0.011,0.1,0.05,0.1,0.05,tracked\n\
+         2,0.022,-0.2,0.1,-0.2,0.1,tracked\n",
+    )
+    .unwrap();
+    let text = view(
+        &x,
+        &dir,
+        &[
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--gaze-trace",
+            "trace.csv",
+            "--frames",
+            "5",
+        ],
+    );
+    // Rows 0, 1, 2 move the gaze every frame; frames 3 and 4 hold row 2.
+    assert_eq!(accumulated(&text), 3, "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

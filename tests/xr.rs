@@ -1,0 +1,386 @@
+//! The XR path end to end through the simulated headset (tools/sim-headset), on lavapipe with
+//! the validation layer on: `fovea xr` sessions in-process (`--simulated`) and through the
+//! Khronos loader (`XR_RUNTIME_JSON`), the runtime saving each eye's submitted image and
+//! writing a report of what the application left alive.
+
+mod common;
+
+use common::fovea_with_env;
+use fovea::foveation::{EyeFov, ImageGeometry};
+use fovea::scene::cpu_raycast::CpuRaycaster;
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fovea-xr-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `fovea xr` on the simulated headset with `env` (SIM_HEADSET_*), its images saved and
+/// its report written under `dir`.
+fn xr(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
+    let images = dir.join("images");
+    let report = dir.join("report.json");
+    let session = dir.join("session");
+    let mut all_env = vec![
+        ("SIM_HEADSET_SAVE_DIR", images.to_str().unwrap()),
+        ("SIM_HEADSET_REPORT", report.to_str().unwrap()),
+    ];
+    all_env.extend_from_slice(env);
+    let mut all_args = vec!["xr", "--session", session.to_str().unwrap()];
+    all_args.extend_from_slice(args);
+    fovea_with_env(&all_args, &all_env)
+}
+
+fn report(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("report.json")).expect("the runtime's report");
+    serde_json::from_str(&text).unwrap()
+}
+
+/// Nothing the application created was left for xrDestroyInstance to clean up.
+fn assert_clean_teardown(dir: &Path) {
+    let r = report(dir);
+    assert_eq!(r["clean_teardown"], true, "{r:#}");
+    for (kind, n) in r["alive_at_instance_destroy"].as_object().unwrap() {
+        assert_eq!(n, 0, "{kind} left alive: {r:#}");
+    }
+    for (kind, n) in r["vulkan_alive_at_instance_destroy"].as_object().unwrap() {
+        assert_eq!(n, 0, "Vulkan {kind} left alive: {r:#}");
+    }
+}
+
+/// RGBA8 pixels of a PNG.
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+    ));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let rgba = buf[..info.buffer_size()]
+        .chunks_exact(channels)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    (info.width, info.height, rgba)
+}
+
+fn last_image(dir: &Path, eye: u32) -> PathBuf {
+    let mut names: Vec<PathBuf> = std::fs::read_dir(dir.join("images"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.to_str()
+                .unwrap()
+                .ends_with(&format!("-eye-{eye}.png"))
+        })
+        .collect();
+    names.sort();
+    names.pop().expect("saved eye images")
+}
+
+/// Centroid of the foveal layer's overlay colour (red, `--debug layers`) in an eye image.
+fn foveal_centroid(path: &Path) -> [f64; 2] {
+    let (w, _, rgba) = read_png(path);
+    let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
+    for (i, p) in rgba.chunks_exact(4).enumerate() {
+        let (r, g, b) = (p[0] as f64, p[1] as f64, p[2] as f64);
+        if r > 40.0 && r > 1.6 * g && r > 1.6 * b {
+            sx += (i as u32 % w) as f64 + 0.5;
+            sy += (i as u32 / w) as f64 + 0.5;
+            n += 1.0;
+        }
+    }
+    assert!(n > 20.0, "{}: only {n} foveal pixels", path.display());
+    [sx / n, sy / n]
+}
+
+fn gaze_statuses(dir: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join("session/gaze.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
+    let dir = scratch("ten");
+    let (ok, out) = xr(
+        &dir,
+        &[
+            "--simulated", "--frames", "10", "--scene", "cornell", "--foveation", "off",
+            "--spp", "4",
+        ],
+        &[("SIM_HEADSET_SIZE", "48x48")],
+    );
+    assert!(ok, "{out}");
+    assert!(out.contains("10 frames"), "{out}");
+    assert!(
+        out.contains("FOCUSED") && out.contains("STOPPING → IDLE → EXITING"),
+        "{out}"
+    );
+    assert_clean_teardown(&dir);
+    assert_eq!(report(&dir)["images_saved"].as_u64(), Some(20));
+    // Each eye shows what `fovea render` renders for that eye (same camera, field of view,
+    // seed and samples): the session's last frame (index 9) used seed 1 + 9. Compared
+    // inside the lens's visible area; the rest is never traced.
+    let render_png = dir.join("render.png");
+    let (ok, out) = common::fovea(&[
+        "render", "--scene", "cornell", "--width", "48", "--height", "48", "--stereo",
+        "--fov", "vive-pro-eye", "--foveation", "off", "--spp", "4", "--seed", "10",
+        "--out", render_png.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}");
+    let (rw, _, rendered) = read_png(&render_png);
+    assert_eq!(rw, 96);
+    for eye in 0..2u32 {
+        let (w, h, rgba) = read_png(&last_image(&dir, eye));
+        assert_eq!((w, h), (48, 48));
+        let (mut worst, mut lit) = (0i32, 0);
+        for y in 12..36u32 {
+            for x in 12..36u32 {
+                let a = &rgba[((y * 48 + x) * 4) as usize..][..3];
+                let b = &rendered[((y * 96 + eye * 48 + x) * 4) as usize..][..3];
+                for c in 0..3 {
+                    worst = worst.max((a[c] as i32 - b[c] as i32).abs());
+                }
+                lit += (a.iter().map(|v| *v as u32).sum::<u32>() > 60) as u32;
+            }
+        }
+        // sRGB encoding by the blit (hardware) and by the PNG writer may round apart by one.
+        assert!(worst <= 1, "eye {eye}: differs from fovea render by up to {worst}/255");
+        assert!(lit > 100, "eye {eye}: only {lit} of 576 central pixels lit");
+    }
+    // The session profile has the bench's columns for both eyes of every frame.
+    let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
+    assert!(frames.starts_with("scene,mode,repeat,frame,eye,trace_ms"));
+    assert_eq!(frames.lines().count(), 1 + 2 * 10);
+    assert!(frames.lines().nth(1).unwrap().starts_with("cornell,regular,0,0,left,"));
+    let session: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
+            .unwrap();
+    assert_eq!(session["statistics"]["frames"], 10);
+}
+
+/// Where the projection maths puts the fixation of a gaze `yaw` right and `pitch` up (degrees)
+/// from the head at the scene camera, in each eye (±IPD/2 along the camera's right, with the
+/// Vive Pro Eye's fields of view at `size`): written out here, independently of
+/// foveation::fixation.
+fn expected_gaze_pixels(scene: &str, yaw: f32, pitch: f32, size: u32) -> [[f64; 2]; 2] {
+    let scene = fovea::scene::load(scene, 1.0).unwrap();
+    let c = scene.camera;
+    let (right, up, forward) = c.basis();
+    let (yaw, pitch) = (yaw.to_radians(), pitch.to_radians());
+    let dir = (right * (pitch.cos() * yaw.sin()) + up * pitch.sin()
+        + forward * (pitch.cos() * yaw.cos()))
+    .normalize();
+    let t = CpuRaycaster::new(&scene)
+        .closest_hit(c.position, dir)
+        .expect("the gaze hits the scene");
+    let p = c.position + dir * t;
+    let eye = |side: f32, fov: EyeFov| {
+        let e = c.position + right * (side * 0.0315);
+        let v: Vec3 = p - e;
+        let depth = v.dot(forward) as f64;
+        let tan = [v.dot(right) as f64 / depth, v.dot(up) as f64 / depth];
+        ImageGeometry::new(size, size, fov).pixel_of(tan)
+    };
+    [
+        eye(-1.0, EyeFov::VIVE_PRO_EYE_LEFT),
+        eye(1.0, EyeFov::VIVE_PRO_EYE_RIGHT),
+    ]
+}
+
+#[test]
+fn a_scripted_gaze_centres_each_eyes_fovea_where_the_projection_says() {
+    let dir = scratch("gaze");
+    let size = 256;
+    let (ok, out) = xr(
+        &dir,
+        &[
+            "--simulated",
+            "--frames",
+            "3",
+            "--scene",
+            "cornell",
+            "--debug",
+            "layers",
+        ],
+        &[
+            ("SIM_HEADSET_SIZE", "256x256"),
+            ("SIM_HEADSET_GAZE", "0 12 -6 valid"),
+        ],
+    );
+    assert!(ok, "{out}");
+    let expected = expected_gaze_pixels("cornell", 12.0, -6.0, size);
+    let measured = [
+        foveal_centroid(&last_image(&dir, 0)),
+        foveal_centroid(&last_image(&dir, 1)),
+    ];
+    for e in 0..2 {
+        for a in 0..2 {
+            assert!(
+                (measured[e][a] - expected[e][a]).abs() < 1.0,
+                "eye {e}: fovea centred at {:?}, projection says {:?}",
+                measured[e],
+                expected[e]
+            );
+        }
+    }
+    // Parallax: the eyes see the fixation at different pixels; the difference matches.
+    let expected_parallax = expected[0][0] - expected[1][0];
+    let measured_parallax = measured[0][0] - measured[1][0];
+    assert!(expected_parallax.abs() > 2.0, "{expected_parallax}");
+    assert!(
+        (measured_parallax - expected_parallax).abs() < 1.0,
+        "parallax {measured_parallax} px, expected {expected_parallax} px"
+    );
+    assert!(gaze_statuses(&dir).contains(&"tracked".to_string()));
+}
+
+#[test]
+fn without_eye_gaze_the_session_runs_with_centre_foveation_and_says_why() {
+    for (setting, says) in [
+        ("off", "does not offer XR_EXT_eye_gaze_interaction"),
+        ("unsupported", "supportsEyeGazeInteraction is false"),
+        ("inactive", "eye gaze action is not active"),
+    ] {
+        let dir = scratch(&format!("nogaze-{setting}"));
+        let (ok, out) = xr(
+            &dir,
+            &["--simulated", "--frames", "4"],
+            &[
+                ("SIM_HEADSET_SIZE", "32x32"),
+                ("SIM_HEADSET_EYE_GAZE", setting),
+                ("SIM_HEADSET_GAZE", "0 20 10 valid"),
+            ],
+        );
+        assert!(ok, "{setting}: {out}");
+        assert_eq!(out.matches(says).count(), 1, "{setting}: {out}");
+        let statuses = gaze_statuses(&dir);
+        assert_eq!(statuses.len(), 4);
+        assert!(statuses.iter().all(|s| s == "centre"), "{setting}: {statuses:?}");
+        assert_clean_teardown(&dir);
+    }
+}
+
+#[test]
+fn invalid_samples_hold_the_last_gaze_then_fall_back_to_the_centre() {
+    let dir = scratch("invalid");
+    // Frames are 1/90 s apart; a 0.025 s hold covers two frames after the last good sample.
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated", "--frames", "9", "--gaze-hold", "0.025"],
+        &[
+            ("SIM_HEADSET_SIZE", "32x32"),
+            ("SIM_HEADSET_GAZE", "0 5 0 valid; 4 0 0 invalid; 7 0 0 untracked"),
+        ],
+    );
+    assert!(ok, "{out}");
+    let statuses = gaze_statuses(&dir);
+    let tracked = statuses.iter().position(|s| s == "tracked").expect("tracked");
+    // Frame k shows script frame k+1 or k (the runtime counts its own frames); find the
+    // invalid stretch by its statuses instead of assuming the offset.
+    let after: Vec<&str> = statuses[tracked..]
+        .iter()
+        .map(String::as_str)
+        .skip_while(|s| *s == "tracked")
+        .collect();
+    assert!(after.len() >= 4, "{statuses:?}");
+    assert_eq!(&after[..2], ["held", "held"], "{statuses:?}");
+    assert!(after[2..].iter().all(|s| *s == "centre"), "{statuses:?}");
+    assert!(out.contains("holding the last good gaze"), "{out}");
+    assert!(out.contains("foveating around the view axis"), "{out}");
+}
+
+#[test]
+fn the_runtime_ending_the_session_tears_down_cleanly() {
+    let dir = scratch("exit");
+    // No --frames: the runtime asks to stop at its frame 5, as a user quitting would.
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated"],
+        &[("SIM_HEADSET_SIZE", "32x32"), ("SIM_HEADSET_EXIT_AT_FRAME", "5")],
+    );
+    assert!(ok, "{out}");
+    assert!(out.contains("STOPPING → IDLE → EXITING"), "{out}");
+    assert_clean_teardown(&dir);
+}
+
+#[test]
+fn a_lost_session_tears_down_cleanly_and_keeps_what_it_recorded() {
+    let dir = scratch("loss");
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated", "--frames", "50"],
+        &[("SIM_HEADSET_SIZE", "32x32"), ("SIM_HEADSET_LOSS_AT_FRAME", "4")],
+    );
+    assert!(!ok, "a lost session must not exit 0: {out}");
+    assert!(out.contains("session was lost"), "{out}");
+    assert!(!out.contains("validation layer reported"), "{out}");
+    assert_clean_teardown(&dir);
+    let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
+    let rows = frames.lines().count() - 1;
+    assert!((4..50).contains(&rows), "{rows} rows:\n{frames}");
+}
+
+/// The simulated headset built as a shared library by this `cargo test` (as a dependency of
+/// fovea, cargo builds every crate type it declares).
+fn runtime_library() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let deps = exe.parent().unwrap();
+    let candidates = [
+        deps.join("libsim_headset.so"),
+        deps.parent().unwrap().join("libsim_headset.so"),
+    ];
+    candidates
+        .iter()
+        .find(|p| p.exists())
+        .unwrap_or_else(|| panic!("libsim_headset.so not built: looked at {candidates:?}"))
+        .clone()
+}
+
+#[test]
+fn the_khronos_loader_finds_the_simulated_headset_through_xr_runtime_json() {
+    let dir = scratch("loader");
+    let manifest = dir.join("runtime.json");
+    std::fs::write(
+        &manifest,
+        serde_json::json!({
+            "file_format_version": "1.0.0",
+            "runtime": {
+                "name": "fovea simulated headset",
+                "library_path": runtime_library().to_str().unwrap(),
+            }
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let (ok, out) = xr(
+        &dir,
+        &["--frames", "3"],
+        &[
+            ("XR_RUNTIME_JSON", manifest.to_str().unwrap()),
+            ("SIM_HEADSET_SIZE", "32x32"),
+        ],
+    );
+    assert!(ok, "{out}");
+    assert!(out.contains("fovea simulated headset"), "{out}");
+    assert!(out.contains("3 frames"), "{out}");
+    assert_clean_teardown(&dir);
+}
+
+#[test]
+fn without_a_runtime_the_error_says_what_to_do() {
+    let dir = scratch("noruntime");
+    let (ok, out) = xr(
+        &dir,
+        &["--frames", "1"],
+        &[("XR_RUNTIME_JSON", dir.join("missing.json").to_str().unwrap())],
+    );
+    assert!(!ok);
+    assert!(out.contains("XR_RUNTIME_JSON") && out.contains("--simulated"), "{out}");
+}
