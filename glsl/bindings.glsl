@@ -27,6 +27,7 @@ layout(set = 0, binding = BINDING_LAYER_IMAGES, rgba32f) uniform image2DArray la
 layout(std430, set = 0, binding = BINDING_RAY_BUFFER) readonly buffer RayBufferBuf { uint ray_offsets[]; };
 layout(std430, set = 0, binding = BINDING_SPANS) readonly buffer Spans { GpuSpan spans[]; };
 layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
+layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };
 
 layout(push_constant) uniform Push { PushConstants pc; };
 

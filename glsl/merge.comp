@@ -3,7 +3,8 @@
 // it, F1, and inside that radius's blend band mixes in the next layer out, F0, by eq. 3.18:
 // (1 - v) F0 + v F1 with v rising linearly from 0 at the radius to 1 one band-width inside.
 // Where v is 1 the pixel is F1 exactly (no arithmetic), so the fovea of a foveated frame is
-// bit-identical to a regular frame. Outside the occlusion mask the pixel is black.
+// bit-identical to a regular frame. Outside the occlusion mask, and where the headset's lens
+// hides the pixel (its visibility mask: never traced), the pixel is black.
 #extension GL_GOOGLE_include_directive : require
 #include "view.glsl"
 
@@ -23,10 +24,18 @@ vec3 layer_value(uint image_layer, ivec2 p, uint k) {
     return c;
 }
 
+// Does the lens show pixel p of this eye? (No mask: every pixel is shown.)
+bool lens_shows(ivec2 p) {
+    uint words_per_eye = visibility[0];
+    if (words_per_eye == 0u) return true;
+    uint i = uint(p.y) * pc.width + uint(p.x);
+    return ((visibility[1u + pc.eye * words_per_eye + i / 32u] >> (i % 32u)) & 1u) != 0u;
+}
+
 void merge_pixel(ivec2 p, uint base, vec3 gaze, float band, float cos_occlusion) {
     ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion)) {
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion) || !lens_shows(p)) {
         imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
         return;
     }

@@ -23,7 +23,9 @@
 #define BINDING_RAY_BUFFER 12  // uint[]: target-pixel offsets, two int16 (dx low, dy high)
 #define BINDING_SPANS 13       // GpuSpan[]: this frame's traced index ranges of the ray buffer
 #define BINDING_LAYERS 14      // GpuLayer[]: this frame's layers, eye-major
-#define BINDING_COUNT 15
+#define BINDING_VISIBILITY 15  // uint[]: [0] words per eye (0: no mask), then per eye one bit
+                               // per pixel (row-major, low bit first), 1 where the lens shows it
+#define BINDING_COUNT 16
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
 #define SPEC_HAS_TRIANGLES 0

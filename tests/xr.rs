@@ -71,11 +71,7 @@ fn last_image(dir: &Path, eye: u32) -> PathBuf {
     let mut names: Vec<PathBuf> = std::fs::read_dir(dir.join("images"))
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.to_str()
-                .unwrap()
-                .ends_with(&format!("-eye-{eye}.png"))
-        })
+        .filter(|p| p.to_str().unwrap().ends_with(&format!("-eye-{eye}.png")))
         .collect();
     names.sort();
     names.pop().expect("saved eye images")
@@ -111,8 +107,15 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
     let (ok, out) = xr(
         &dir,
         &[
-            "--simulated", "--frames", "10", "--scene", "cornell", "--foveation", "off",
-            "--spp", "4",
+            "--simulated",
+            "--frames",
+            "10",
+            "--scene",
+            "cornell",
+            "--foveation",
+            "off",
+            "--spp",
+            "4",
         ],
         &[("SIM_HEADSET_SIZE", "48x48")],
     );
@@ -129,9 +132,24 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
     // inside the lens's visible area; the rest is never traced.
     let render_png = dir.join("render.png");
     let (ok, out) = common::fovea(&[
-        "render", "--scene", "cornell", "--width", "48", "--height", "48", "--stereo",
-        "--fov", "vive-pro-eye", "--foveation", "off", "--spp", "4", "--seed", "10",
-        "--out", render_png.to_str().unwrap(),
+        "render",
+        "--scene",
+        "cornell",
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--stereo",
+        "--fov",
+        "vive-pro-eye",
+        "--foveation",
+        "off",
+        "--spp",
+        "4",
+        "--seed",
+        "10",
+        "--out",
+        render_png.to_str().unwrap(),
     ]);
     assert!(ok, "{out}");
     let (rw, _, rendered) = read_png(&render_png);
@@ -151,14 +169,21 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
             }
         }
         // sRGB encoding by the blit (hardware) and by the PNG writer may round apart by one.
-        assert!(worst <= 1, "eye {eye}: differs from fovea render by up to {worst}/255");
+        assert!(
+            worst <= 1,
+            "eye {eye}: differs from fovea render by up to {worst}/255"
+        );
         assert!(lit > 100, "eye {eye}: only {lit} of 576 central pixels lit");
     }
     // The session profile has the bench's columns for both eyes of every frame.
     let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
     assert!(frames.starts_with("scene,mode,repeat,frame,eye,trace_ms"));
     assert_eq!(frames.lines().count(), 1 + 2 * 10);
-    assert!(frames.lines().nth(1).unwrap().starts_with("cornell,regular,0,0,left,"));
+    assert!(frames
+        .lines()
+        .nth(1)
+        .unwrap()
+        .starts_with("cornell,regular,0,0,left,"));
     let session: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
             .unwrap();
@@ -174,7 +199,8 @@ fn expected_gaze_pixels(scene: &str, yaw: f32, pitch: f32, size: u32) -> [[f64; 
     let c = scene.camera;
     let (right, up, forward) = c.basis();
     let (yaw, pitch) = (yaw.to_radians(), pitch.to_radians());
-    let dir = (right * (pitch.cos() * yaw.sin()) + up * pitch.sin()
+    let dir = (right * (pitch.cos() * yaw.sin())
+        + up * pitch.sin()
         + forward * (pitch.cos() * yaw.cos()))
     .normalize();
     let t = CpuRaycaster::new(&scene)
@@ -262,7 +288,10 @@ fn without_eye_gaze_the_session_runs_with_centre_foveation_and_says_why() {
         assert_eq!(out.matches(says).count(), 1, "{setting}: {out}");
         let statuses = gaze_statuses(&dir);
         assert_eq!(statuses.len(), 4);
-        assert!(statuses.iter().all(|s| s == "centre"), "{setting}: {statuses:?}");
+        assert!(
+            statuses.iter().all(|s| s == "centre"),
+            "{setting}: {statuses:?}"
+        );
         assert_clean_teardown(&dir);
     }
 }
@@ -276,12 +305,18 @@ fn invalid_samples_hold_the_last_gaze_then_fall_back_to_the_centre() {
         &["--simulated", "--frames", "9", "--gaze-hold", "0.025"],
         &[
             ("SIM_HEADSET_SIZE", "32x32"),
-            ("SIM_HEADSET_GAZE", "0 5 0 valid; 4 0 0 invalid; 7 0 0 untracked"),
+            (
+                "SIM_HEADSET_GAZE",
+                "0 5 0 valid; 4 0 0 invalid; 7 0 0 untracked",
+            ),
         ],
     );
     assert!(ok, "{out}");
     let statuses = gaze_statuses(&dir);
-    let tracked = statuses.iter().position(|s| s == "tracked").expect("tracked");
+    let tracked = statuses
+        .iter()
+        .position(|s| s == "tracked")
+        .expect("tracked");
     // Frame k shows script frame k+1 or k (the runtime counts its own frames); find the
     // invalid stretch by its statuses instead of assuming the offset.
     let after: Vec<&str> = statuses[tracked..]
@@ -303,7 +338,10 @@ fn the_runtime_ending_the_session_tears_down_cleanly() {
     let (ok, out) = xr(
         &dir,
         &["--simulated"],
-        &[("SIM_HEADSET_SIZE", "32x32"), ("SIM_HEADSET_EXIT_AT_FRAME", "5")],
+        &[
+            ("SIM_HEADSET_SIZE", "32x32"),
+            ("SIM_HEADSET_EXIT_AT_FRAME", "5"),
+        ],
     );
     assert!(ok, "{out}");
     assert!(out.contains("STOPPING → IDLE → EXITING"), "{out}");
@@ -316,7 +354,10 @@ fn a_lost_session_tears_down_cleanly_and_keeps_what_it_recorded() {
     let (ok, out) = xr(
         &dir,
         &["--simulated", "--frames", "50"],
-        &[("SIM_HEADSET_SIZE", "32x32"), ("SIM_HEADSET_LOSS_AT_FRAME", "4")],
+        &[
+            ("SIM_HEADSET_SIZE", "32x32"),
+            ("SIM_HEADSET_LOSS_AT_FRAME", "4"),
+        ],
     );
     assert!(!ok, "a lost session must not exit 0: {out}");
     assert!(out.contains("session was lost"), "{out}");
@@ -379,8 +420,77 @@ fn without_a_runtime_the_error_says_what_to_do() {
     let (ok, out) = xr(
         &dir,
         &["--frames", "1"],
-        &[("XR_RUNTIME_JSON", dir.join("missing.json").to_str().unwrap())],
+        &[(
+            "XR_RUNTIME_JSON",
+            dir.join("missing.json").to_str().unwrap(),
+        )],
     );
     assert!(!ok);
-    assert!(out.contains("XR_RUNTIME_JSON") && out.contains("--simulated"), "{out}");
+    assert!(
+        out.contains("XR_RUNTIME_JSON") && out.contains("--simulated"),
+        "{out}"
+    );
+}
+
+/// Paths traced by the left eye in the session's first frame (frames.csv).
+fn left_eye_paths(dir: &Path) -> u64 {
+    let text = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|c| *c == "paths").unwrap();
+    text.lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .nth(col)
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn pixels_the_lens_hides_are_never_traced() {
+    let run = |name: &str, extra: &[&str]| {
+        let dir = scratch(name);
+        // The background-only scene: its sky lights every pixel the lens does not hide.
+        let mut args = vec![
+            "--simulated",
+            "--frames",
+            "1",
+            "--foveation",
+            "off",
+            "--spp",
+            "1",
+            "--scene",
+            "control",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, out) = xr(&dir, &args, &[("SIM_HEADSET_SIZE", "64x64")]);
+        assert!(ok, "{out}");
+        let (_, _, rgba) = read_png(&last_image(&dir, 0));
+        (left_eye_paths(&dir), out, rgba)
+    };
+    let (open, out_open, open_image) = run("mask-off", &["--no-visibility-mask"]);
+    let (masked, out_masked, masked_image) = run("mask-on", &[]);
+    assert!(out_open.contains("visibility mask: not used"), "{out_open}");
+    assert!(out_masked.contains("visibility mask: used"), "{out_masked}");
+    // Regular rendering traces one path per pixel: every pixel without the mask, and only
+    // those the simulated lens shows with it (an ellipse reaching 0.92 of each half-extent
+    // in tangent space: about π/4 · 0.92² = 66% of the image).
+    assert_eq!(open, 64 * 64);
+    let fraction = masked as f64 / open as f64;
+    assert!(
+        (0.62..0.71).contains(&fraction),
+        "{masked} of {open} traced"
+    );
+    // The hidden corners are black (not stale data); the centre is the same image.
+    let pixel = |image: &[u8], x: usize, y: usize| image[(y * 64 + x) * 4..][..3].to_vec();
+    for (x, y) in [(0, 0), (63, 0), (0, 63), (63, 63)] {
+        assert_eq!(pixel(&masked_image, x, y), [0, 0, 0], "corner {x},{y}");
+        assert_ne!(
+            pixel(&open_image, x, y),
+            [0, 0, 0],
+            "corner {x},{y} unmasked"
+        );
+    }
+    assert_eq!(pixel(&masked_image, 32, 40), pixel(&open_image, 32, 40));
 }

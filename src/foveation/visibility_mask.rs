@@ -78,6 +78,16 @@ impl VisibilityMask {
         self.visible[(y * self.width + x) as usize]
     }
 
+    /// The mask as bits, row-major, 1 where the pixel is visible, packed 32 to a word (low
+    /// bit first): shared.h's BINDING_VISIBILITY layout for one eye.
+    pub fn bits(&self) -> Vec<u32> {
+        let mut words = vec![0u32; self.visible.len().div_ceil(32)];
+        for (i, v) in self.visible.iter().enumerate() {
+            words[i / 32] |= (*v as u32) << (i % 32);
+        }
+        words
+    }
+
     /// Visible pixels of the image.
     pub fn visible_count(&self) -> usize {
         self.visible.iter().filter(|v| **v).count()
@@ -172,6 +182,28 @@ mod tests {
             }
         }
         assert_eq!(mask.visible_count(), 40 * 30 - 20 * 15);
+    }
+
+    #[test]
+    fn bits_pack_pixels_low_bit_first() {
+        let g = ImageGeometry::new(40, 30, EyeFov::VIVE_PRO_EYE_LEFT);
+        let a = g.tan_of(-1.0, -1.0);
+        let b = g.tan_of(2.5, -1.0);
+        let c = g.tan_of(-1.0, 2.5);
+        let v: Vec<[f32; 2]> = [a, b, c]
+            .iter()
+            .map(|t| [t[0] as f32, t[1] as f32])
+            .collect();
+        // Hides pixel (0, 0) only: its centre is on the edge x + y = 1.5, the next ones beyond.
+        let mask = VisibilityMask::from_hidden_triangles(&g, &v, &[0, 1, 2]);
+        let bits = mask.bits();
+        assert_eq!(bits.len(), (40 * 30usize).div_ceil(32));
+        assert_eq!(bits[0], !1u32);
+        assert!(bits[1..bits.len() - 1].iter().all(|w| *w == u32::MAX));
+        assert_eq!(
+            bits.iter().map(|w| w.count_ones()).sum::<u32>(),
+            40 * 30 - 1
+        );
     }
 
     #[test]

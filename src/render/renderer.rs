@@ -55,8 +55,14 @@ pub struct Renderer {
     /// reallocate the images every frame.
     spare_targets: Option<FrameTargets>,
     probe: Option<(Buffer, Buffer)>,
-    /// Per eye, the lens's visibility mask (OpenXR): hidden pixels are never traced.
+    /// Per eye, the lens's visibility mask (OpenXR): hidden pixels are never traced, and
+    /// merge makes them black.
     masks: Vec<VisibilityMask>,
+    /// The masks as bits for merge (BINDING_VISIBILITY), and the eye size they were made
+    /// for (`None`: no mask).
+    visibility: Buffer,
+    visibility_size: Option<[u32; 2]>,
+    visibility_stale: bool,
     stats: Buffer,
     buffers: SceneBuffers,
     layout: PipelineLayout,
@@ -103,6 +109,9 @@ impl Renderer {
             spare_targets: None,
             probe: None,
             masks: Vec::new(),
+            visibility: Buffer::with_data(ctx, "visibility mask", &0u32.to_le_bytes())?,
+            visibility_size: None,
+            visibility_stale: false,
             stats,
             buffers,
             layout: PipelineLayout::new(ctx)?,
@@ -123,6 +132,35 @@ impl Renderer {
     /// mask applies to frames whose eye image has the mask's size.
     pub fn set_visibility_masks(&mut self, masks: Vec<VisibilityMask>) {
         self.masks = masks;
+        self.visibility_stale = true;
+    }
+
+    /// Uploads the masks' bits for merge when they or the eye size changed: every eye's mask
+    /// when all eyes have one of the frame's size, else the one-word "no mask".
+    fn ensure_visibility(&mut self, eyes: usize, size: [u32; 2]) -> Result<(), RenderError> {
+        let applies = self.masks.len() >= eyes
+            && self.masks[..eyes]
+                .iter()
+                .all(|m| [m.width, m.height] == size);
+        let wanted = applies.then_some(size);
+        if wanted == self.visibility_size && !self.visibility_stale {
+            return Ok(());
+        }
+        // shared.h's layout: words per eye (0: no mask), then each eye's bits.
+        let words: Vec<u32> = match applies {
+            true => {
+                let per_eye = (size[0] as usize * size[1] as usize).div_ceil(32) as u32;
+                std::iter::once(per_eye)
+                    .chain(self.masks[..eyes].iter().flat_map(|m| m.bits()))
+                    .collect()
+            }
+            false => vec![0],
+        };
+        self.visibility =
+            Buffer::with_data(&self.ctx, "visibility mask", bytemuck::cast_slice(&words))?;
+        self.visibility_size = wanted;
+        self.visibility_stale = false;
+        Ok(())
     }
 
     /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL
@@ -191,6 +229,7 @@ impl Renderer {
             (BINDING_RAY_BUFFER, &t.ray_buffer),
             (BINDING_SPANS, &t.spans),
             (BINDING_LAYERS, &t.layers),
+            (BINDING_VISIBILITY, &self.visibility),
         ];
         // The probe bindings must be valid even for trace.comp; reuse the stats buffer until
         // raycast() creates real ones.
@@ -425,6 +464,7 @@ impl Renderer {
         if let Some(rgba) = given_layers {
             targets.layer_images.upload(rgba)?;
         }
+        self.ensure_visibility(request.eyes.len(), [s.width, s.height])?;
         self.reset_stats()?;
         self.bind();
 

@@ -27,8 +27,9 @@ fn load_entry(source: RuntimeSource) -> Result<xr::Entry, XrError> {
     match source {
         // SAFETY: loads the Khronos loader library; its functions are called only through the
         // openxr crate, with the ABI the OpenXR headers define.
-        RuntimeSource::Loader => unsafe { xr::Entry::load(&()) }
-            .map_err(|e| XrError::NoLoader(e.to_string())),
+        RuntimeSource::Loader => {
+            unsafe { xr::Entry::load(&()) }.map_err(|e| XrError::NoLoader(e.to_string()))
+        }
         // SAFETY: the simulated runtime's xrGetInstanceProcAddr follows the OpenXR ABI.
         RuntimeSource::Simulated => unsafe {
             xr::Entry::from_get_instance_proc_addr(sim_headset::get_instance_proc_addr(), &())

@@ -135,14 +135,14 @@ mod tests {
         assert!((left_eye.position - Vec3::new(0.97, 2.0, 3.0)).length() < 1e-6);
         // A head turned 90° to the left (about +y) looks down −x.
         let turned = place.eye_camera(
-            &pose(Vec3::ZERO, Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)),
+            &pose(
+                Vec3::ZERO,
+                Quat::from_rotation_y(std::f32::consts::FRAC_PI_2),
+            ),
             &xr::Fovf::default(),
         );
         assert!((turned.forward - Vec3::NEG_X).length() < 1e-6);
-        let (o, d) = place.gaze_ray(&pose(
-            Vec3::new(0.0, 0.1, 0.0),
-            Quat::from_rotation_x(0.5),
-        ));
+        let (o, d) = place.gaze_ray(&pose(Vec3::new(0.0, 0.1, 0.0), Quat::from_rotation_x(0.5)));
         assert!((o - Vec3::new(1.0, 2.1, 3.0)).length() < 1e-6);
         // Pitched up by 0.5 rad about +x: y grows, still looking down −z.
         assert!((d - Vec3::new(0.0, 0.5f32.sin(), -0.5f32.cos())).length() < 1e-6);

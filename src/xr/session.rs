@@ -320,7 +320,8 @@ fn run_with_context(
                     gaze_time_s = t.as_nanos() as f64 * 1e-9;
                 }
                 if focused && !gaze_judged && !sample.active {
-                    let message = "the eye gaze action is not active (the runtime delivers no gaze; \
+                    let message =
+                        "the eye gaze action is not active (the runtime delivers no gaze; \
                          common with SteamVR on the Vive Pro Eye without SRanipal): fixed centre \
                          foveation until it becomes active";
                     eprintln!("fovea xr: {message}");
@@ -328,12 +329,7 @@ fn run_with_context(
                 gaze_judged |= focused;
                 sample.pose.map(|pose| {
                     let (origin, dir) = placement.gaze_ray(&pose);
-                    eye_tangents(
-                        |o, d| raycaster.closest_hit(o, d),
-                        origin,
-                        dir,
-                        &cameras,
-                    )
+                    eye_tangents(|o, d| raycaster.closest_hit(o, d), origin, dir, &cameras)
                 })
             }
             Err(_) => None,
@@ -360,9 +356,7 @@ fn run_with_context(
             eyes: &eyes,
             debug: options.debug,
         })?;
-        let output = renderer
-            .output_image()
-            .expect("a frame was just rendered");
+        let output = renderer.output_image().expect("a frame was just rendered");
         for (e, swapchain) in swapchains.iter_mut().enumerate() {
             let rect = SourceRect {
                 offset: [e as u32 * size[0], 0],

@@ -94,9 +94,7 @@ impl EyeSwapchain {
         };
         let copied = ctx.copy_to_external(frame, rect, &image);
         // Released whatever happened, so the runtime's image accounting stays right.
-        self.handle
-            .release_image()
-            .xr("xrReleaseSwapchainImage")?;
+        self.handle.release_image().xr("xrReleaseSwapchainImage")?;
         copied?;
         Ok(())
     }

@@ -46,6 +46,7 @@ pub unsafe extern "system" fn enumerate_api_layer_properties(
     props: *mut xr::ApiLayerProperties,
 ) -> xr::Result {
     // The runtime has no API layers of its own.
+    // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
     call("xrEnumerateApiLayerProperties", 0, || unsafe {
         ffi::two_call(capacity, count, props, 0, |_, _| Ok(()))
     })
@@ -67,6 +68,7 @@ pub unsafe extern "system" fn create_instance(
     out: *mut xr::Instance,
 ) -> xr::Result {
     call("xrCreateInstance", 0, || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         instance::create_instance(unsafe { input(info)? }, out)
     })
 }
@@ -82,6 +84,7 @@ pub unsafe extern "system" fn get_instance_properties(
     props: *mut xr::InstanceProperties,
 ) -> xr::Result {
     call("xrGetInstanceProperties", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         instance::get_instance_properties(&lock(), i, unsafe { output(props)? })
     })
 }
@@ -91,6 +94,7 @@ pub unsafe extern "system" fn poll_event(
     buffer: *mut xr::EventDataBuffer,
 ) -> xr::Result {
     call("xrPollEvent", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         instance::poll_event(&mut lock(), i, unsafe { output(buffer)? })
     })
 }
@@ -101,6 +105,7 @@ pub unsafe extern "system" fn result_to_string(
     buffer: *mut c_char,
 ) -> xr::Result {
     call("xrResultToString", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         let buffer = unsafe { output(buffer as *mut [c_char; xr::MAX_RESULT_STRING_SIZE])? };
         instance::result_to_string(&lock(), i, value, buffer)
     })
@@ -112,6 +117,7 @@ pub unsafe extern "system" fn structure_type_to_string(
     buffer: *mut c_char,
 ) -> xr::Result {
     call("xrStructureTypeToString", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         let buffer = unsafe { output(buffer as *mut [c_char; xr::MAX_STRUCTURE_NAME_SIZE])? };
         instance::structure_type_to_string(&lock(), i, value, buffer)
     })
@@ -145,6 +151,7 @@ pub unsafe extern "system" fn get_system(
     out: *mut xr::SystemId,
 ) -> xr::Result {
     call("xrGetSystem", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         system::get_system(&lock(), i, unsafe { input(info)? }, out)
     })
 }
@@ -155,6 +162,7 @@ pub unsafe extern "system" fn get_system_properties(
     props: *mut xr::SystemProperties,
 ) -> xr::Result {
     call("xrGetSystemProperties", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         system::get_system_properties(&lock(), i, system_id, unsafe { output(props)? })
     })
 }
@@ -178,6 +186,7 @@ pub unsafe extern "system" fn get_view_configuration_properties(
     props: *mut xr::ViewConfigurationProperties,
 ) -> xr::Result {
     call("xrGetViewConfigurationProperties", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         system::get_view_configuration_properties(&lock(), i, system_id, ty, unsafe {
             output(props)?
         })
@@ -216,6 +225,7 @@ pub unsafe extern "system" fn create_session(
     out: *mut xr::Session,
 ) -> xr::Result {
     call("xrCreateSession", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         session::create_session(&mut lock(), i, unsafe { input(info)? }, out)
     })
 }
@@ -231,6 +241,7 @@ pub unsafe extern "system" fn begin_session(
     info: *const xr::SessionBeginInfo,
 ) -> xr::Result {
     call("xrBeginSession", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         session::begin_session(&mut lock(), s, unsafe { input(info)? })
     })
 }
@@ -264,6 +275,7 @@ pub unsafe extern "system" fn create_reference_space(
     out: *mut xr::Space,
 ) -> xr::Result {
     call("xrCreateReferenceSpace", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         spaces::create_reference_space(&mut lock(), s, unsafe { input(info)? }, out)
     })
 }
@@ -274,6 +286,7 @@ pub unsafe extern "system" fn get_reference_space_bounds_rect(
     bounds: *mut xr::Extent2Df,
 ) -> xr::Result {
     call("xrGetReferenceSpaceBoundsRect", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         spaces::get_reference_space_bounds_rect(&lock(), s, ty, unsafe { output(bounds)? })
     })
 }
@@ -284,6 +297,7 @@ pub unsafe extern "system" fn create_action_space(
     out: *mut xr::Space,
 ) -> xr::Result {
     call("xrCreateActionSpace", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         spaces::create_action_space(&mut lock(), s, unsafe { input(info)? }, out)
     })
 }
@@ -295,6 +309,7 @@ pub unsafe extern "system" fn locate_space(
     location: *mut xr::SpaceLocation,
 ) -> xr::Result {
     call("xrLocateSpace", space.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         spaces::locate_space(&lock(), space, base, time, unsafe { output(location)? })
     })
 }
@@ -322,6 +337,7 @@ pub unsafe extern "system" fn create_swapchain(
     out: *mut xr::Swapchain,
 ) -> xr::Result {
     call("xrCreateSwapchain", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         swapchain::create_swapchain(&mut lock(), s, unsafe { input(info)? }, out)
     })
 }
@@ -358,6 +374,7 @@ pub unsafe extern "system" fn wait_swapchain_image(
     info: *const xr::SwapchainImageWaitInfo,
 ) -> xr::Result {
     call("xrWaitSwapchainImage", sc.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         swapchain::wait_image(&mut lock(), sc, unsafe { input(info)? })
     })
 }
@@ -377,6 +394,7 @@ pub unsafe extern "system" fn wait_frame(
     state: *mut xr::FrameState,
 ) -> xr::Result {
     call("xrWaitFrame", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         frame::wait_frame(&mut lock(), s, info, unsafe { output(state)? })
     })
 }
@@ -395,6 +413,7 @@ pub unsafe extern "system" fn end_frame(
     info: *const xr::FrameEndInfo,
 ) -> xr::Result {
     call("xrEndFrame", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         frame::end_frame(&mut lock(), s, unsafe { input(info)? })
     })
 }
@@ -411,7 +430,9 @@ pub unsafe extern "system" fn locate_views(
         views::locate_views(
             &lock(),
             s,
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { input(info)? },
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { output(state)? },
             capacity,
             count,
@@ -426,6 +447,7 @@ pub unsafe extern "system" fn create_action_set(
     out: *mut xr::ActionSet,
 ) -> xr::Result {
     call("xrCreateActionSet", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::create_action_set(&mut lock(), i, unsafe { input(info)? }, out)
     })
 }
@@ -442,6 +464,7 @@ pub unsafe extern "system" fn create_action(
     out: *mut xr::Action,
 ) -> xr::Result {
     call("xrCreateAction", set.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::create_action(&mut lock(), set, unsafe { input(info)? }, out)
     })
 }
@@ -457,6 +480,7 @@ pub unsafe extern "system" fn suggest_interaction_profile_bindings(
     info: *const xr::InteractionProfileSuggestedBinding,
 ) -> xr::Result {
     call("xrSuggestInteractionProfileBindings", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::suggest_bindings(&mut lock(), i, unsafe { input(info)? })
     })
 }
@@ -466,6 +490,7 @@ pub unsafe extern "system" fn attach_session_action_sets(
     info: *const xr::SessionActionSetsAttachInfo,
 ) -> xr::Result {
     call("xrAttachSessionActionSets", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::attach_action_sets(&mut lock(), s, unsafe { input(info)? })
     })
 }
@@ -476,6 +501,7 @@ pub unsafe extern "system" fn get_current_interaction_profile(
     out: *mut xr::InteractionProfileState,
 ) -> xr::Result {
     call("xrGetCurrentInteractionProfile", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::get_current_interaction_profile(&lock(), s, top_level, unsafe { output(out)? })
     })
 }
@@ -485,6 +511,7 @@ pub unsafe extern "system" fn sync_actions(
     info: *const xr::ActionsSyncInfo,
 ) -> xr::Result {
     call("xrSyncActions", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::sync_actions(&mut lock(), s, unsafe { input(info)? })
     })
 }
@@ -495,6 +522,7 @@ pub unsafe extern "system" fn get_action_state_boolean(
     state: *mut xr::ActionStateBoolean,
 ) -> xr::Result {
     call("xrGetActionStateBoolean", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::get_state_boolean(&lock(), s, unsafe { input(info)? }, unsafe {
             output(state)?
         })
@@ -507,6 +535,7 @@ pub unsafe extern "system" fn get_action_state_float(
     state: *mut xr::ActionStateFloat,
 ) -> xr::Result {
     call("xrGetActionStateFloat", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::get_state_float(&lock(), s, unsafe { input(info)? }, unsafe {
             output(state)?
         })
@@ -519,6 +548,7 @@ pub unsafe extern "system" fn get_action_state_vector2f(
     state: *mut xr::ActionStateVector2f,
 ) -> xr::Result {
     call("xrGetActionStateVector2f", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::get_state_vector2f(&lock(), s, unsafe { input(info)? }, unsafe {
             output(state)?
         })
@@ -531,6 +561,7 @@ pub unsafe extern "system" fn get_action_state_pose(
     state: *mut xr::ActionStatePose,
 ) -> xr::Result {
     call("xrGetActionStatePose", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::get_state_pose(&lock(), s, unsafe { input(info)? }, unsafe {
             output(state)?
         })
@@ -548,6 +579,7 @@ pub unsafe extern "system" fn enumerate_bound_sources_for_action(
         actions::enumerate_bound_sources(
             &mut lock(),
             s,
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { input(info)? },
             capacity,
             count,
@@ -567,6 +599,7 @@ pub unsafe extern "system" fn get_input_source_localized_name(
         actions::get_input_source_localized_name(
             &lock(),
             s,
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { input(info)? },
             capacity,
             count,
@@ -582,6 +615,7 @@ pub unsafe extern "system" fn apply_haptic_feedback(
 ) -> xr::Result {
     call("xrApplyHapticFeedback", s.into_raw(), || {
         ffi::non_null(feedback)?;
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::haptic(&lock(), s, unsafe { input(info)? })
     })
 }
@@ -591,6 +625,7 @@ pub unsafe extern "system" fn stop_haptic_feedback(
     info: *const xr::HapticActionInfo,
 ) -> xr::Result {
     call("xrStopHapticFeedback", s.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         actions::haptic(&lock(), s, unsafe { input(info)? })
     })
 }
@@ -603,6 +638,7 @@ pub unsafe extern "system" fn get_vulkan_graphics_requirements(
     out: *mut xr::GraphicsRequirementsVulkanKHR,
 ) -> xr::Result {
     call("xrGetVulkanGraphicsRequirements2KHR", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         vulkan_enable::get_requirements(&mut lock(), i, system_id, unsafe { output(out)? })
     })
 }
@@ -617,6 +653,7 @@ pub unsafe extern "system" fn create_vulkan_instance(
         vulkan_enable::create_vulkan_instance(
             &mut lock(),
             i,
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { input(info)? },
             vk_instance,
             vk_result,
@@ -634,6 +671,7 @@ pub unsafe extern "system" fn create_vulkan_device(
         vulkan_enable::create_vulkan_device(
             &mut lock(),
             i,
+            // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
             unsafe { input(info)? },
             vk_device,
             vk_result,
@@ -647,6 +685,7 @@ pub unsafe extern "system" fn get_vulkan_graphics_device2(
     out: *mut VkPhysicalDevice,
 ) -> xr::Result {
     call("xrGetVulkanGraphicsDevice2KHR", i.into_raw(), || {
+        // SAFETY: the app's pointer arguments are valid as the spec requires; null is rejected.
         vulkan_enable::get_graphics_device2(&mut lock(), i, unsafe { input(info)? }, out)
     })
 }

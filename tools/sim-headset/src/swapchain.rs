@@ -167,8 +167,8 @@ pub fn acquire_image(
 ) -> XrResult {
     ffi::non_null(index)?;
     if !info.is_null() {
-        // SAFETY: non-null, the app's input structure.
         ffi::check_type(
+            // SAFETY: non-null (checked above), the app's input structure.
             unsafe { (*info).ty },
             xr::StructureType::SWAPCHAIN_IMAGE_ACQUIRE_INFO,
         )?;
@@ -214,8 +214,8 @@ pub fn release_image(
     info: *const xr::SwapchainImageReleaseInfo,
 ) -> XrResult {
     if !info.is_null() {
-        // SAFETY: non-null, the app's input structure.
         ffi::check_type(
+            // SAFETY: non-null (checked above), the app's input structure.
             unsafe { (*info).ty },
             xr::StructureType::SWAPCHAIN_IMAGE_RELEASE_INFO,
         )?;

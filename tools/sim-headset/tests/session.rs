@@ -88,6 +88,17 @@ fn render_frame(
             space,
         )
         .expect("xrLocateViews");
+    // Eyes at ∓IPD/2 around the head at the origin, with the Vive Pro Eye's fields of view.
+    for (eye, view) in views.iter().enumerate() {
+        let x = if eye == 0 { -0.0315 } else { 0.0315 };
+        assert!(
+            (view.pose.position.x - x).abs() < 1e-6,
+            "eye {eye}: {:?}",
+            view.pose
+        );
+        assert_eq!(view.fov.angle_left, sim_headset::eye_fov(eye).angle_left);
+    }
+    assert_eq!(views[0].fov.angle_left, -views[1].fov.angle_right);
     before_end(app, state.predicted_display_time);
     let proj_views = projection_views(&views, swapchains);
     app.stream
