@@ -61,7 +61,7 @@ impl EyeSwapchain {
             .enumerate_images()
             .xr("xrEnumerateSwapchainImages")?
             .into_iter()
-            .map(|raw| vk::Handle::from_raw(raw))
+            .map(vk::Handle::from_raw)
             .collect();
         Ok(Self {
             handle,
