@@ -494,3 +494,81 @@ fn pixels_the_lens_hides_are_never_traced() {
     }
     assert_eq!(pixel(&masked_image, 32, 40), pixel(&open_image, 32, 40));
 }
+
+#[test]
+fn a_recorded_gaze_trace_replays_in_render() {
+    let dir = scratch("record");
+    let trace = dir.join("gaze.csv");
+    let (ok, out) = xr(
+        &dir,
+        &[
+            "--simulated",
+            "--frames",
+            "4",
+            "--debug",
+            "layers",
+            "--record-gaze",
+            trace.to_str().unwrap(),
+        ],
+        &[
+            ("SIM_HEADSET_SIZE", "128x128"),
+            ("SIM_HEADSET_GAZE", "0 -15 8 valid"),
+        ],
+    );
+    assert!(ok, "{out}");
+    let rows = std::fs::read_to_string(&trace).unwrap();
+    assert_eq!(rows.lines().count(), 1 + 4, "{rows}");
+    assert!(rows.lines().last().unwrap().ends_with(",tracked"), "{rows}");
+    // The same eyes (the scene camera, IPD apart, Vive Pro Eye fields of view), foveated
+    // around the trace's last row: each eye's fovea lands where it did in the headset.
+    let replay = dir.join("replay.png");
+    let (ok, out) = common::fovea(&[
+        "render",
+        "--scene",
+        "cornell",
+        "--width",
+        "128",
+        "--height",
+        "128",
+        "--stereo",
+        "--fov",
+        "vive-pro-eye",
+        "--foveation",
+        "thesis",
+        "--debug",
+        "layers",
+        "--gaze-trace",
+        trace.to_str().unwrap(),
+        "--trace-frame",
+        "3",
+        "--out",
+        replay.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}");
+    let (w, h, rgba) = read_png(&replay);
+    for eye in 0..2u32 {
+        let half: Vec<u8> = (0..h)
+            .flat_map(|y| {
+                let start = ((y * w + eye * 128) * 4) as usize;
+                rgba[start..start + 128 * 4].to_vec()
+            })
+            .collect();
+        let path = dir.join(format!("replay-eye-{eye}.png"));
+        let file = std::fs::File::create(&path).unwrap();
+        let mut encoder = png::Encoder::new(file, 128, h);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder
+            .write_header()
+            .unwrap()
+            .write_image_data(&half)
+            .unwrap();
+        let replayed = foveal_centroid(&path);
+        let live = foveal_centroid(&last_image(&dir, eye));
+        for a in 0..2 {
+            assert!(
+                (replayed[a] - live[a]).abs() < 0.5,
+                "eye {eye}: replayed fovea at {replayed:?}, in the headset at {live:?}"
+            );
+        }
+    }
+}
