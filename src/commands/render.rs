@@ -60,15 +60,8 @@ pub struct RenderArgs {
     /// Gaze: forward (the view axis), corner (top left) or X,Y in pixels; LEFT:RIGHT per eye.
     #[arg(long, default_value = "forward", allow_hyphen_values = true)]
     pub gaze: GazeChoice,
-    /// Gaze from a recorded trace (CSV: frame,time_s,left_tan_x,left_tan_y,right_tan_x,
-    /// right_tan_y,status). One frame uses row --trace-frame; --bench gives each measured
-    /// frame the next row.
-    #[arg(long, value_name = "FILE", conflicts_with = "gaze")]
-    pub gaze_trace: Option<PathBuf>,
-    /// The row of --gaze-trace a single frame uses (0 = the first; past the end, the last).
-    #[arg(long, value_name = "N", requires = "gaze_trace", allow_negative_numbers = true,
-          value_parser = whole_number("a row of the gaze trace, 0 or more".into()))]
-    pub trace_frame: Option<u32>,
+    #[command(flatten)]
+    pub trace: Box<TraceArgs>,
     /// Render both eyes (IPD 63 mm), side by side in one image.
     #[arg(long)]
     pub stereo: bool,
@@ -91,6 +84,20 @@ pub struct RenderArgs {
     pub bench_frames: u32,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// The gaze-trace options, boxed: they would make every `Command` as large as `render`'s.
+#[derive(Args)]
+pub struct TraceArgs {
+    /// Gaze from a recorded trace (CSV: frame,time_s,left_tan_x,left_tan_y,right_tan_x,
+    /// right_tan_y,status). One frame uses row --trace-frame; --bench gives each measured
+    /// frame the next row.
+    #[arg(long, value_name = "FILE", conflicts_with = "gaze")]
+    pub gaze_trace: Option<PathBuf>,
+    /// The row of --gaze-trace a single frame uses (0 = the first; past the end, the last).
+    #[arg(long, value_name = "N", requires = "gaze_trace", allow_negative_numbers = true,
+          value_parser = whole_number("a row of the gaze trace, 0 or more".into()))]
+    pub trace_frame: Option<u32>,
 }
 
 impl RenderArgs {
@@ -160,6 +167,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     // Read before any GPU work: a bad trace should fail at once.
     let trace = args
+        .trace
         .gaze_trace
         .as_deref()
         .map(GazeTrace::read)
@@ -194,7 +202,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
     let mut eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, args.gaze);
     if let Some(trace) = trace {
-        let row = args.trace_frame.unwrap_or(0) as u64;
+        let row = args.trace.trace_frame.unwrap_or(0) as u64;
         let mut replay = TraceReplay::new(trace);
         eyes = with_source_gaze(&eyes, &mut replay, row, &settings);
         println!(
