@@ -4,6 +4,7 @@
 
 mod error;
 mod eye_gaze;
+mod headset_gaze;
 mod instance;
 pub mod poses;
 mod recording;

@@ -5,17 +5,16 @@
 //! to stop, as a user quitting would.
 
 use super::error::{XrContext, XrError};
-use super::eye_gaze::{EyeGaze, NoGaze};
+use super::eye_gaze::EyeGaze;
+use super::headset_gaze::HeadsetGaze;
 use super::instance::{RuntimeSource, XrInstance};
 use super::poses::SpacePlacement;
 use super::swapchains::{choose_format, EyeSwapchain};
 use super::vulkan::RuntimeVulkan;
-use crate::foveation::fixation::eye_tangents;
-use crate::foveation::gaze_filter::{FilteredGaze, GazeFilter};
+use crate::foveation::gaze_filter::FilteredGaze;
 use crate::foveation::{FoveationConfig, ImageGeometry, VisibilityMask};
 use crate::gpu::{ContextNeeds, GpuContext, GpuOptions, SourceRect};
 use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
-use crate::scene::cpu_raycast::CpuRaycaster;
 use crate::scene::Scene;
 use openxr as xr;
 use std::sync::Arc;
@@ -172,8 +171,12 @@ fn run_with_context(
         )
     }
     .xr("xrCreateSession")?;
-    let gaze = EyeGaze::new(xr_instance, &session)?;
-    let no_gaze = gaze.as_ref().err().map(|why: &NoGaze| why.message());
+    let mut headset_gaze = HeadsetGaze::new(
+        EyeGaze::new(xr_instance, &session)?,
+        &options.scene,
+        options.gaze_hold_s,
+    );
+    let no_gaze = headset_gaze.unavailable();
     if let Some(message) = no_gaze {
         eprintln!("fovea xr: {message}");
     }
@@ -189,7 +192,6 @@ fn run_with_context(
         EyeSwapchain::new(&session, format, size)?,
     ];
     let mut renderer = Renderer::new(ctx, &options.scene)?;
-    let raycaster = CpuRaycaster::new(&options.scene);
     let placement = SpacePlacement::at_camera(&options.scene.camera);
     let use_mask = options.visibility_mask && xr_instance.visibility_mask;
     let mut masks_stale = use_mask;
@@ -206,12 +208,8 @@ fn run_with_context(
         end: SessionEnd::RuntimeExit,
         validation: Vec::new(),
     };
-    let mut filter = GazeFilter::new(options.gaze_hold_s);
     let mut running = false;
     let mut exit_asked: Option<Instant> = None;
-    let mut gaze_judged = false;
-    // Actions are only active while the session has input focus (OpenXR 1.0 §11): whether
-    // the eye gaze action works is judged in the first focused frame.
     let mut focused = false;
     let mut events = xr::EventDataBuffer::new();
     'session: loop {
@@ -312,31 +310,11 @@ fn run_with_context(
             masks_stale = false;
         }
         let time_s = time.as_nanos() as f64 * 1e-9;
-        let mut gaze_time_s = time_s;
-        let sample = match &gaze {
-            Ok(gaze) => {
-                let sample = gaze.locate(&session, &space, time)?;
-                if let Some(t) = sample.sample_time {
-                    gaze_time_s = t.as_nanos() as f64 * 1e-9;
-                }
-                if focused && !gaze_judged && !sample.active {
-                    let message =
-                        "the eye gaze action is not active (the runtime delivers no gaze; \
-                         common with SteamVR on the Vive Pro Eye without SRanipal): fixed centre \
-                         foveation until it becomes active";
-                    eprintln!("fovea xr: {message}");
-                }
-                gaze_judged |= focused;
-                sample.pose.map(|pose| {
-                    let (origin, dir) = placement.gaze_ray(&pose);
-                    eye_tangents(|o, d| raycaster.closest_hit(o, d), origin, dir, &cameras)
-                })
-            }
-            Err(_) => None,
-        };
-        // An eye the fixation does not project into (behind it) makes the sample unusable.
-        let tangents: Option<Vec<[f64; 2]>> = sample.and_then(|t| t.into_iter().collect());
-        let filtered = filter.update(time_s, tangents.as_deref(), &images);
+        let gaze = headset_gaze.frame(
+            &session, &space, &placement, time, focused, &cameras, &images,
+        )?;
+        let filtered = gaze.filtered;
+        let gaze_time_s = gaze.time_s;
         let gazes = filtered.gazes(&images);
         let eyes: Vec<EyeView> = eyes_in_request
             .iter()
@@ -402,7 +380,7 @@ fn run_with_context(
     // Teardown in reverse order of creation: the swapchains' images and the spaces belong
     // to the session, which must go before the Vulkan device it uses.
     drop(swapchains);
-    drop(gaze);
+    drop(headset_gaze);
     drop(space);
     drop(stream);
     drop(waiter);
