@@ -276,7 +276,7 @@ fn scripted_run_accumulates_the_mean_of_renders_at_successive_seeds() {
 }
 
 /// While nothing moves, the error against a 256-spp reference falls as frames of 1 spp
-/// accumulate: roughly as 1/sqrt(frames) (Monte Carlo), checked as strictly falling at 1, 2,
+/// (without foveation) accumulate: roughly as 1/sqrt(frames) (Monte Carlo), checked as strictly falling at 1, 2,
 /// 4 and 8 frames and at most 0.6x the first frame's error after 8 frames (1/sqrt(8) = 0.35
 /// expected; the reference's own noise adds a little).
 #[test]
@@ -328,6 +328,38 @@ fn error_against_a_converged_render_falls_as_still_frames_accumulate() {
     eprintln!("RMSE after 1, 2, 4, 8 frames: {errors:?}");
     assert!(errors.windows(2).all(|e| e[1] < e[0]), "{errors:?}");
     assert!(errors[3] < 0.6 * errors[0], "{errors:?}");
+    // Foveated (thesis layers at 1 spp), 8 still frames: refining with more foveated frames
+    // keeps the periphery's interpolation error; refining with regular frames after the
+    // first removes it, so that mean is closer to the reference.
+    let mut foveated = Vec::new();
+    for refine in ["foveated", "regular"] {
+        let shot = format!("{refine}.exr");
+        view(
+            &x,
+            &dir,
+            &[
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--foveation",
+                "thesis",
+                "--spp",
+                "1",
+                "--gaze",
+                "32,24",
+                "--refine",
+                refine,
+                "--frames",
+                "8",
+                "--screenshot",
+                &shot,
+            ],
+        );
+        foveated.push(rmse(&read_exr(&dir.join(&shot)).2, &reference));
+    }
+    eprintln!("RMSE after 8 foveated frames, refined foveated and regular: {foveated:?}");
+    assert!(foveated[1] < foveated[0], "{foveated:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -416,5 +448,143 @@ fn gaze_trace_replays_and_then_holds() {
     );
     // Rows 0, 1, 2 move the gaze every frame; frames 3 and 4 hold row 2.
     assert_eq!(accumulated(&text), 3, "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Turbo as accumulate.comp computes it (display values).
+fn turbo(x: f64) -> [f64; 3] {
+    let r4 = [0.13572138, 4.61539260, -42.66032258, 132.13108234];
+    let g4 = [0.09140261, 2.19418839, 4.84296658, -14.18503333];
+    let b4 = [0.10667330, 12.64194608, -60.58204836, 110.36276771];
+    let (r2, g2, b2) = (
+        [-152.94239396, 59.28637943],
+        [4.27729857, 2.82956604],
+        [-89.90310912, 27.34824973],
+    );
+    let x = x.clamp(0.0, 1.0);
+    let v = [1.0, x, x * x, x * x * x];
+    let w = [v[2] * v[2], v[3] * v[2]];
+    let c = |a: [f64; 4], b: [f64; 2]| {
+        (a.iter().zip(v).map(|(a, v)| a * v).sum::<f64>() + b[0] * w[0] + b[1] * w[1])
+            .clamp(0.0, 1.0)
+    };
+    [c(r4, r2), c(g4, g2), c(b4, b2)]
+}
+
+/// The GPU debug views without a window: after 2 frames of the thesis config (4 spp per
+/// target pixel), the heat map colours the pixel at the gaze for 2 × 4 = 8 samples per pixel
+/// and a corner (background layer, spacing 4) for 2 × 4 / 16 = 0.5, on the log2 ramp; the
+/// difference from regular frames at the same seeds is exactly 0 in the fovea, where the two
+/// are bit-identical, and not elsewhere.
+#[test]
+fn heat_map_and_difference_view_show_what_they_say() {
+    use fovea::foveation::{FoveationConfig, GazeChoice};
+    use fovea::gpu::shared::{ACCUM_HEAT_LOG2_MAX, ACCUM_HEAT_LOG2_MIN};
+    use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+    use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
+
+    let ctx = common::context();
+    let scene = fovea::scene::builtin::builtin("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let mut means = Accumulator::new(&ctx).unwrap();
+    let thesis = FoveationConfig::thesis();
+    let regular = FoveationConfig::regular(4);
+    let gaze: GazeChoice = "32,32".parse().unwrap();
+    let eyes = eye_views(&scene.camera, 1.0, FovChoice::Scene, false, gaze);
+    let settings = common::settings(64, 64, 4, 1, fovea::render::Integrator::Pt);
+    let mut frame = |means: &mut Accumulator, config: &FoveationConfig, into, show| {
+        renderer
+            .measure_frame(&FrameRequest {
+                settings: fovea::render::RenderSettings {
+                    seed: means.next_seed(1, into),
+                    ..settings
+                },
+                foveation: config,
+                eyes: &eyes,
+                debug: DebugView::None,
+            })
+            .unwrap();
+        let image = renderer.output_image().unwrap();
+        means
+            .add(&AccumulateRequest {
+                frame: image,
+                eyes: &eyes,
+                eye_size: [64, 64],
+                foveation: config,
+                into,
+                show,
+            })
+            .unwrap();
+        image.read_back().unwrap()
+    };
+    frame(&mut means, &thesis, Mean::Main, Show::Mean);
+    let heat = frame(&mut means, &thesis, Mean::Main, Show::Heat);
+    assert_eq!(means.frames(), 2);
+    for ((x, y), spp) in [((32, 32), 8.0f64), ((0, 0), 0.5)] {
+        let p = &heat[4 * (y * 64 + x)..][..3];
+        let t = (spp.log2() - ACCUM_HEAT_LOG2_MIN as f64)
+            / (ACCUM_HEAT_LOG2_MAX as f64 - ACCUM_HEAT_LOG2_MIN as f64);
+        let colour = turbo(t).map(|c| c.powf(2.2));
+        // The pixel is the colour times the image's faint luminance, 0.6 to 1.
+        let scale: Vec<f64> = (0..3).map(|c| p[c] as f64 / colour[c]).collect();
+        assert!(
+            scale
+                .iter()
+                .all(|s| (s - scale[0]).abs() < 1e-3 && (0.599..=1.001).contains(s)),
+            "pixel ({x}, {y}): {p:?} is not the colour of {spp} spp {colour:?}"
+        );
+    }
+    means.reset();
+    frame(&mut means, &thesis, Mean::Main, Show::Nothing);
+    frame(&mut means, &regular, Mean::Regular, Show::Difference);
+    frame(&mut means, &thesis, Mean::Main, Show::Nothing);
+    let diff = frame(&mut means, &regular, Mean::Regular, Show::Difference);
+    let at = |x: usize, y: usize| &diff[4 * (y * 64 + x)..][..3];
+    assert_eq!(at(32, 32), [0.0; 3]);
+    assert_eq!(at(30, 33), [0.0; 3]);
+    let outside: f32 = (0..64).flat_map(|y| at(0, y).to_vec()).sum();
+    assert!(
+        outside > 0.0,
+        "the periphery differs from regular rendering"
+    );
+    drop(renderer);
+    drop(means);
+    common::assert_no_validation_messages(&ctx);
+}
+
+/// Esc ends a run cleanly before --frames is reached; a render scale of 0.5 renders (and
+/// saves) half the window's resolution and presents it scaled up.
+#[test]
+fn escape_ends_the_run_and_the_render_scale_applies() {
+    let x = Xvfb::start();
+    let dir = scratch("escape");
+    std::fs::write(dir.join("script.txt"), "2 key Escape\n").unwrap();
+    let text = view(
+        &x,
+        &dir,
+        &[
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--scale",
+            "0.5",
+            "--script",
+            "script.txt",
+            "--frames",
+            "100",
+            "--screenshot",
+            "end.png",
+        ],
+    );
+    assert!(
+        text.contains("frames: 2 (2 rendered, 2 presented"),
+        "{text}"
+    );
+    let decoder = png::Decoder::new(BufReader::new(
+        std::fs::File::open(dir.join("end.png")).unwrap(),
+    ));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (48, 32));
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -26,6 +26,13 @@ $SUDO apt-get install -y -q -t bookworm-backports \
   glslang-dev glslang-tools spirv-tools libshaderc-dev
 # Build tools and the OpenXR loader (the loader is only dlopen'ed at run time).
 $SUDO apt-get install -y -q build-essential pkg-config cmake libopenxr-loader1 libopenxr-dev
+# `fovea view`: the X11 and Wayland client libraries winit loads at run time, and Xvfb (a
+# virtual X server) with xauth, which the viewer tests open their windows on.
+$SUDO apt-get install -y -q xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 \
+  libxkbcommon0 libxkbcommon-x11-0 libwayland-client0 libwayland-cursor0
+# The XR tests: Khronos' hello_xr (libopenxr-utils), run against the simulated headset, and
+# the OpenXR core validation layer fovea's session is checked under.
+$SUDO apt-get install -y -q libopenxr-utils openxr-layer-corevalidation
 
 echo "setup: Vulkan devices:"
 vulkaninfo --summary 2>/dev/null | grep -E "deviceName|apiVersion|driverInfo" || true

@@ -8,7 +8,7 @@ use fovea::foveation::gaze_trace::GazeTrace;
 use fovea::foveation::{FoveationConfig, GazeChoice};
 use fovea::gpu::{GpuOptions, PresentPreference};
 use fovea::render::{FovChoice, Integrator, RenderSettings, MAX_SIDE};
-use fovea::viewer::{self, DebugMode, GazeInput, Script, ViewerOptions, KEY_HELP};
+use fovea::viewer::{self, DebugMode, GazeInput, Refine, Script, ViewerOptions, KEY_HELP};
 use std::path::PathBuf;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -19,6 +19,14 @@ pub enum ViewDebugArg {
     Diff,
     /// Camera samples per pixel so far, log2 on a colour ramp.
     Heat,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RefineArg {
+    /// More foveated frames: converges to the foveated image at infinite samples.
+    Foveated,
+    /// Regular frames after the first: converges to the reference everywhere.
+    Regular,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -75,6 +83,10 @@ pub struct ViewArgs {
     /// The debug view at start (V cycles).
     #[arg(long, value_enum)]
     pub debug: Option<ViewDebugArg>,
+    /// What still frames add to the running mean: foveated frames (the mean converges to
+    /// the foveated image) or, after the first, regular ones (it converges to the reference).
+    #[arg(long, value_enum, default_value_t = RefineArg::Foveated)]
+    pub refine: RefineArg,
     /// End after this many frames.
     #[arg(long)]
     pub frames: Option<u64>,
@@ -148,6 +160,10 @@ impl ViewArgs {
                 Some(ViewDebugArg::Layers) => DebugMode::Layers,
                 Some(ViewDebugArg::Diff) => DebugMode::Difference,
                 Some(ViewDebugArg::Heat) => DebugMode::Heat,
+            },
+            refine: match self.refine {
+                RefineArg::Foveated => Refine::Foveated,
+                RefineArg::Regular => Refine::Regular,
             },
             frames: self.frames,
             script,

@@ -2,11 +2,12 @@
 //! (`ControlFlow::Poll`), rendered synchronously and presented.
 
 use super::controls::{self, Action, FlyCamera, DEGREES_PER_PIXEL};
-use super::gaze::mouse_gazes;
+use super::gaze::MouseGaze;
 use super::script::{Script, ScriptEvent};
 use super::session::{FrameParams, Session};
 use super::title::{passes_by_kind, title, FrameRate, TitleInfo};
 use super::{DebugMode, GazeInput, ViewError, ViewSummary, ViewerOptions};
+use crate::foveation::gaze_source::{FixedGaze, GazeSource, TraceReplay};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
 use crate::gpu::{
     surface_instance_extensions, swapchain_device_extensions, ContextNeeds, GpuContext, Presented,
@@ -126,6 +127,8 @@ struct App {
     spp: Option<u32>,
     debug: DebugMode,
     fly: FlyCamera,
+    /// The gaze when it is not the mouse (`--gaze`, `--gaze-trace`).
+    gaze: Option<Box<dyn GazeSource>>,
     cursor: Option<[f64; 2]>,
     drag_from: Option<[f64; 2]>,
     held: HashSet<KeyCode>,
@@ -134,6 +137,7 @@ struct App {
     resized: bool,
     occluded: bool,
     frame: u64,
+    started: Instant,
     last_turn: Instant,
     last_view: Option<ViewKey>,
     rate: FrameRate,
@@ -167,6 +171,11 @@ impl App {
             spp: options.spp,
             debug: options.debug,
             fly,
+            gaze: match &options.gaze {
+                GazeInput::Mouse => None,
+                GazeInput::Fixed(choice) => Some(Box::new(FixedGaze(*choice))),
+                GazeInput::Trace(trace) => Some(Box::new(TraceReplay::new(trace.clone()))),
+            },
             cursor: None,
             drag_from: None,
             held: HashSet::new(),
@@ -174,6 +183,7 @@ impl App {
             resized: false,
             occluded: false,
             frame: 0,
+            started: Instant::now(),
             last_turn: Instant::now(),
             last_view: None,
             rate: FrameRate::default(),
@@ -350,47 +360,37 @@ impl App {
     }
 
     /// The eyes of the next frame, with their gazes.
-    fn eyes(&self, window: [u32; 2], eye_size: [u32; 2]) -> Vec<EyeView> {
+    fn eyes(&mut self, window: [u32; 2], eye_size: [u32; 2]) -> Vec<EyeView> {
         let aspect = eye_size[0] as f32 / eye_size[1] as f32;
-        let stereo = self.options.stereo;
         let forward = GazeChoice {
             left: Gaze::Forward,
             right: Gaze::Forward,
         };
-        let view = |gaze| eye_views(&self.fly.camera, aspect, self.options.fov, stereo, gaze);
-        match &self.options.gaze {
-            GazeInput::Fixed(choice) => view(*choice),
-            GazeInput::Mouse => {
-                let mut eyes = view(forward);
-                if let Some(cursor) = self.cursor {
-                    let gazes =
-                        mouse_gazes(cursor, window, &eyes, eye_size, &self.session.raycaster);
-                    for (eye, gaze) in eyes.iter_mut().zip(gazes) {
-                        eye.gaze = gaze;
-                    }
-                }
-                eyes
-            }
-            GazeInput::Trace(trace) => {
-                let mut eyes = view(forward);
-                let images: Vec<_> = eyes
-                    .iter()
-                    .map(|e| e.image(eye_size[0], eye_size[1]))
-                    .collect();
-                let (row, ended) = trace.row(self.frame);
-                if ended && trace.rows.len() as u64 == self.frame {
-                    tracing::info!(
-                        "gaze trace '{}' ended after {} frames; its last gaze holds",
-                        trace.path.display(),
-                        trace.rows.len()
-                    );
-                }
-                for (eye, gaze) in eyes.iter_mut().zip(row.gazes(&images)) {
-                    eye.gaze = gaze;
-                }
-                eyes
-            }
+        let mut eyes = eye_views(
+            &self.fly.camera,
+            aspect,
+            self.options.fov,
+            self.options.stereo,
+            forward,
+        );
+        let poses: Vec<_> = eyes
+            .iter()
+            .map(|e| (e.camera, e.image(eye_size[0], eye_size[1])))
+            .collect();
+        let time_s = self.started.elapsed().as_secs_f64();
+        let mut mouse = MouseGaze {
+            cursor: self.cursor,
+            window,
+            raycaster: &self.session.raycaster,
+        };
+        let source: &mut dyn GazeSource = match &mut self.gaze {
+            Some(source) => source.as_mut(),
+            None => &mut mouse,
+        };
+        for (eye, gaze) in eyes.iter_mut().zip(source.gaze(self.frame, time_s, &poses)) {
+            eye.gaze = gaze;
         }
+        eyes
     }
 
     /// One turn of the frame loop: scripted events, camera movement, then a frame rendered,
@@ -476,6 +476,7 @@ impl App {
             settings,
             debug: self.debug,
             restart,
+            refine: self.options.refine,
         })?;
         self.summary.rendered += 1;
         if cost.stack_overflows > 0 || cost.nonfinite_samples > 0 {

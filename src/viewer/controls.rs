@@ -21,8 +21,7 @@ pub enum Action {
 }
 
 /// The bindings, for `--help` and the README.
-pub const KEY_HELP: &str = "\
-  F           foveation on/off
+pub const KEY_HELP: &str = "  F           foveation on/off
   V           next view: image, layer overlay, difference from regular (x4), samples-per-pixel heat map
   L           next layer config (--foveation, thesis, assets/foveation/*.toml)
   + / -       double / halve the samples per pixel of every layer

@@ -5,9 +5,11 @@
 //! what the cursor points at.
 
 use crate::foveation::fixation;
-use crate::foveation::Gaze;
-use crate::render::EyeView;
+use crate::foveation::gaze_source::GazeSource;
+use crate::foveation::gaze_trace::TraceStatus;
+use crate::foveation::{Gaze, ImageGeometry};
 use crate::scene::cpu_raycast::CpuRaycaster;
+use crate::scene::Camera;
 
 /// The eye under a window pixel and the pixel in that eye's image (continuous coordinates),
 /// for `eyes` eyes of `eye_size` pixels shown side by side, scaled to fill `window` pixels.
@@ -24,33 +26,54 @@ pub fn window_to_eye(
     (eye, [x, y])
 }
 
-/// Each eye's gaze for the cursor at window pixel `cursor`.
+/// The mouse as a [`GazeSource`], for one frame: the cursor where it was last seen in the
+/// window (a cursor that left the window holds its last position; none seen yet is the view
+/// axis), the window's size now, and the scene to find what the cursor points at.
+pub struct MouseGaze<'a> {
+    pub cursor: Option<[f64; 2]>,
+    pub window: [u32; 2],
+    pub raycaster: &'a CpuRaycaster,
+}
+
+impl GazeSource for MouseGaze<'_> {
+    fn gaze(&mut self, _frame: u64, _time_s: f64, eyes: &[(Camera, ImageGeometry)]) -> Vec<Gaze> {
+        match self.cursor {
+            Some(cursor) => mouse_gazes(cursor, self.window, eyes, self.raycaster),
+            None => vec![Gaze::Forward; eyes.len()],
+        }
+    }
+
+    fn status(&self) -> TraceStatus {
+        match self.cursor {
+            Some(_) => TraceStatus::Tracked,
+            None => TraceStatus::Centre,
+        }
+    }
+}
+
+/// Each eye's gaze for the cursor at window pixel `cursor`, the eyes (pose and image, left
+/// first) shown side by side in a window of `window` pixels.
 pub fn mouse_gazes(
     cursor: [f64; 2],
     window: [u32; 2],
-    eyes: &[EyeView],
-    eye_size: [u32; 2],
+    eyes: &[(Camera, ImageGeometry)],
     raycaster: &CpuRaycaster,
 ) -> Vec<Gaze> {
-    let (looking, pixel) = window_to_eye(cursor, window, eyes.len(), eye_size);
+    let size = [eyes[0].1.width, eyes[0].1.height];
+    let (looking, pixel) = window_to_eye(cursor, window, eyes.len(), size);
     let on_cursor = Gaze::Pixel(pixel[0], pixel[1]);
     if eyes.len() == 1 {
         return vec![on_cursor];
     }
-    let eye = &eyes[looking];
-    let image = eye.image(eye_size[0], eye_size[1]);
+    let (camera, image) = &eyes[looking];
     let t = image.tan_of(pixel[0], pixel[1]);
-    let (r, u, f) = eye.camera.basis();
+    let (r, u, f) = camera.basis();
     let dir = f + r * t[0] as f32 + u * t[1] as f32;
-    let cameras: Vec<_> = eyes
-        .iter()
-        .map(|e| (e.camera, e.image(eye_size[0], eye_size[1])))
-        .collect();
     let projected = fixation::eye_gazes(
         |o, d| raycaster.closest_hit(o, d),
-        eye.camera.position,
+        camera.position,
         dir,
-        &cameras,
+        eyes,
     );
     projected
         .iter()
@@ -98,10 +121,19 @@ mod tests {
         let scene = builtin("cornell", w as f32 / h as f32).unwrap();
         let raycaster = CpuRaycaster::new(&scene);
         let forward: GazeChoice = "forward".parse().unwrap();
-        let eyes = eye_views(&scene.camera, 1.0, FovChoice::Scene, true, forward);
+        let eyes: Vec<_> = eye_views(&scene.camera, 1.0, FovChoice::Scene, true, forward)
+            .iter()
+            .map(|e| (e.camera, e.image(w, h)))
+            .collect();
         // The cursor on the left eye's centre: the left eye looks there; the right eye, IPD to
         // the right, sees the same near surface a little to the left of its own centre.
-        let gazes = mouse_gazes([32.0, 32.0], [128, 64], &eyes, [w, h], &raycaster);
+        let mut mouse = MouseGaze {
+            cursor: Some([32.0, 32.0]),
+            window: [128, 64],
+            raycaster: &raycaster,
+        };
+        assert_eq!(mouse.status(), TraceStatus::Tracked);
+        let gazes = mouse.gaze(0, 0.0, &eyes);
         assert_eq!(gazes[0], Gaze::Pixel(32.0, 32.0));
         let Gaze::Pixel(x, y) = gazes[1] else {
             panic!("{:?}", gazes[1])

@@ -70,6 +70,19 @@ impl DebugMode {
     }
 }
 
+/// What the frames after the first of a still view add to the running mean.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Refine {
+    /// More frames like the first: the mean converges to the foveated image at infinite
+    /// samples (the reference inside the fovea; outside, the reference as the layers'
+    /// lattices and Catmull-Rom fill see it), so what foveation does stays visible.
+    #[default]
+    Foveated,
+    /// Regular frames (the fovea's samples per pixel everywhere): the mean converges to the
+    /// reference everywhere; the first frame after a move is still foveated, fast.
+    Regular,
+}
+
 /// Everything `fovea view` is asked for.
 #[derive(Clone, Debug)]
 pub struct ViewerOptions {
@@ -92,6 +105,8 @@ pub struct ViewerOptions {
     pub max_bounces: u32,
     pub gaze: GazeInput,
     pub debug: DebugMode,
+    /// How still frames refine the image.
+    pub refine: Refine,
     /// End after this many frames (frames skipped while minimised count).
     pub frames: Option<u64>,
     pub script: Script,
@@ -125,7 +140,7 @@ pub struct ViewSummary {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ViewError {
-    #[error("cannot open a window: {0}. fovea view needs a desktop session (X11 or Wayland: DISPLAY or WAYLAND_DISPLAY set); use `fovea render` without one")]
+    #[error("cannot open a window ({0}); fovea view needs a desktop session (X11 or Wayland: DISPLAY or WAYLAND_DISPLAY set); use `fovea render` without one")]
     Window(String),
     #[error(transparent)]
     Gpu(#[from] GpuError),

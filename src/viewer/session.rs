@@ -2,7 +2,7 @@
 //! each view: render → accumulate (→ the regular frame for the difference view) → the image
 //! to show, left in the renderer's output image.
 
-use super::{DebugMode, ViewError};
+use super::{DebugMode, Refine, ViewError};
 use crate::foveation::FoveationConfig;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
@@ -33,6 +33,7 @@ pub struct FrameParams<'a> {
     pub debug: DebugMode,
     /// Start a new running mean with this frame.
     pub restart: bool,
+    pub refine: Refine,
 }
 
 /// What a frame cost.
@@ -87,6 +88,17 @@ impl Session {
             ..p.settings
         };
         let base_seed = p.settings.seed;
+        // Refining with regular frames: every frame of the image view after a mean's first.
+        let refining = FoveationConfig::regular(settings.spp);
+        let foveation = match p.refine == Refine::Regular
+            && p.debug == DebugMode::Image
+            && !p.restart
+            && self.accumulator.frames() > 0
+        {
+            true => &refining,
+            false => p.foveation,
+        };
+        let p = &FrameParams { foveation, ..*p };
         let request = FrameRequest {
             settings: RenderSettings {
                 seed: self.accumulator.next_seed(base_seed, Mean::Main),
