@@ -387,19 +387,7 @@ fn runtime_library() -> PathBuf {
 #[test]
 fn the_khronos_loader_finds_the_simulated_headset_through_xr_runtime_json() {
     let dir = scratch("loader");
-    let manifest = dir.join("runtime.json");
-    std::fs::write(
-        &manifest,
-        serde_json::json!({
-            "file_format_version": "1.0.0",
-            "runtime": {
-                "name": "fovea simulated headset",
-                "library_path": runtime_library().to_str().unwrap(),
-            }
-        })
-        .to_string(),
-    )
-    .unwrap();
+    let manifest = manifest(&dir);
     let (ok, out) = xr(
         &dir,
         &["--frames", "3"],
@@ -571,4 +559,87 @@ fn a_recorded_gaze_trace_replays_in_render() {
             );
         }
     }
+}
+
+/// A runtime manifest in `dir` naming the simulated headset's shared library.
+fn manifest(dir: &Path) -> PathBuf {
+    let path = dir.join("runtime.json");
+    let json = serde_json::json!({
+        "file_format_version": "1.0.0",
+        "runtime": {
+            "name": "fovea simulated headset",
+            "library_path": runtime_library().to_str().unwrap(),
+        }
+    });
+    std::fs::write(&path, json.to_string()).unwrap();
+    path
+}
+
+#[test]
+fn khronos_hello_xr_runs_on_the_simulated_headset() {
+    use std::process::{Command, Stdio};
+    let dir = scratch("hello");
+    let report_path = dir.join("report.json");
+    let images = dir.join("images");
+    // hello_xr quits when its standard input ends: keep a pipe open until it exits (the
+    // simulated headset ends the session at its frame 20, as a user quitting would).
+    let mut child = Command::new("hello_xr")
+        .args(["-g", "Vulkan2"])
+        .env("XR_RUNTIME_JSON", manifest(&dir))
+        .env("SIM_HEADSET_SIZE", "48x48")
+        .env("SIM_HEADSET_EXIT_AT_FRAME", "20")
+        .env("SIM_HEADSET_REPORT", &report_path)
+        .env("SIM_HEADSET_SAVE_DIR", &images)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("hello_xr (tools/setup.sh installs libopenxr-utils)");
+    let stdin = child.stdin.take();
+    let out = child.wait_with_output().unwrap();
+    drop(stdin);
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    let r = report(&dir);
+    assert_eq!(r["error_count"], 0, "{r:#}");
+    let states: Vec<&str> = r["session_states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert_eq!(states.last(), Some(&"EXITING"), "{states:?}");
+    let saved = r["images_saved"].as_u64().unwrap();
+    assert!(saved >= 2 * 18, "{r:#}");
+    // hello_xr draws coloured cubes on a cleared background: more than one colour per eye.
+    let (_, _, rgba) = read_png(&last_image(&dir, 0));
+    let mut colours: Vec<&[u8]> = rgba.chunks_exact(4).collect();
+    colours.sort();
+    colours.dedup();
+    assert!(colours.len() > 2, "{} colours", colours.len());
+}
+
+#[test]
+fn fovea_passes_the_openxr_core_validation_layer() {
+    let dir = scratch("core-validation");
+    let manifest = manifest(&dir);
+    let (ok, out) = xr(
+        &dir,
+        &["--frames", "4", "--debug", "layers"],
+        &[
+            ("XR_RUNTIME_JSON", manifest.to_str().unwrap()),
+            ("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation"),
+            ("SIM_HEADSET_SIZE", "32x32"),
+            ("SIM_HEADSET_GAZE", "0 5 5 valid; 2 0 0 invalid"),
+        ],
+    );
+    assert!(ok, "{out}");
+    // The layer announces itself; any finding it reports names a VUID.
+    assert!(
+        out.contains("Core Validation"),
+        "the layer did not load:\n{out}"
+    );
+    assert!(!out.contains("VUID") && !out.contains("VALID_ERROR"), "{out}");
+    assert_clean_teardown(&dir);
 }
