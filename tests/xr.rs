@@ -640,6 +640,9 @@ fn fovea_passes_the_openxr_core_validation_layer() {
         out.contains("Core Validation"),
         "the layer did not load:\n{out}"
     );
-    assert!(!out.contains("VUID") && !out.contains("VALID_ERROR"), "{out}");
+    assert!(
+        !out.contains("VUID") && !out.contains("VALID_ERROR"),
+        "{out}"
+    );
     assert_clean_teardown(&dir);
 }
