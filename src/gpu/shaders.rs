@@ -4,3 +4,4 @@ pub const TRACE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace.spv"));
 pub const RAYCAST: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast.spv"));
 pub const INTERPOLATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/interpolate.spv"));
 pub const MERGE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/merge.spv"));
+pub const ACCUMULATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));

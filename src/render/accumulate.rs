@@ -9,12 +9,10 @@ use super::RenderError;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
 use crate::gpu::shared::*;
 use crate::gpu::{
-    vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, StorageImage, TimestampPool,
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, StorageImage, TimestampPool,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
-
-const ACCUMULATE_SPV: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));
 
 /// The seed of the `n`-th frame (from 0) of a running mean whose first frame uses `seed`:
 /// frame 0 is exactly the frame `fovea render --seed SEED` makes.
@@ -97,7 +95,7 @@ pub struct Accumulator {
 impl Accumulator {
     pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, RenderError> {
         let layout = PipelineLayout::new(ctx)?;
-        let pipeline = ComputePipeline::new(ctx, &layout, "accumulate", ACCUMULATE_SPV, &[])?;
+        let pipeline = ComputePipeline::new(ctx, &layout, "accumulate", shaders::ACCUMULATE, &[])?;
         let layers = Buffer::new(
             ctx,
             "accumulate layers",
