@@ -646,3 +646,30 @@ fn fovea_passes_the_openxr_core_validation_layer() {
     );
     assert_clean_teardown(&dir);
 }
+
+#[test]
+fn bad_xr_options_are_refused_with_what_to_give() {
+    for (args, says) in [
+        (&["--size", "abc"][..], "give WIDTHxHEIGHT"),
+        (&["--size", "0x5"][..], "each side must be from 1"),
+        (
+            &["--gaze-hold", "-1"][..],
+            "give a number of seconds, 0 or more",
+        ),
+        (
+            &["--gaze-hold", "NaN"][..],
+            "give a number of seconds, 0 or more",
+        ),
+        (&["--frames", "0"][..], "give 1 or more"),
+        (
+            &["--device", "llvmpipe"][..],
+            "the OpenXR runtime picks the GPU",
+        ),
+    ] {
+        let mut all = vec!["xr", "--simulated"];
+        all.extend_from_slice(args);
+        let (ok, out) = common::fovea(&all);
+        assert!(!ok, "{args:?} was accepted:\n{out}");
+        assert!(out.contains(says), "{args:?}:\n{out}");
+    }
+}

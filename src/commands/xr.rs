@@ -42,7 +42,7 @@ pub struct XrArgs {
     #[arg(long, value_parser = ["layers"])]
     pub debug: Option<String>,
     /// Seconds a lost gaze (blink, tracking loss) is held before foveating the centre.
-    #[arg(long, default_value_t = DEFAULT_HOLD_S)]
+    #[arg(long, default_value_t = DEFAULT_HOLD_S, allow_negative_numbers = true)]
     pub gaze_hold: f64,
     /// Trace every pixel the lens shows, ignoring the runtime's visibility mask.
     #[arg(long)]
