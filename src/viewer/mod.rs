@@ -8,9 +8,15 @@
 //! the frame image, and that image is blitted into the swapchain and presented. A screenshot
 //! reads the same image back and writes it through `render::output`, as `fovea render` does.
 
+mod actions;
 mod app;
 pub mod controls;
+mod frame_turn;
 pub mod gaze;
+mod layer_configs;
+mod move_speed;
+mod render_step;
+mod screenshots;
 pub mod script;
 mod session;
 mod title;
