@@ -1,4 +1,5 @@
-//! The `fovea` command line: `render` one frame (mono or stereo, regular or foveated), list
+//! The `fovea` command line: `render` one frame (mono or stereo, regular or foveated), `bench`
+//! the thesis' evaluation, `check` the numerics, `view` in a window, `xr` in a headset, list
 //! `scenes`. Each command lives in commands/.
 
 mod commands;
