@@ -30,6 +30,8 @@ $SUDO apt-get install -y -q build-essential pkg-config cmake libopenxr-loader1 l
 # virtual X server) with xauth, which the viewer tests open their windows on.
 $SUDO apt-get install -y -q xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 \
   libxkbcommon0 libxkbcommon-x11-0 libwayland-client0 libwayland-cursor0
+# Weston, whose headless backend the Wayland viewer test opens its window on.
+$SUDO apt-get install -y -q weston
 # The XR tests: Khronos' hello_xr (libopenxr-utils), run against the simulated headset, and
 # the OpenXR core validation layer fovea's session is checked under.
 $SUDO apt-get install -y -q libopenxr-utils openxr-layer-corevalidation
