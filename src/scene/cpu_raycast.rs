@@ -5,14 +5,13 @@
 //! slab boxes and robust spheres in f32, so both agree on hit or miss and on the distance.
 //! Traversal keeps its stack in a `Vec`: unlike obvhs' fixed stack it never drops a node.
 
+use super::gpu_layout::{build_params, mesh_triangles};
 use super::Scene;
 use glam::{Mat4, UVec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::Ray;
-use obvhs::triangle::Triangle;
-use obvhs::BvhBuildParams;
 use std::time::Duration;
 
 /// One mesh's BVH with its triangles in leaf order (a leaf's primitive id indexes `tris`).
@@ -46,11 +45,6 @@ pub struct CpuRaycaster {
     tlas: Option<CwBvh>,
 }
 
-fn build_params() -> BvhBuildParams {
-    // The GPU layout's preset: the trees differ in nothing but where they live.
-    BvhBuildParams::medium_build()
-}
-
 impl CpuRaycaster {
     /// Builds the BVHs of `scene`. Geometry that `GpuScene::build` rejects (singular
     /// transforms, inverted boxes, non-positive radii, missing meshes) is left out: such a
@@ -59,18 +53,7 @@ impl CpuRaycaster {
         let mut blas = Vec::new();
         let mut mesh_blas = Vec::with_capacity(scene.meshes.len());
         for mesh in &scene.meshes {
-            let tris: Vec<Triangle> = mesh
-                .indices
-                .iter()
-                .map(|t| {
-                    let p = |i: u32| Vec3A::from(mesh.positions[i as usize]);
-                    Triangle {
-                        v0: p(t[0]),
-                        v1: p(t[1]),
-                        v2: p(t[2]),
-                    }
-                })
-                .collect();
+            let tris = mesh_triangles(mesh);
             if tris.is_empty() {
                 mesh_blas.push(None);
                 continue;

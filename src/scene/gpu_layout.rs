@@ -2,7 +2,7 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
-use super::{Scene, SceneError, SceneFeatures};
+use super::{Mesh, Scene, SceneError, SceneFeatures};
 use crate::gpu::shared::*;
 use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -43,10 +43,24 @@ fn node_words(bvh: &CwBvh) -> Vec<GpuNode> {
     bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect()
 }
 
-fn build_params() -> BvhBuildParams {
+pub(crate) fn build_params() -> BvhBuildParams {
     // PLOC with reinsertion: obvhs' "medium" preset, close to Embree's build time with faster
     // traversal; leaves hold at most 3 primitives in a CWBVH.
     BvhBuildParams::medium_build()
+}
+
+/// A mesh's triangles as obvhs builds BVHs of them (object space, index order); the GPU
+/// layout and the CPU ray cast build the same trees from these.
+pub(crate) fn mesh_triangles(mesh: &Mesh) -> Vec<Triangle> {
+    let p = |i: u32| Vec3A::from(mesh.positions[i as usize]);
+    mesh.indices
+        .iter()
+        .map(|t| Triangle {
+            v0: p(t[0]),
+            v1: p(t[1]),
+            v2: p(t[2]),
+        })
+        .collect()
 }
 
 /// Phong selection probability p_S = a_s / (a_s + a_d) (thesis eqs. 3.9–3.11).
@@ -92,18 +106,7 @@ impl GpuScene {
         let mut triangles = Vec::new();
         let mut mesh_roots = Vec::with_capacity(scene.meshes.len());
         for mesh in &scene.meshes {
-            let tris: Vec<Triangle> = mesh
-                .indices
-                .iter()
-                .map(|t| {
-                    let p = |i: u32| Vec3A::from(mesh.positions[i as usize]);
-                    Triangle {
-                        v0: p(t[0]),
-                        v1: p(t[1]),
-                        v2: p(t[2]),
-                    }
-                })
-                .collect();
+            let tris = mesh_triangles(mesh);
             if tris.is_empty() {
                 mesh_roots.push(None);
                 continue;
