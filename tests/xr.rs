@@ -662,6 +662,11 @@ fn bad_xr_options_are_refused_with_what_to_give() {
         ),
         (&["--frames", "0"][..], "give 1 or more"),
         (
+            &["--max-bounces", "1000"][..],
+            "--max-bounces 1000 is out of range",
+        ),
+        (&["--spp", "0"][..], "--spp 0 is out of range"),
+        (
             &["--device", "llvmpipe"][..],
             "the OpenXR runtime picks the GPU",
         ),

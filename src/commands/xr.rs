@@ -77,6 +77,14 @@ fn parse_size(text: &str) -> Result<[u32; 2], String> {
 }
 
 pub fn run(args: &XrArgs) -> Result<()> {
+    // The same ranges and messages as `fovea render`, before any session starts.
+    RenderSettings {
+        spp: args.spp.unwrap_or(1),
+        max_bounces: args.max_bounces,
+        ..RenderSettings::default()
+    }
+    .validate()
+    .map_err(anyhow::Error::msg)?;
     let mut foveation = match FoveationConfig::from_arg(&args.foveation)? {
         Some(config) => config,
         None => FoveationConfig::regular(args.spp.unwrap_or(4)),

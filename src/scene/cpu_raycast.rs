@@ -5,7 +5,7 @@
 //! slab boxes and robust spheres in f32, so both agree on hit or miss and on the distance.
 //! Traversal keeps its stack in a `Vec`: unlike obvhs' fixed stack it never drops a node.
 
-use super::gpu_layout::{build_params, mesh_triangles};
+use super::gpu_layout::{build_params, mesh_triangles, transform_aabb};
 use super::Scene;
 use glam::{Mat4, UVec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -250,19 +250,6 @@ fn safe_direction(d: Vec3) -> Vec3 {
         }
     };
     Vec3::new(fix(d.x), fix(d.y), fix(d.z))
-}
-
-fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
-    let mut out = Aabb::empty();
-    for i in 0..8 {
-        let corner = Vec3::new(
-            if i & 1 == 0 { aabb.min.x } else { aabb.max.x },
-            if i & 2 == 0 { aabb.min.y } else { aabb.max.y },
-            if i & 4 == 0 { aabb.min.z } else { aabb.max.z },
-        );
-        out.extend(m.transform_point3(corner).into());
-    }
-    out
 }
 
 /// Per-ray constants of the watertight test: the axis with the largest direction component

@@ -273,7 +273,8 @@ fn identity_object() -> GpuObject {
     }
 }
 
-fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
+/// The world box of an object-space box under `m` (its eight corners transformed).
+pub(crate) fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
     let mut out = Aabb::empty();
     for i in 0..8 {
         let corner = Vec3::new(
