@@ -63,143 +63,160 @@ impl GpuContext {
         Ok(())
     }
 
-    /// Copies `rect` of `src` (a frame in GENERAL layout after compute writes) into all of
-    /// `dst`, converting format and scaling, in one submission that is waited for.
+    /// Copies each `(rect, dst)`: `rect` of `src` (a frame in GENERAL layout after compute
+    /// writes) into all of `dst`, converting format and scaling. One submission for all the
+    /// copies (both eyes of a headset frame), waited for.
     pub fn copy_to_external(
         &self,
         src: &StorageImage,
-        rect: SourceRect,
-        dst: &ExternalImage,
+        copies: &[(SourceRect, ExternalImage)],
     ) -> Result<(), GpuError> {
-        if rect.extent[0] == 0
-            || rect.extent[1] == 0
-            || rect.offset[0] + rect.extent[0] > src.width
-            || rect.offset[1] + rect.extent[1] > src.height
-        {
-            return Err(GpuError::Limit(format!(
-                "copy of {rect:?} from a {}x{} image: the rectangle is empty or not inside it",
-                src.width, src.height
-            )));
+        for (rect, _) in copies {
+            if rect.extent[0] == 0
+                || rect.extent[1] == 0
+                || rect.offset[0] + rect.extent[0] > src.width
+                || rect.offset[1] + rect.extent[1] > src.height
+            {
+                return Err(GpuError::Limit(format!(
+                    "copy of {rect:?} from a {}x{} image: the rectangle is empty or not inside it",
+                    src.width, src.height
+                )));
+            }
         }
-        // Linear filtering only when scaling, and only where the source format allows it.
-        let scaling = rect.extent != dst.extent;
         // SAFETY: the physical device belongs to this instance.
         let src_features = unsafe {
             self.instance
                 .get_physical_device_format_properties(self.physical_device(), StorageImage::FORMAT)
         };
-        let filter = match scaling
-            && src_features
-                .optimal_tiling_features
-                .contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR)
-        {
-            true => vk::Filter::LINEAR,
-            false => vk::Filter::NEAREST,
-        };
+        let linear = src_features
+            .optimal_tiling_features
+            .contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
         self.submit_and_wait("present copy", |cmd| {
-            let range = vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: dst.array_layer,
-                layer_count: 1,
-            };
-            let src_range = vk::ImageSubresourceRange {
-                base_array_layer: 0,
-                ..range
-            };
-            let before = [
-                // The frame's compute writes must land before the blit reads them.
-                vk::ImageMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
-                    .old_layout(vk::ImageLayout::GENERAL)
-                    .new_layout(vk::ImageLayout::GENERAL)
-                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .image(src.image)
-                    .subresource_range(src_range),
-                vk::ImageMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::empty())
-                    .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                    .old_layout(dst.layout_before)
-                    .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .image(dst.image)
-                    .subresource_range(range),
-            ];
-            let corner = |x: u32, y: u32| vk::Offset3D {
-                x: x as i32,
-                y: y as i32,
-                z: 0,
-            };
-            let layers = |layer: u32| vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: layer,
-                layer_count: 1,
-            };
-            let region = [vk::ImageBlit::default()
-                .src_subresource(layers(0))
-                .src_offsets([
-                    corner(rect.offset[0], rect.offset[1]),
-                    vk::Offset3D {
-                        z: 1,
-                        ..corner(
-                            rect.offset[0] + rect.extent[0],
-                            rect.offset[1] + rect.extent[1],
-                        )
-                    },
-                ])
-                .dst_subresource(layers(dst.array_layer))
-                .dst_offsets([
-                    corner(0, 0),
-                    vk::Offset3D {
-                        z: 1,
-                        ..corner(dst.extent[0], dst.extent[1])
-                    },
-                ])];
-            let after = [vk::ImageMemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::MEMORY_READ)
-                .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-                .new_layout(dst.layout_after)
+            // The frame's compute writes must land before the blits read them.
+            let frame_ready = [vk::ImageMemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                .old_layout(vk::ImageLayout::GENERAL)
+                .new_layout(vk::ImageLayout::GENERAL)
                 .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                 .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(dst.image)
-                .subresource_range(range)];
-            // SAFETY: cmd is recording outside a render pass; both images live until the
-            // submission is waited for; the caller owns dst for the duration (acquired).
+                .image(src.image)
+                .subresource_range(color_layer(0))];
+            // SAFETY: cmd is recording outside a render pass; the image lives until the wait.
             unsafe {
                 self.device.cmd_pipeline_barrier(
                     cmd,
-                    vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TOP_OF_PIPE,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
                     vk::PipelineStageFlags::TRANSFER,
                     vk::DependencyFlags::empty(),
                     &[],
                     &[],
-                    &before,
-                );
-                self.device.cmd_blit_image(
-                    cmd,
-                    src.image,
-                    vk::ImageLayout::GENERAL,
-                    dst.image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &region,
-                    filter,
-                );
-                self.device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::BOTTOM_OF_PIPE,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &after,
-                );
+                    &frame_ready,
+                )
+            };
+            for (rect, dst) in copies {
+                // Linear filtering only when scaling, and only where the format allows it.
+                let filter = match rect.extent != dst.extent && linear {
+                    true => vk::Filter::LINEAR,
+                    false => vk::Filter::NEAREST,
+                };
+                self.cmd_blit(cmd, src, *rect, dst, filter);
             }
         })
+    }
+
+    /// Records one blit into `dst`, with its layout transitions before and after.
+    fn cmd_blit(
+        &self,
+        cmd: vk::CommandBuffer,
+        src: &StorageImage,
+        rect: SourceRect,
+        dst: &ExternalImage,
+        filter: vk::Filter,
+    ) {
+        let range = color_layer(dst.array_layer);
+        let barrier = |from: vk::ImageLayout, to: vk::ImageLayout, src_access, dst_access| {
+            [vk::ImageMemoryBarrier::default()
+                .src_access_mask(src_access)
+                .dst_access_mask(dst_access)
+                .old_layout(from)
+                .new_layout(to)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(dst.image)
+                .subresource_range(range)]
+        };
+        let corner = |x: u32, y: u32, z: i32| vk::Offset3D {
+            x: x as i32,
+            y: y as i32,
+            z,
+        };
+        let layers = |layer: u32| vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: layer,
+            layer_count: 1,
+        };
+        let [x, y] = rect.offset;
+        let [w, h] = rect.extent;
+        let region = [vk::ImageBlit::default()
+            .src_subresource(layers(0))
+            .src_offsets([corner(x, y, 0), corner(x + w, y + h, 1)])
+            .dst_subresource(layers(dst.array_layer))
+            .dst_offsets([corner(0, 0, 0), corner(dst.extent[0], dst.extent[1], 1)])];
+        let dst_ready = barrier(
+            dst.layout_before,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::AccessFlags::empty(),
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let handed_back = barrier(
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            dst.layout_after,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::AccessFlags::MEMORY_READ,
+        );
+        // SAFETY: cmd is recording outside a render pass; both images live until the
+        // submission is waited for; the caller owns dst for the duration (acquired).
+        unsafe {
+            self.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &dst_ready,
+            );
+            self.device.cmd_blit_image(
+                cmd,
+                src.image,
+                vk::ImageLayout::GENERAL,
+                dst.image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &region,
+                filter,
+            );
+            self.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &handed_back,
+            );
+        }
+    }
+}
+
+/// One mip level and array layer of a colour image.
+fn color_layer(layer: u32) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: layer,
+        layer_count: 1,
     }
 }

@@ -365,7 +365,7 @@ impl Swapchain {
             layout_before: vk::ImageLayout::UNDEFINED,
             layout_after: vk::ImageLayout::PRESENT_SRC_KHR,
         };
-        self.ctx.copy_to_external(frame, rect, &target)?;
+        self.ctx.copy_to_external(frame, &[(rect, target)])?;
         let swapchains = [self.swapchain];
         let indices = [index];
         // The copy's submission was waited for, so the present needs no semaphore.

@@ -4,6 +4,7 @@
 //! must be rendered with seed `seed + n` (see [`frame_seed`]); the mean of `N` frames of `s`
 //! samples per pixel is then an estimate with `N·s` samples per pixel.
 
+use super::renderer::cos_limit;
 use super::request::EyeView;
 use super::RenderError;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
@@ -229,19 +230,6 @@ impl Accumulator {
         })?;
         self.counts[index as usize] += 1;
         Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
-    }
-}
-
-/// The cosine of an angle limit as the shaders test it (`dot > cos`): -2 when everything is
-/// within (π or more), 2 when nothing is (0 or less). The renderer's rule, for the same
-/// layer boundaries.
-fn cos_limit(a: f64) -> f32 {
-    if a >= std::f64::consts::PI {
-        -2.0
-    } else if a <= 0.0 {
-        2.0
-    } else {
-        a.cos() as f32
     }
 }
 

@@ -659,7 +659,7 @@ fn angle(a: f64) -> f32 {
 
 /// The cosine of an angle limit as the shaders test it (`dot > cos`): -2 when everything is
 /// within (a limit of π or more), 2 when nothing is (a limit of 0 or less).
-fn cos_limit(a: f64) -> f32 {
+pub(super) fn cos_limit(a: f64) -> f32 {
     if a >= std::f64::consts::PI {
         -2.0
     } else if a <= 0.0 {

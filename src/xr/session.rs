@@ -335,13 +335,21 @@ fn run_with_context(
             debug: options.debug,
         })?;
         let output = renderer.output_image().expect("a frame was just rendered");
+        // Both eyes' images in one submission; released whatever happened, so the
+        // runtime's image accounting stays right.
+        let mut copies = Vec::with_capacity(2);
         for (e, swapchain) in swapchains.iter_mut().enumerate() {
             let rect = SourceRect {
                 offset: [e as u32 * size[0], 0],
                 extent: size,
             };
-            swapchain.submit(ctx, output, rect)?;
+            copies.push((rect, swapchain.acquire()?));
         }
+        let copied = ctx.copy_to_external(output, &copies);
+        for swapchain in &mut swapchains {
+            swapchain.release()?;
+        }
+        copied?;
         let projection_views: Vec<_> = located
             .iter()
             .zip(&swapchains)

@@ -4,7 +4,7 @@
 //! our compute passes could write directly).
 
 use super::error::{XrContext, XrError};
-use crate::gpu::{vk, ExternalImage, GpuContext, SourceRect, StorageImage};
+use crate::gpu::{vk, ExternalImage, GpuContext};
 use openxr as xr;
 
 /// Formats fovea can fill, best first: sRGB formats get the encoding from the blit; a float
@@ -71,32 +71,25 @@ impl EyeSwapchain {
         })
     }
 
-    /// Acquires the next image, copies `rect` of the frame into it and releases it. The
-    /// OpenXR Vulkan binding hands images over in COLOR_ATTACHMENT_OPTIMAL and takes them
-    /// back in it.
-    pub fn submit(
-        &mut self,
-        ctx: &GpuContext,
-        frame: &StorageImage,
-        rect: SourceRect,
-    ) -> Result<(), XrError> {
+    /// Acquires the next image and waits until it may be written. The OpenXR Vulkan binding
+    /// hands images over in COLOR_ATTACHMENT_OPTIMAL and takes them back in it.
+    pub fn acquire(&mut self) -> Result<ExternalImage, XrError> {
         let index = self.handle.acquire_image().xr("xrAcquireSwapchainImage")?;
         self.handle
             .wait_image(xr::Duration::INFINITE)
             .xr("xrWaitSwapchainImage")?;
-        let image = ExternalImage {
+        Ok(ExternalImage {
             image: self.images[index as usize],
             format: self.format,
             extent: self.size,
             array_layer: 0,
             layout_before: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             layout_after: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-        };
-        let copied = ctx.copy_to_external(frame, rect, &image);
-        // Released whatever happened, so the runtime's image accounting stays right.
-        self.handle.release_image().xr("xrReleaseSwapchainImage")?;
-        copied?;
-        Ok(())
+        })
+    }
+
+    pub fn release(&mut self) -> Result<(), XrError> {
+        self.handle.release_image().xr("xrReleaseSwapchainImage")
     }
 
     pub fn sub_image(&self) -> xr::SwapchainSubImage<'_, xr::Vulkan> {
