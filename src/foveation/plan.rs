@@ -183,15 +183,34 @@ impl EyePlan {
             };
             // A layer without limits (regular rendering, an unmasked background) traces whole
             // rows: one span each, without testing every point.
-            let whole_rows = regions.traces_everything(k) && mask.is_none();
+            let whole_rows = regions.traces_everything(k);
             for j in j0..=j1 {
-                if whole_rows {
-                    if i0 <= i1 {
-                        emit(i0, (i1 - i0 + 1) as u32, j);
-                    }
-                    continue;
-                }
                 let y = anchor[1] + j * d;
+                if whole_rows {
+                    match mask.map(|m| m.needed_runs(l.spacing, y as u32)) {
+                        None => {
+                            if i0 <= i1 {
+                                emit(i0, (i1 - i0 + 1) as u32, j);
+                            }
+                            continue;
+                        }
+                        // Behind a lens: one span per run of needed pixels, no per-point test.
+                        Some(Some(runs)) => {
+                            for &(x0, x1) in runs {
+                                let a = (x0 - anchor[0]).div_euclid(d)
+                                    + i32::from((x0 - anchor[0]).rem_euclid(d) != 0);
+                                let (a, b) =
+                                    (a.max(i0), (x1 - 1 - anchor[0]).div_euclid(d).min(i1));
+                                if a <= b {
+                                    emit(a, (b - a + 1) as u32, j);
+                                }
+                            }
+                            continue;
+                        }
+                        // A mask not prepared for this spacing: test every point below.
+                        Some(None) => {}
+                    }
+                }
                 let mut run: Option<(i32, u32)> = None;
                 for i in i0..=i1 + 1 {
                     let x = anchor[0] + i * d;
@@ -425,13 +444,22 @@ mod tests {
     #[test]
     fn a_visibility_mask_removes_exactly_the_hidden_rays() {
         let image = ImageGeometry::new(64, 48, EyeFov::VIVE_PRO_EYE_LEFT);
-        // Hidden: a triangle over the top-left corner (in tangent space).
         let corner = |x: f64, y: f64| {
             let t = image.tan_of(x, y);
             [t[0] as f32, t[1] as f32]
         };
-        let vertices = [corner(-1.0, -1.0), corner(40.0, -1.0), corner(-1.0, 30.0)];
-        let mut mask = VisibilityMask::from_hidden_triangles(&image, &vertices, &[0, 1, 2]);
+        // Hidden: a triangle over the top-left corner and one over the right edge (so rows
+        // have runs that end inside the image).
+        let vertices = [
+            corner(-1.0, -1.0),
+            corner(40.0, -1.0),
+            corner(-1.0, 30.0),
+            corner(65.0, 10.0),
+            corner(50.0, 30.0),
+            corner(65.0, 49.0),
+        ];
+        let mut mask =
+            VisibilityMask::from_hidden_triangles(&image, &vertices, &[0, 1, 2, 3, 4, 5]);
         let hidden = 64 * 48 - mask.visible_count() as u64;
         assert!(hidden > 500, "{hidden}");
         // Regular (spacing 1): every visible pixel once, no hidden one.
@@ -457,7 +485,29 @@ mod tests {
         }
         let gaze = [32.0, 24.0];
         let open = EyePlan::new(&buffer, &image, gaze).samples(&buffer);
-        let masked = EyePlan::masked(&buffer, &image, gaze, Some(&mask)).samples(&buffer);
+        let plan = EyePlan::masked(&buffer, &image, gaze, Some(&mask));
+        let masked = plan.samples(&buffer);
         assert!(masked < open, "{masked} vs {open}");
+        // Per layer, exactly the lattice points in the layer's region that the mask needs
+        // (counted point by point: the background layer's spans come from row runs).
+        let regions = Regions::new(&buffer, &image, gaze);
+        for (k, l) in buffer.layers.iter().enumerate() {
+            let d = l.spacing as i64;
+            let a = match l.gaze_anchored {
+                true => gaze_anchor(&image, gaze),
+                false => [0, 0],
+            };
+            let mut n = 0;
+            for y in 0..48i64 {
+                for x in 0..64i64 {
+                    let on = (x - a[0] as i64).rem_euclid(d) == 0
+                        && (y - a[1] as i64).rem_euclid(d) == 0;
+                    if on && regions.traced(k, x, y) && mask.needed(l.spacing, x as u32, y as u32) {
+                        n += 1;
+                    }
+                }
+            }
+            assert_eq!(plan.layers[k].targets, n, "layer {k}");
+        }
     }
 }

@@ -16,8 +16,11 @@ pub struct VisibilityMask {
     pub height: u32,
     /// Row-major, `true` where the lens shows the pixel.
     visible: Vec<bool>,
-    /// Lattice points needed per layer spacing (see the module docs), built on first use.
-    needed: HashMap<u32, Vec<bool>>,
+    /// Lattice points needed per layer spacing (see the module docs), built on first use,
+    /// with each row's runs of needed pixels `[start, end)`: layers that trace whole rows
+    /// (regular rendering, the background) emit spans from these instead of testing every
+    /// pixel each frame.
+    needed: HashMap<u32, Needed>,
 }
 
 impl VisibilityMask {
@@ -107,7 +110,8 @@ impl VisibilityMask {
                 self.height as usize,
                 reach,
             );
-            self.needed.insert(spacing, map);
+            let rows = row_runs(&map, self.width as usize);
+            self.needed.insert(spacing, Needed { map, rows });
         }
     }
 
@@ -116,10 +120,45 @@ impl VisibilityMask {
     pub fn needed(&self, spacing: u32, x: u32, y: u32) -> bool {
         let i = (y * self.width + x) as usize;
         match self.needed.get(&spacing) {
-            Some(map) => map[i],
+            Some(needed) => needed.map[i],
             None => self.visible[i],
         }
     }
+
+    /// Row `y`'s runs of needed pixels `[start, end)` for a spacing, after [`Self::prepare`]
+    /// for it (`None` before).
+    pub fn needed_runs(&self, spacing: u32, y: u32) -> Option<&[(i32, i32)]> {
+        self.needed
+            .get(&spacing)
+            .map(|n| n.rows[y as usize].as_slice())
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Needed {
+    map: Vec<bool>,
+    rows: Vec<Vec<(i32, i32)>>,
+}
+
+/// Runs of `true` in each row: `[start, end)` pixel ranges.
+fn row_runs(map: &[bool], w: usize) -> Vec<Vec<(i32, i32)>> {
+    map.chunks_exact(w)
+        .map(|row| {
+            let mut runs = Vec::new();
+            let mut start = None;
+            for (x, v) in row.iter().chain([&false]).enumerate() {
+                match (v, start) {
+                    (true, None) => start = Some(x as i32),
+                    (false, Some(s)) => {
+                        runs.push((s, x as i32));
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+            runs
+        })
+        .collect()
 }
 
 /// Twice the signed area of the triangle (a, b, p): positive when p is left of a → b.
