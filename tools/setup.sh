@@ -8,10 +8,35 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 BACKPORTS=/etc/apt/sources.list.d/fovea-bookworm-backports.sources
+# The mirror that serves bookworm's main suite here, as apt's own sources name it (deb822
+# .sources files or one-line .list entries); backports comes from the same mirror.
+bookworm_mirror() {
+  local f
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] || continue
+    awk 'BEGIN { RS = ""; FS = "\n" }
+      {
+        uri = ""; suite = 0
+        for (i = 1; i <= NF; i++) {
+          if ($i ~ /^URIs:/) { sub(/^URIs:[ \t]*/, "", $i); split($i, u, /[ \t]+/); uri = u[1] }
+          if ($i ~ /^Suites:/ && $i ~ /(^|[ \t])bookworm([ \t]|$)/) suite = 1
+        }
+        if (uri != "" && suite) { print uri; exit }
+      }' "$f"
+  done
+  { cat /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null || true; } |
+    awk '$1 == "deb" { for (i = 2; i <= NF; i++) if ($i !~ /^\[/) { if ($(i + 1) == "bookworm") print $i; break } }'
+}
 if ! grep -rqs "bookworm-backports" /etc/apt/sources.list /etc/apt/sources.list.d/; then
-  $SUDO tee "$BACKPORTS" >/dev/null <<'SRC'
+  MIRROR=$(bookworm_mirror | awk 'NR == 1')
+  if [ -z "$MIRROR" ]; then
+    echo "setup: no apt source names Debian bookworm's main suite; add one (or a bookworm-backports" >&2
+    echo "setup: source) to /etc/apt/sources.list.d/ and run this again." >&2
+    exit 1
+  fi
+  $SUDO tee "$BACKPORTS" >/dev/null <<SRC
 Types: deb
-URIs: http://deb.debian.org/debian
+URIs: $MIRROR
 Suites: bookworm-backports
 Components: main
 Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
