@@ -6,6 +6,7 @@ use super::device_pick::{driver_env, pick_device, DeviceInfo, DeviceWanted, Pick
 use super::error::{human_bytes, GpuError, VkContext};
 use super::memory_budget::{memory_facts, MemoryFacts};
 use super::options::GpuOptions;
+use super::sync::Scope;
 use super::validation::{debug_callback, ValidationLog};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -23,6 +24,8 @@ pub struct GpuContext {
     validation_log: Arc<ValidationLog>,
     pub(crate) device: ash::Device,
     pub(crate) queue: vk::Queue,
+    /// vkCmdPipelineBarrier2 (VK_KHR_synchronization2: every barrier fovea records).
+    pub(super) sync2: ash::khr::synchronization2::Device,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(super) markers: Mutex<Markers>,
@@ -104,14 +107,33 @@ impl GpuContext {
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
         }
         extensions.extend(needs.instance_extensions.iter().map(|e| e.as_ptr()));
+        let checks = validation_features(options);
+        if !checks.is_empty() {
+            // SAFETY: plain enumeration call on a loaded entry, for a layer that is present.
+            let offered =
+                unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                    .vk("vkEnumerateInstanceExtensionProperties")?;
+            if !offered
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::validation_features::NAME))
+            {
+                return Err(GpuError::NoValidationFeatures);
+            }
+            extensions.push(ash::ext::validation_features::NAME.as_ptr());
+        }
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&checks);
         let app = vk::ApplicationInfo::default()
             .application_name(c"fovea")
             .engine_name(c"fovea")
             .api_version(vk::API_VERSION_1_2);
-        let create = vk::InstanceCreateInfo::default()
+        let mut create = vk::InstanceCreateInfo::default()
             .application_info(&app)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
+        if !checks.is_empty() {
+            create = create.push_next(&mut features);
+        }
         let created = match needs.creator {
             Some(creator) => creator.create_instance(&entry, &create).map(|handle| {
                 // SAFETY: the creator returned a live instance made from this entry's loader.
@@ -239,12 +261,16 @@ impl GpuContext {
         if amd_marker {
             device_extensions.push(ash::amd::buffer_marker::NAME.as_ptr());
         }
+        device_extensions.push(ash::khr::synchronization2::NAME.as_ptr());
         device_extensions.extend(needs.device_extensions.iter().map(|e| e.as_ptr()));
         let mut features12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
+        let mut sync2 =
+            vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&device_extensions)
-            .push_next(&mut features12);
+            .push_next(&mut features12)
+            .push_next(&mut sync2);
         let created = match needs.creator {
             Some(creator) => creator
                 .create_device(&entry, physical_device, &device_info)
@@ -266,6 +292,7 @@ impl GpuContext {
         };
         // SAFETY: queue 0 of a family we requested.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let sync2 = ash::khr::synchronization2::Device::new(&instance, &device);
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
@@ -345,6 +372,7 @@ impl GpuContext {
 
             device,
             queue,
+            sync2,
             command_pool,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             markers: Mutex::new(markers),
@@ -399,26 +427,6 @@ impl GpuContext {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Records a barrier that makes every compute-shader write before it visible to every
-    /// compute-shader read or write after it (images stay in GENERAL layout between passes).
-    pub fn cmd_compute_barrier(&self, cmd: vk::CommandBuffer) {
-        let barrier = [vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE)];
-        // SAFETY: cmd is a recording command buffer of this device, outside any render pass.
-        unsafe {
-            self.device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &barrier,
-                &[],
-                &[],
-            )
-        };
-    }
-
     /// Records commands with `record`, submits them and waits for completion. `submission`
     /// names the work; passes recorded through the timestamp pool get crash markers, so a
     /// device loss says which pass completed last and which was running.
@@ -460,21 +468,13 @@ impl GpuContext {
         unsafe { self.device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         record(cmd);
         if !self.markers().names.is_empty() {
-            let to_host = [vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ)];
-            // SAFETY: cmd is recording outside a render pass.
-            unsafe {
-                self.device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::ALL_COMMANDS,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &to_host,
-                    &[],
-                    &[],
-                )
-            };
+            // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
+            // before the host reads them after a device loss.
+            self.cmd_barrier(
+                cmd,
+                Scope::ALL_WORK.and(Scope::FILL_WRITE),
+                Scope::HOST_READ,
+            );
         }
         // SAFETY: recording was begun above.
         unsafe { self.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
@@ -505,6 +505,19 @@ impl GpuContext {
             other => other.vk("vkQueueSubmit/vkWaitForFences"),
         }
     }
+}
+
+/// The validation layer's optional checks that `options` asks for (none without validation).
+fn validation_features(options: &GpuOptions) -> Vec<vk::ValidationFeatureEnableEXT> {
+    let checks = &options.checks;
+    let mut enabled = Vec::new();
+    if options.validation && checks.synchronization {
+        enabled.push(vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION);
+    }
+    if options.validation && checks.gpu_assisted {
+        enabled.push(vk::ValidationFeatureEnableEXT::GPU_ASSISTED);
+    }
+    enabled
 }
 
 impl Drop for GpuContext {

@@ -3,6 +3,7 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
+use super::sync::Scope;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use gpu_allocator::MemoryLocation;
@@ -105,20 +106,14 @@ impl GpuContext {
                     value,
                 )
             },
-            // SAFETY: cmd is recording outside a render pass; the barrier makes the fill wait
-            // for every earlier command; offset and size are multiples of 4 inside the buffer.
-            None => unsafe {
-                self.device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::ALL_COMMANDS,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &[],
-                );
-                self.device.cmd_fill_buffer(cmd, m.buffer, offset, 4, value);
-            },
+            None => {
+                // The fill waits for every earlier command (an execution dependency only: the
+                // marker says those commands completed, it reads nothing they wrote).
+                self.cmd_barrier(cmd, Scope::ALL_WORK, Scope::FILL_WRITE);
+                // SAFETY: cmd is recording outside a render pass; offset and size are
+                // multiples of 4 inside the marker buffer, which lives as long as the context.
+                unsafe { self.device.cmd_fill_buffer(cmd, m.buffer, offset, 4, value) };
+            }
         }
         if self.inject_device_lost.as_deref() == m.names.last().map(String::as_str) {
             m.cut = true;

@@ -146,7 +146,8 @@ pub(super) fn pick_device(
                 .iter()
                 .any(|e| e.extension_name_as_c_str() == Ok(wanted))
         };
-        if let Some(missing) = wanted.extensions.iter().find(|e| !has(e)) {
+        let required = [ash::khr::synchronization2::NAME];
+        if let Some(missing) = required.iter().chain(wanted.extensions).find(|e| !has(e)) {
             unusable.push(format!("{name} (no {})", missing.to_string_lossy()));
             continue;
         }

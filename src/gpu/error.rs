@@ -11,6 +11,8 @@ pub enum GpuError {
     DeviceNotFound { wanted: String, available: String },
     #[error("the validation layer VK_LAYER_KHRONOS_validation is not installed: `sudo apt-get install -t bookworm-backports vulkan-validationlayers`, or run without validation")]
     NoValidationLayer,
+    #[error("the validation layer does not offer VK_EXT_validation_features, which fovea needs to turn on its synchronization checks: install a newer vulkan-validationlayers (`sudo apt-get install -t bookworm-backports vulkan-validationlayers`), or set FOVEA_VALIDATION=core for the core checks only")]
+    NoValidationFeatures,
     /// An environment variable fovea reads has a value it cannot use.
     #[error("{var}='{value}' {problem}")]
     BadEnvironment {

@@ -3,6 +3,7 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
+use super::sync::{ImageTransition, Scope};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
@@ -270,38 +271,24 @@ impl StorageImage {
         Ok(this)
     }
 
-    /// Records a transition from UNDEFINED to GENERAL (contents discarded) for compute writes.
+    /// Records a transition from UNDEFINED to GENERAL (contents discarded) for compute writes,
+    /// after whatever used the image before (an earlier frame's passes, its read-back, a blit
+    /// of it into a swapchain image, an upload).
     pub(crate) fn cmd_prepare_for_write(&self, cmd: vk::CommandBuffer) {
-        self.cmd_transition(
-            cmd,
-            (TOP, vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED),
-            (COMPUTE, vk::AccessFlags::SHADER_WRITE, GENERAL),
-        );
+        self.cmd_transition(cmd, (EARLIER_USES, UNDEFINED), COMPUTE_WRITING);
     }
 
-    /// Records a layout transition of the whole image between two (stage, access, layout)s.
-    fn cmd_transition(&self, cmd: vk::CommandBuffer, from: Access, to: Access) {
-        let barrier = [vk::ImageMemoryBarrier::default()
-            .src_access_mask(from.1)
-            .dst_access_mask(to.1)
-            .old_layout(from.2)
-            .new_layout(to.2)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(self.image)
-            .subresource_range(color_range())];
-        // SAFETY: cmd is recording, outside any render pass; the barrier names this image.
-        unsafe {
-            self.ctx.device.cmd_pipeline_barrier(
-                cmd,
-                from.0,
-                to.0,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &barrier,
-            )
-        };
+    /// Records a layout transition of the whole image between two (accesses, layout)s.
+    fn cmd_transition(&self, cmd: vk::CommandBuffer, from: Use, to: Use) {
+        self.ctx.cmd_image_barriers(
+            cmd,
+            &[ImageTransition {
+                image: self.image,
+                range: color_range(),
+                from,
+                to,
+            }],
+        );
     }
 
     /// Copies the image (in GENERAL layout after compute writes) to the host: RGBA f32 rows,
@@ -315,10 +302,9 @@ impl StorageImage {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let after_compute = (COMPUTE, vk::AccessFlags::SHADER_WRITE, GENERAL);
-        let copying = (TRANSFER, vk::AccessFlags::TRANSFER_READ, SRC);
+        let copying = (Scope::COPY_READ, SRC);
         self.ctx.submit_and_wait("readback", |cmd| {
-            self.cmd_transition(cmd, after_compute, copying);
+            self.cmd_transition(cmd, COMPUTE_WRITING, copying);
             // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
             unsafe {
                 self.ctx.device.cmd_copy_image_to_buffer(
@@ -329,7 +315,8 @@ impl StorageImage {
                     &self.whole_copy(),
                 )
             };
-            self.cmd_transition(cmd, copying, after_compute);
+            // Back to GENERAL for the next frame's compute passes, after the copy has read it.
+            self.cmd_transition(cmd, copying, COMPUTE_WRITING);
         })?;
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }
@@ -371,10 +358,9 @@ impl StorageImage {
             MemoryLocation::CpuToGpu,
         )?;
         staging.write(0, bytemuck::cast_slice(rgba))?;
-        let copying = (TRANSFER, vk::AccessFlags::TRANSFER_WRITE, DST);
+        let copying = (Scope::COPY_WRITE, DST);
         self.ctx.submit_and_wait("upload", |cmd| {
-            let undefined = (TOP, vk::AccessFlags::empty(), vk::ImageLayout::UNDEFINED);
-            self.cmd_transition(cmd, undefined, copying);
+            self.cmd_transition(cmd, (Scope::NOTHING, UNDEFINED), copying);
             // SAFETY: cmd is recording; the image and staging buffer live until the wait returns.
             unsafe {
                 self.ctx.device.cmd_copy_buffer_to_image(
@@ -385,18 +371,22 @@ impl StorageImage {
                     &self.whole_copy(),
                 )
             };
-            let shader = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
-            self.cmd_transition(cmd, copying, (COMPUTE, shader, GENERAL));
+            self.cmd_transition(cmd, copying, (Scope::COMPUTE_READ_WRITE, GENERAL));
         })?;
         Ok(())
     }
 }
 
-/// A pipeline stage, the accesses in it and the image layout they need.
-type Access = (vk::PipelineStageFlags, vk::AccessFlags, vk::ImageLayout);
-const TOP: vk::PipelineStageFlags = vk::PipelineStageFlags::TOP_OF_PIPE;
-const COMPUTE: vk::PipelineStageFlags = vk::PipelineStageFlags::COMPUTE_SHADER;
-const TRANSFER: vk::PipelineStageFlags = vk::PipelineStageFlags::TRANSFER;
+/// The accesses on one side of a layout transition and the layout they need.
+type Use = (Scope, vk::ImageLayout);
+/// Compute passes writing the image in GENERAL layout (what a frame's passes do).
+const COMPUTE_WRITING: Use = (Scope::COMPUTE_WRITE, GENERAL);
+/// Every way fovea uses a storage image: compute passes, copies and blits (its writes, which
+/// a layout transition must follow; reads need only the execution dependency).
+const EARLIER_USES: Scope = Scope::COMPUTE_WRITE
+    .and(Scope::COPY_WRITE)
+    .and(Scope::BLIT_READ);
+const UNDEFINED: vk::ImageLayout = vk::ImageLayout::UNDEFINED;
 const GENERAL: vk::ImageLayout = vk::ImageLayout::GENERAL;
 const SRC: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
 const DST: vk::ImageLayout = vk::ImageLayout::TRANSFER_DST_OPTIMAL;

@@ -13,6 +13,7 @@ mod present;
 pub mod shaders;
 pub mod shared;
 mod swapchain;
+mod sync;
 mod timestamps;
 mod validation;
 pub use validation::ValidationLog;
@@ -23,11 +24,12 @@ pub use device_pick::DeviceInfo;
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage};
 pub use memory_budget::PlannedAllocation;
-pub use options::{GpuOptions, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
+pub use options::{GpuOptions, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
 pub use pipeline::{ComputePipeline, PipelineLayout};
 pub use present::{ExternalImage, SourceRect};
 pub use swapchain::{
     surface_instance_extensions, swapchain_device_extensions, PresentPreference, Presented,
     Swapchain,
 };
+pub use sync::Scope;
 pub use timestamps::{PassTime, TimestampPool};

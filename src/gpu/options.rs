@@ -12,6 +12,8 @@ pub struct GpuOptions {
     pub device: Option<String>,
     /// Enable VK_LAYER_KHRONOS_validation and record its messages.
     pub validation: bool,
+    /// Which of the layer's optional checks run with it (synchronization by default).
+    pub checks: ValidationChecks,
     /// The most GPU memory fovea may use, in bytes, all buffers and images together; None =
     /// whatever the device offers. For sharing the GPU with other programs (the SteamVR
     /// compositor, a game engine). Scene uploads and frame targets are checked against it
@@ -32,15 +34,63 @@ pub struct GpuOptions {
     pub(super) env_problem: Option<(&'static str, String, String)>,
 }
 
+/// The validation layer's optional checks, switched on through VK_EXT_validation_features
+/// when fovea creates the instance with validation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ValidationChecks {
+    /// Synchronization validation: hazards between commands (a read after a write, a write
+    /// after a read, a layout transition) that no barrier orders. Lavapipe runs dispatches
+    /// one after another, so on it only this check sees a missing barrier.
+    pub synchronization: bool,
+    /// GPU-assisted validation: shaders are instrumented to report out-of-bounds descriptor
+    /// accesses (slow: for tests at small sizes).
+    pub gpu_assisted: bool,
+}
+
+impl Default for ValidationChecks {
+    fn default() -> Self {
+        Self {
+            synchronization: true,
+            gpu_assisted: false,
+        }
+    }
+}
+
+impl ValidationChecks {
+    /// The checks `FOVEA_VALIDATION=VALUE` asks for, or None when it asks for no validation:
+    /// `1` the default checks, `core` none of the optional ones (to measure what they cost),
+    /// `gpu-assisted` the default checks and GPU-assisted validation.
+    fn from_env_value(value: &str) -> Option<Self> {
+        match value {
+            "1" => Some(Self::default()),
+            "core" => Some(Self {
+                synchronization: false,
+                gpu_assisted: false,
+            }),
+            "gpu-assisted" => Some(Self {
+                gpu_assisted: true,
+                ..Self::default()
+            }),
+            _ => None,
+        }
+    }
+}
+
 impl GpuOptions {
-    /// Options from the environment: `FOVEA_VALIDATION=1` turns validation on (tests use it),
+    /// Options from the environment: `FOVEA_VALIDATION=1` turns validation on with its
+    /// synchronization checks (tests use it; `core` and `gpu-assisted`: see
+    /// [`ValidationChecks`]),
     /// `FOVEA_DEVICE` picks a device, `FOVEA_GPU_MEMORY_LIMIT` caps GPU memory and
     /// `FOVEA_INJECT_DEVICE_LOST` injects a device loss (see the fields). A value that cannot
     /// be used is reported by [`GpuContext::new`](super::GpuContext::new).
     pub fn from_env() -> Self {
+        let checks = std::env::var("FOVEA_VALIDATION")
+            .ok()
+            .and_then(|v| ValidationChecks::from_env_value(&v));
         let mut options = Self {
             device: std::env::var("FOVEA_DEVICE").ok(),
-            validation: std::env::var("FOVEA_VALIDATION").is_ok_and(|v| v == "1"),
+            validation: checks.is_some(),
+            checks: checks.unwrap_or_default(),
             inject_device_lost: std::env::var(INJECT_DEVICE_LOST_VAR)
                 .ok()
                 .filter(|v| !v.is_empty()),

@@ -212,7 +212,7 @@ impl Drop for ComputePipeline {
 
 impl ComputePipeline {
     /// Records binding, push constants and a dispatch of `groups` workgroups.
-    pub(crate) fn cmd_dispatch(
+    pub fn cmd_dispatch(
         &self,
         cmd: vk::CommandBuffer,
         layout: &PipelineLayout,

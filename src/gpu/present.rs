@@ -5,6 +5,7 @@
 
 use super::error::GpuError;
 use super::memory::StorageImage;
+use super::sync::{ImageTransition, Scope};
 use super::GpuContext;
 use ash::vk;
 
@@ -93,27 +94,15 @@ impl GpuContext {
             .contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
         self.submit_and_wait("present copy", |cmd| {
             // The frame's compute writes must land before the blits read them.
-            let frame_ready = [vk::ImageMemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
-                .old_layout(vk::ImageLayout::GENERAL)
-                .new_layout(vk::ImageLayout::GENERAL)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(src.image)
-                .subresource_range(color_layer(0))];
-            // SAFETY: cmd is recording outside a render pass; the image lives until the wait.
-            unsafe {
-                self.device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &frame_ready,
-                )
-            };
+            self.cmd_image_barriers(
+                cmd,
+                &[ImageTransition {
+                    image: src.image,
+                    range: color_layer(0),
+                    from: (Scope::COMPUTE_WRITE, vk::ImageLayout::GENERAL),
+                    to: (Scope::BLIT_READ, vk::ImageLayout::GENERAL),
+                }],
+            );
             for (rect, dst) in copies {
                 // Linear filtering only when scaling, and only where the format allows it.
                 let filter = match rect.extent != dst.extent && linear {
@@ -135,16 +124,13 @@ impl GpuContext {
         filter: vk::Filter,
     ) {
         let range = color_layer(dst.array_layer);
-        let barrier = |from: vk::ImageLayout, to: vk::ImageLayout, src_access, dst_access| {
-            [vk::ImageMemoryBarrier::default()
-                .src_access_mask(src_access)
-                .dst_access_mask(dst_access)
-                .old_layout(from)
-                .new_layout(to)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .image(dst.image)
-                .subresource_range(range)]
+        let transition = |from, to| {
+            [ImageTransition {
+                image: dst.image,
+                range,
+                from,
+                to,
+            }]
         };
         let corner = |x: u32, y: u32, z: i32| vk::Offset3D {
             x: x as i32,
@@ -164,30 +150,21 @@ impl GpuContext {
             .src_offsets([corner(x, y, 0), corner(x + w, y + h, 1)])
             .dst_subresource(layers(dst.array_layer))
             .dst_offsets([corner(0, 0, 0), corner(dst.extent[0], dst.extent[1], 1)])];
-        let dst_ready = barrier(
-            dst.layout_before,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::AccessFlags::empty(),
-            vk::AccessFlags::TRANSFER_WRITE,
+        // The owner's reads of the image were waited for before it was handed to us
+        // (xrWaitSwapchainImage, or the acquire fence), so the blit waits for nothing.
+        let dst_ready = transition(
+            (Scope::NOTHING, dst.layout_before),
+            (Scope::BLIT_WRITE, vk::ImageLayout::TRANSFER_DST_OPTIMAL),
         );
-        let handed_back = barrier(
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            dst.layout_after,
-            vk::AccessFlags::TRANSFER_WRITE,
-            vk::AccessFlags::MEMORY_READ,
+        // Handed back after this submission's fence, which makes the blit's writes available.
+        let handed_back = transition(
+            (Scope::BLIT_WRITE, vk::ImageLayout::TRANSFER_DST_OPTIMAL),
+            (Scope::HANDED_OVER, dst.layout_after),
         );
+        self.cmd_image_barriers(cmd, &dst_ready);
         // SAFETY: cmd is recording outside a render pass; both images live until the
         // submission is waited for; the caller owns dst for the duration (acquired).
         unsafe {
-            self.device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TOP_OF_PIPE,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &dst_ready,
-            );
             self.device.cmd_blit_image(
                 cmd,
                 src.image,
@@ -196,17 +173,9 @@ impl GpuContext {
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &region,
                 filter,
-            );
-            self.device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::BOTTOM_OF_PIPE,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &handed_back,
-            );
-        }
+            )
+        };
+        self.cmd_image_barriers(cmd, &handed_back);
     }
 }
 

@@ -10,7 +10,8 @@ use super::RenderError;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
 use crate::gpu::shared::*;
 use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, StorageImage, TimestampPool,
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, StorageImage,
+    TimestampPool,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -215,9 +216,14 @@ impl Accumulator {
             if fresh {
                 means.cmd_prepare_for_write(cmd);
             }
-            // The frame's compute writes (an earlier submission) before this pass reads them.
-            ctx.cmd_compute_barrier(cmd);
+            // The frame's compute writes (an earlier submission) before this pass reads them
+            // and overwrites the frame with what it shows.
+            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
             for (e, push) in pushes.iter().enumerate() {
+                if e > 0 {
+                    // The eyes share the frame and the means (each eye its own half).
+                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
+                }
                 let name = match (eyes, e) {
                     (1, _) => "accumulate",
                     (_, 0) => "left accumulate",

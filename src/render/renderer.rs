@@ -12,7 +12,7 @@ use crate::foveation::gaze::GazeFix;
 use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer, VisibilityMask};
 use crate::gpu::shared::*;
 use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation,
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation, Scope,
     StorageImage, TimestampPool,
 };
 use crate::scene::gpu_layout::GpuScene;
@@ -488,11 +488,18 @@ impl Renderer {
             }
             targets.output.cmd_prepare_for_write(cmd);
             for (e, eye) in eyes.iter().enumerate() {
+                if e > 0 {
+                    // The eyes share the layer images and the output (each eye its own layers
+                    // and half): the previous eye's merge has read the layers this eye's trace
+                    // overwrites, and written the output this eye's merge writes.
+                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_WRITE);
+                }
                 if given_layers.is_none() && eye.threads > 0 {
                     timestamps.cmd_timed(cmd, &name(e, "trace"), || {
                         trace.cmd_dispatch(cmd, layout, &eye.push, groups_1d(eye.threads))
                     });
-                    ctx.cmd_compute_barrier(cmd);
+                    // Fill reads the traced lattice points and writes the pixels between them.
+                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
                 }
                 if !eye.fills.is_empty() {
                     timestamps.cmd_timed(cmd, &name(e, "fill"), || {
@@ -509,7 +516,8 @@ impl Renderer {
                             interpolate.cmd_dispatch(cmd, layout, &push, groups);
                         }
                     });
-                    ctx.cmd_compute_barrier(cmd);
+                    // Merge reads the filled layers.
+                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ);
                 }
                 timestamps.cmd_timed(cmd, &name(e, "merge"), || {
                     let groups = [
@@ -520,6 +528,8 @@ impl Renderer {
                     merge.cmd_dispatch(cmd, layout, &eye.push, groups)
                 });
             }
+            // The trace's counters, read by the host after the fence.
+            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
         })?;
         let passes = self.timestamps.read()?;
         let mut counters = self.read_stats()?;
@@ -606,8 +616,11 @@ impl Renderer {
         let groups = [(rays.len() as u32).div_ceil(PROBE_WORKGROUP_SIZE), 1, 1];
         let pipeline = self.raycast.as_ref().expect("created above");
         let layout = &self.layout;
-        self.ctx.submit_and_wait("raycast", |cmd| {
-            pipeline.cmd_dispatch(cmd, layout, &push, groups)
+        let ctx = &self.ctx;
+        ctx.submit_and_wait("raycast", |cmd| {
+            pipeline.cmd_dispatch(cmd, layout, &push, groups);
+            // The hits and counters, read by the host after the fence.
+            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
         })?;
         let overflows = self.read_stats()?[0].stack_overflows;
         let (_, hits) = self.probe.as_ref().expect("set above");

@@ -91,3 +91,12 @@ pub fn fovea_with_env(args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
     );
     (out.status.success(), text)
 }
+
+/// A context like [`context`] with GPU-assisted validation on as well: shaders are
+/// instrumented to report out-of-bounds descriptor accesses (slow: small dispatches only).
+pub fn gpu_assisted_context() -> Arc<GpuContext> {
+    let mut options = GpuOptions::from_env();
+    options.validation = true;
+    options.checks.gpu_assisted = true;
+    Arc::new(GpuContext::new(&options).expect("a Vulkan device (run tools/setup.sh for lavapipe)"))
+}

@@ -1,0 +1,118 @@
+//! Pipeline barriers (VK_KHR_synchronization2): every barrier names the stages and accesses
+//! it orders on each side, through a small set of [`Scope`]s, so that a pass's barrier says
+//! exactly what it waits for and what waits on it. A GPU overlaps dispatches that no barrier
+//! orders; lavapipe runs them one after another, so a missing barrier shows only under the
+//! validation layer's synchronization checks, which the tests run (see `options.rs`).
+
+use super::context::GpuContext;
+use ash::vk;
+
+/// The stages and access types on one side of a barrier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Scope {
+    pub(crate) stages: vk::PipelineStageFlags2,
+    pub(crate) access: vk::AccessFlags2,
+}
+
+type Stage = vk::PipelineStageFlags2;
+type Access = vk::AccessFlags2;
+
+impl Scope {
+    /// Nothing before: an image whose old contents are discarded (layout UNDEFINED).
+    pub const NOTHING: Scope = Scope::new(Stage::NONE, Access::NONE);
+    /// Compute shaders writing storage buffers or images (atomics included).
+    pub const COMPUTE_WRITE: Scope =
+        Scope::new(Stage::COMPUTE_SHADER, Access::SHADER_STORAGE_WRITE);
+    /// Compute shaders reading storage buffers or images.
+    pub const COMPUTE_READ: Scope = Scope::new(Stage::COMPUTE_SHADER, Access::SHADER_STORAGE_READ);
+    /// Compute shaders reading and writing (a pass that accumulates into what it reads).
+    pub const COMPUTE_READ_WRITE: Scope = Scope::new(
+        Stage::COMPUTE_SHADER,
+        Access::from_raw(
+            Access::SHADER_STORAGE_READ.as_raw() | Access::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    );
+    /// Every command recorded before, to its end, with no memory made visible: for work that
+    /// must only follow it (a crash marker saying those commands completed).
+    pub const ALL_WORK: Scope = Scope::new(Stage::ALL_COMMANDS, Access::NONE);
+    /// vkCmdFillBuffer writing (a clear command).
+    pub const FILL_WRITE: Scope = Scope::new(Stage::CLEAR, Access::TRANSFER_WRITE);
+    /// Copies reading (image → buffer read-backs).
+    pub const COPY_READ: Scope = Scope::new(Stage::COPY, Access::TRANSFER_READ);
+    /// Copies and fills writing (uploads, crash markers).
+    pub const COPY_WRITE: Scope = Scope::new(Stage::COPY, Access::TRANSFER_WRITE);
+    /// Blits reading (a frame copied into a swapchain image).
+    pub const BLIT_READ: Scope = Scope::new(Stage::BLIT, Access::TRANSFER_READ);
+    /// Blits writing.
+    pub const BLIT_WRITE: Scope = Scope::new(Stage::BLIT, Access::TRANSFER_WRITE);
+    /// The host reading mapped memory after the submission's fence.
+    pub const HOST_READ: Scope = Scope::new(Stage::HOST, Access::HOST_READ);
+    /// An image handed to someone else (a compositor, a presentation engine), who orders its
+    /// own reads with a semaphore or fence: the barrier only makes the writes available.
+    pub const HANDED_OVER: Scope = Scope::new(Stage::NONE, Access::NONE);
+
+    const fn new(stages: Stage, access: Access) -> Self {
+        Self { stages, access }
+    }
+
+    /// The union of two scopes (a pass that ends several kinds of work).
+    pub const fn and(self, other: Scope) -> Scope {
+        Scope::new(
+            Stage::from_raw(self.stages.as_raw() | other.stages.as_raw()),
+            Access::from_raw(self.access.as_raw() | other.access.as_raw()),
+        )
+    }
+}
+
+/// An image barrier: the image, its subresources, and its layout on each side.
+pub(crate) struct ImageTransition {
+    pub image: vk::Image,
+    pub range: vk::ImageSubresourceRange,
+    pub from: (Scope, vk::ImageLayout),
+    pub to: (Scope, vk::ImageLayout),
+}
+
+impl GpuContext {
+    /// Records a memory barrier: the accesses in `before` (and everything earlier in their
+    /// stages) happen before, and are visible to, the accesses in `after`.
+    pub fn cmd_barrier(&self, cmd: vk::CommandBuffer, before: Scope, after: Scope) {
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(before.stages)
+            .src_access_mask(before.access)
+            .dst_stage_mask(after.stages)
+            .dst_access_mask(after.access)];
+        let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: cmd is a recording command buffer of this device, outside any render pass;
+        // synchronization2 was enabled at device creation.
+        unsafe { self.sync2.cmd_pipeline_barrier2(cmd, &dependency) };
+    }
+
+    /// Records image barriers (layout transitions with the accesses they order), all in one
+    /// call.
+    pub(crate) fn cmd_image_barriers(
+        &self,
+        cmd: vk::CommandBuffer,
+        transitions: &[ImageTransition],
+    ) {
+        let barriers: Vec<vk::ImageMemoryBarrier2> = transitions
+            .iter()
+            .map(|t| {
+                vk::ImageMemoryBarrier2::default()
+                    .src_stage_mask(t.from.0.stages)
+                    .src_access_mask(t.from.0.access)
+                    .old_layout(t.from.1)
+                    .dst_stage_mask(t.to.0.stages)
+                    .dst_access_mask(t.to.0.access)
+                    .new_layout(t.to.1)
+                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .image(t.image)
+                    .subresource_range(t.range)
+            })
+            .collect();
+        let dependency = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+        // SAFETY: cmd is a recording command buffer of this device, outside any render pass;
+        // the images belong to this device; synchronization2 was enabled at device creation.
+        unsafe { self.sync2.cmd_pipeline_barrier2(cmd, &dependency) };
+    }
+}

@@ -1,0 +1,123 @@
+//! GPU-assisted validation (shaders instrumented by the validation layer to report
+//! out-of-bounds descriptor accesses) over every fovea shader, on lavapipe: it reports an
+//! access past the end of a buffer, and each shader runs clean under it. Instrumented shaders
+//! run thousands of times slower on lavapipe, so the dispatches are tiny.
+
+mod common;
+
+use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
+use fovea::gpu::shared::*;
+use fovea::gpu::{shaders, vk, Buffer, ComputePipeline, PipelineLayout, StorageImage};
+use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
+use fovea::scene::builtin::builtin;
+use gpu_allocator::MemoryLocation;
+
+const SIZE: u32 = 8;
+
+/// Merge reads each layer's parameters (a GpuLayer, 112 bytes) from a 16-byte buffer: the
+/// instrumented shader reports the access past its end.
+#[test]
+fn an_out_of_bounds_read_is_reported() {
+    let ctx = common::gpu_assisted_context();
+    let layout = PipelineLayout::new(&ctx).unwrap();
+    let merge = ComputePipeline::new(&ctx, &layout, "merge", shaders::MERGE, &[]).unwrap();
+    let frame = StorageImage::new(&ctx, "frame", SIZE, SIZE).unwrap();
+    frame.upload(&[0.0; (SIZE * SIZE * 4) as usize]).unwrap();
+    let layer_images = StorageImage::new_array(&ctx, "layers", SIZE, SIZE, 1).unwrap();
+    layer_images
+        .upload(&[0.0; (SIZE * SIZE * 4) as usize])
+        .unwrap();
+    let small = |name| {
+        Buffer::new(
+            &ctx,
+            name,
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )
+        .unwrap()
+    };
+    let (layers, visibility) = (small("too small for a layer"), small("no mask"));
+    layout.bind(
+        &[(BINDING_LAYERS, &layers), (BINDING_VISIBILITY, &visibility)],
+        &[
+            (BINDING_OUTPUT, &frame),
+            (BINDING_LAYER_IMAGES, &layer_images),
+        ],
+    );
+    let push = PushConstants {
+        width: SIZE,
+        height: SIZE,
+        layer_count: 1,
+        ..Default::default()
+    };
+    ctx.submit_and_wait("out of bounds", |cmd| {
+        merge.cmd_dispatch(cmd, &layout, &push, [1, 1, 1])
+    })
+    .unwrap();
+    let messages = ctx.take_validation_messages();
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("out of bounds") && m.contains("Descriptor size is 16")),
+        "no out-of-bounds report from GPU-assisted validation; messages:\n{}",
+        messages.join("\n")
+    );
+}
+
+/// trace, interpolate and merge: a foveated stereo frame (every layer filled, both eyes);
+/// accumulate: that frame added to a running mean and shown as the heat map (which reads
+/// every layer's parameters); raycast: a few probe rays.
+#[test]
+fn every_shader_runs_clean_under_gpu_assisted_validation() {
+    let ctx = common::gpu_assisted_context();
+    let scene = builtin("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let thesis = FoveationConfig::thesis();
+    let gaze = GazeChoice {
+        left: Gaze::Corner,
+        right: Gaze::Forward,
+    };
+    let eyes = eye_views(&scene.camera, 1.0, FovChoice::Scene, true, gaze);
+    let settings = common::settings(SIZE, SIZE, 1, 1, fovea::render::Integrator::Pt);
+    let frame = renderer
+        .measure_frame(&FrameRequest {
+            settings,
+            foveation: &thesis,
+            eyes: &eyes,
+            debug: DebugView::None,
+        })
+        .unwrap();
+    let passes: Vec<&str> = frame.stats.pass_ms.iter().map(|p| p.0.as_str()).collect();
+    for pass in ["left trace", "left fill", "left merge", "right merge"] {
+        assert!(passes.contains(&pass), "{pass} did not run: {passes:?}");
+    }
+    common::assert_no_validation_messages(&ctx);
+
+    let mut means = Accumulator::new(&ctx).unwrap();
+    means
+        .add(&AccumulateRequest {
+            frame: renderer.output_image().unwrap(),
+            eyes: &eyes,
+            eye_size: [SIZE, SIZE],
+            foveation: &thesis,
+            into: Mean::Main,
+            show: Show::Heat,
+        })
+        .unwrap();
+    common::assert_no_validation_messages(&ctx);
+
+    let toward = |x: f32| GpuProbeRay {
+        origin: [
+            scene.camera.position.x,
+            scene.camera.position.y,
+            scene.camera.position.z,
+            0.0,
+        ],
+        direction: [x, 0.0, -1.0, f32::INFINITY],
+    };
+    let (hits, overflows) = renderer.raycast(&[toward(-0.1), toward(0.1)]).unwrap();
+    assert_eq!((hits.len(), overflows), (2, 0));
+    common::assert_no_validation_messages(&ctx);
+}
