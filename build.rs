@@ -1,14 +1,20 @@
-//! Compiles every `glsl/*.comp` to SPIR-V with shaderc; `src/gpu/shaders.rs` embeds the results.
-//! Shaders include `glsl/*.glsl` and `glsl/shared.h`, so any change under glsl/ rebuilds them.
+//! Compiles every `glsl/*.comp` to SPIR-V with glslc (shaderc's compiler, Debian package
+//! `glslc`, installed by tools/setup.sh); `src/gpu/shaders.rs` embeds the results. Shaders
+//! include `glsl/*.glsl` and `glsl/shared.h`, so any change under glsl/ rebuilds them.
+//!
+//! glslc runs as a program on the build host, so cross-builds (Windows) compile the same
+//! SPIR-V and nothing of shaderc is linked into anything. `GLSLC` names another glslc.
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 fn main() {
     let glsl = Path::new("glsl");
     println!("cargo:rerun-if-changed=glsl");
+    println!("cargo:rerun-if-env-changed=GLSLC");
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     write_shared_constants(&glsl.join("shared.h"), &out.join("shared_consts.rs"));
-    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
     let mut entries: Vec<_> = std::fs::read_dir(glsl)
         .expect("glsl/ directory")
         .map(|e| e.expect("glsl/ entry").path())
@@ -16,37 +22,32 @@ fn main() {
         .collect();
     entries.sort();
     for path in entries {
-        let source = std::fs::read_to_string(&path).expect("read shader");
-        let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-        options.set_target_env(
-            shaderc::TargetEnv::Vulkan,
-            shaderc::EnvVersion::Vulkan1_2 as u32,
-        );
-        options.set_target_spirv(shaderc::SpirvVersion::V1_5);
-        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-        options.set_generate_debug_info();
-        options.set_include_callback(|name, _, _, _| {
-            let file = glsl.join(name);
-            let content = std::fs::read_to_string(&file)
-                .map_err(|e| format!("cannot include {}: {e}", file.display()))?;
-            Ok(shaderc::ResolvedInclude {
-                resolved_name: file.display().to_string(),
-                content,
-            })
-        });
-        let name = path.file_name().unwrap().to_string_lossy().to_string();
-        let artifact = compiler
-            .compile_into_spirv(
-                &source,
-                shaderc::ShaderKind::Compute,
-                &name,
-                "main",
-                Some(&options),
-            )
-            .unwrap_or_else(|e| panic!("shader {name} failed to compile:\n{e}"));
-        let stem = path.file_stem().unwrap().to_string_lossy();
-        std::fs::write(out.join(format!("{stem}.spv")), artifact.as_binary_u8())
-            .expect("write spv");
+        let stem = path.file_stem().unwrap().to_string_lossy().to_string();
+        let spv = out.join(format!("{stem}.spv"));
+        // Vulkan 1.2 / SPIR-V 1.5, optimized for performance (spirv-opt -O), with debug
+        // information (names and lines for profilers and GPU-assisted validation reports).
+        let run = Command::new(&glslc)
+            .args(["-fshader-stage=compute", "--target-env=vulkan1.2"])
+            .args(["--target-spv=spv1.5", "-O", "-g", "-I"])
+            .arg(glsl)
+            .arg(&path)
+            .arg("-o")
+            .arg(&spv)
+            .output()
+            .unwrap_or_else(|e| {
+                panic!(
+                    "cannot run the shader compiler `{glslc}` ({e}): run tools/setup.sh, which \
+                     installs Debian's glslc, or set GLSLC to a glslc"
+                )
+            });
+        if !run.status.success() {
+            panic!(
+                "shader {} failed to compile:\n{}{}",
+                path.display(),
+                String::from_utf8_lossy(&run.stdout),
+                String::from_utf8_lossy(&run.stderr)
+            );
+        }
     }
 }
 

@@ -678,3 +678,136 @@ fn bad_xr_options_are_refused_with_what_to_give() {
         assert!(out.contains(says), "{args:?}:\n{out}");
     }
 }
+
+/// `fovea xr --probe` on the simulated headset with `env`; its report and any submitted
+/// image go under `dir`.
+fn probe(dir: &Path, env: &[(&str, &str)]) -> (bool, String) {
+    let images = dir.join("images");
+    let report = dir.join("report.json");
+    let mut all_env = vec![
+        ("SIM_HEADSET_SAVE_DIR", images.to_str().unwrap()),
+        ("SIM_HEADSET_REPORT", report.to_str().unwrap()),
+    ];
+    all_env.extend_from_slice(env);
+    fovea_with_env(&["xr", "--probe", "--simulated"], &all_env)
+}
+
+/// The probe says, in each eye-gaze mode of the simulated headset, whether gaze is offered,
+/// supported and delivered; it names the runtime, the extensions, the view sizes, the
+/// formats and the device, submits no image and tears down cleanly.
+#[test]
+fn the_probe_reports_the_set_up_in_each_eye_gaze_mode_and_renders_nothing() {
+    for (setting, says) in [
+        (
+            "on",
+            "eye gaze:          delivered: the gaze action was active in",
+        ),
+        ("off", "eye gaze:          not offered"),
+        ("unsupported", "eye gaze:          not supported"),
+        (
+            "inactive",
+            "eye gaze:          offered and supported, but not delivered",
+        ),
+    ] {
+        let dir = scratch(&format!("probe-{setting}"));
+        let (ok, out) = probe(
+            &dir,
+            &[
+                ("SIM_HEADSET_SIZE", "96x80"),
+                ("SIM_HEADSET_EYE_GAZE", setting),
+            ],
+        );
+        assert!(ok, "{setting}: {out}");
+        assert!(out.contains(says), "{setting}: {out}");
+        for fact in [
+            "OpenXR runtime:    fovea simulated headset",
+            "XR_KHR_vulkan_enable2            offered (required)",
+            "eye 0: recommended 96x80",
+            "eye 1: recommended 96x80",
+            "swapchain formats: ",
+            "Vulkan device:     ",
+            "probed over 30 empty frames",
+        ] {
+            assert!(out.contains(fact), "{setting}: no '{fact}' in:\n{out}");
+        }
+        let gaze_line = |name: &str| format!("{name:<32} ");
+        let offered = out.contains(&format!(
+            "{}offered",
+            gaze_line("XR_EXT_eye_gaze_interaction")
+        ));
+        assert_eq!(offered, setting != "off", "{setting}: {out}");
+        let saved = std::fs::read_dir(dir.join("images")).map_or(0, |d| d.count());
+        assert_eq!(saved, 0, "{setting}: the probe submitted images");
+        assert_clean_teardown(&dir);
+    }
+}
+
+#[test]
+fn the_probe_without_a_runtime_says_what_to_do() {
+    let dir = scratch("probe-noruntime");
+    let missing = dir.join("missing.json");
+    let (ok, out) = fovea_with_env(
+        &["xr", "--probe"],
+        &[("XR_RUNTIME_JSON", missing.to_str().unwrap())],
+    );
+    assert!(!ok, "{out}");
+    assert!(
+        out.contains("XR_RUNTIME_JSON") && out.contains("--simulated"),
+        "{out}"
+    );
+}
+
+/// SIGTERM (what Ctrl+C or a closed console is on Windows) ends an open-ended session the
+/// way `--frames` does: a clean exit, session files that hold every frame, a clean teardown.
+#[test]
+fn a_termination_signal_ends_the_session_cleanly() {
+    let dir = scratch("sigterm");
+    let session = dir.join("session");
+    let report = dir.join("report.json");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_fovea"))
+        .args(["xr", "--simulated", "--session", session.to_str().unwrap()])
+        .env("FOVEA_VALIDATION", "1")
+        .env("SIM_HEADSET_SIZE", "32x32")
+        .env("SIM_HEADSET_REPORT", report.to_str().unwrap())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let frames_csv = session.join("frames.csv");
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(&frames_csv).map_or(0, |t| t.lines().count()) < 7 {
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "no 3 frames within 2 minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = std::process::Command::new("sh")
+        .args(["-c", &format!("kill -TERM {}", child.id())])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("stopping the session (interrupted)"),
+        "{text}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(session.join("session.json")).unwrap())
+            .unwrap();
+    let frames = json["frames"].as_u64().unwrap();
+    let rows = std::fs::read_to_string(&frames_csv)
+        .unwrap()
+        .lines()
+        .count() as u64
+        - 1;
+    assert!(frames >= 3, "{json:#}");
+    assert_eq!(rows, 2 * frames, "{json:#}");
+    assert_clean_teardown(&dir);
+}

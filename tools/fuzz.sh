@@ -15,10 +15,6 @@
 # - cargo-fuzz needs nightly for `-Zsanitizer=address` (its default) and cargo's `-Z` flags;
 #   RUSTC_BOOTSTRAP=1 unlocks both on stable rustc/cargo. (The coverage instrumentation
 #   itself, -Cpasses=sancov-module and -Cllvm-args, is stable.)
-# - cargo-fuzz builds with `--target`, so the rustflags of ../.cargo/config.toml no longer
-#   reach build scripts, and build.rs (which links shaderc statically) fails to link with
-#   undefined glslang symbols. `-Zhost-config -Ztarget-applies-to-host` with
-#   CARGO_HOST_RUSTFLAGS hands build scripts the same link arguments, read from that file.
 # - nv-flip's bundled C++ (tinyexr/miniz) trips AddressSanitizer's one-definition-rule check
 #   at start-up, a false positive for this target: detect_odr_violation=0.
 # - `-O` keeps cargo-fuzz from adding -Cdebug-assertions to every crate; fuzz/Cargo.toml turns
@@ -43,21 +39,18 @@ if ! command -v cargo-fuzz >/dev/null 2>&1; then
     cargo install cargo-fuzz --locked
 fi
 
-host_rustflags=$(sed -n 's/^ *"-C", *"\(link-arg=[^"]*\)",*$/-C \1/p' "$repo/.cargo/config.toml" | tr '\n' ' ')
 export RUSTC_BOOTSTRAP=1
-export CARGO_HOST_RUSTFLAGS="$host_rustflags"
 export CARGO_BUILD_JOBS=1
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_odr_violation=0"
-build_flags=(-Zhost-config -Ztarget-applies-to-host)
 libfuzzer_flags=(-rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -max_len=16384 -print_final_stats=1)
 
 if [[ "${1:-}" == cmin ]]; then
-    exec cargo fuzz cmin -O gltf_load "${build_flags[@]}" -- "${libfuzzer_flags[@]}"
+    exec cargo fuzz cmin -O gltf_load -- "${libfuzzer_flags[@]}"
 fi
 if [[ "${1:-}" == run ]]; then
-    exec cargo fuzz run -O gltf_load "${build_flags[@]}" "${inputs[@]}" -- "${libfuzzer_flags[@]}"
+    exec cargo fuzz run -O gltf_load "${inputs[@]}" -- "${libfuzzer_flags[@]}"
 fi
 
 seconds=${1:-300}
-exec nice cargo fuzz run -O gltf_load "${build_flags[@]}" -- \
+exec nice cargo fuzz run -O gltf_load -- \
     "${libfuzzer_flags[@]}" -max_total_time="$seconds"

@@ -47,10 +47,10 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 # Vulkan from backports: driver (lavapipe), loader, headers, validation layers, tools.
 $SUDO apt-get install -y -q -t bookworm-backports \
-  mesa-vulkan-drivers libvulkan1 libvulkan-dev vulkan-validationlayers vulkan-tools \
-  glslang-dev glslang-tools spirv-tools libshaderc-dev
-# Build tools and the OpenXR loader (the loader is only dlopen'ed at run time).
-$SUDO apt-get install -y -q build-essential pkg-config cmake libopenxr-loader1 libopenxr-dev
+  mesa-vulkan-drivers libvulkan1 libvulkan-dev vulkan-validationlayers vulkan-tools
+# Build tools, glslc (build.rs compiles the shaders with it) and the OpenXR loader (the loader
+# is only dlopen'ed at run time).
+$SUDO apt-get install -y -q build-essential pkg-config cmake glslc libopenxr-loader1 libopenxr-dev
 # `fovea view`: the X11 and Wayland client libraries winit loads at run time, and Xvfb (a
 # virtual X server) with xauth, which the viewer tests open their windows on.
 $SUDO apt-get install -y -q xvfb xauth libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 \

@@ -12,6 +12,8 @@ use fovea::render::{DebugView, Integrator, RenderSettings};
 use fovea::scene;
 use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 #[derive(Args)]
 pub struct XrArgs {
@@ -55,6 +57,11 @@ pub struct XrArgs {
     /// eyes, per frame, as `fovea bench` writes), gaze.csv and session.json.
     #[arg(long, value_name = "DIR")]
     pub session: Option<PathBuf>,
+    /// Diagnose the set-up and exit without rendering: runtime, headset, extensions, eye gaze
+    /// (offered, supported, delivered), view sizes, refresh rates, swapchain formats and the
+    /// Vulkan device, from a session of empty frames.
+    #[arg(long, conflicts_with_all = ["session", "record_gaze", "debug"])]
+    pub probe: bool,
     /// Save the gaze trace (replay it with `render`/`bench --gaze-trace`).
     #[arg(long, value_name = "FILE")]
     pub record_gaze: Option<PathBuf>,
@@ -121,6 +128,12 @@ pub fn run(args: &XrArgs) -> Result<()> {
         args.session.as_deref(),
         args.record_gaze.as_deref(),
     )?;
+    // Ctrl+C, SIGTERM, SIGHUP or a closed console window: end the session as --frames does,
+    // so the session files are complete.
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed))
+        .map_err(|e| anyhow::anyhow!("cannot install the Ctrl+C handler: {e}"))?;
     let options = XrOptions {
         source: match args.simulated {
             true => RuntimeSource::Simulated,
@@ -138,7 +151,24 @@ pub fn run(args: &XrArgs) -> Result<()> {
         frames: args.frames,
         gaze_hold_s: args.gaze_hold,
         visibility_mask: !args.no_visibility_mask,
+        probe: args.probe,
+        stop,
     };
+    if args.probe {
+        let options = XrOptions {
+            frames: Some(args.frames.unwrap_or(xr::PROBE_FRAMES)),
+            ..options
+        };
+        let summary = xr::run(options, |_| Ok(()))?;
+        if let Some(report) = &summary.probe {
+            print!("{report}");
+        }
+        check_validation_messages(&summary.validation)?;
+        return match summary.end {
+            SessionEnd::Lost => bail!("the OpenXR session was lost while probing"),
+            SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
+        };
+    }
     let summary = xr::run(options, |record| recorder.frame(record))?;
     recorder.finish(&summary)?;
     println!(

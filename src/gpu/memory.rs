@@ -317,6 +317,9 @@ impl StorageImage {
             };
             // Back to GENERAL for the next frame's compute passes, after the copy has read it.
             self.cmd_transition(cmd, copying, COMPUTE_WRITING);
+            // The copied rows, read by the host after the fence.
+            self.ctx
+                .cmd_barrier(cmd, Scope::COPY_WRITE, Scope::HOST_READ);
         })?;
         Ok(bytemuck::pod_collect_to_vec(staging.read()?))
     }

@@ -162,7 +162,7 @@ impl ComputePipeline {
             .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
-        // SAFETY: the SPIR-V was produced by shaderc at build time.
+        // SAFETY: the SPIR-V was produced by glslc (shaderc) at build time.
         let module =
             unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
         let entries: Vec<vk::SpecializationMapEntry> = specialization

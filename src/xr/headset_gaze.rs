@@ -19,6 +19,14 @@ pub(super) struct HeadsetGaze {
     /// Whether the action's activity was judged (in the first focused frame: actions are
     /// only active while the session has input focus, OpenXR 1.0 §11).
     judged: bool,
+    activity: GazeActivity,
+}
+
+/// How often the gaze action was active while the session had input focus.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GazeActivity {
+    pub focused_frames: u64,
+    pub active_frames: u64,
 }
 
 /// A frame's gaze, and when the tracker sampled it (seconds, the runtime's clock).
@@ -38,12 +46,18 @@ impl HeadsetGaze {
             raycaster: CpuRaycaster::new(scene),
             filter: GazeFilter::new(hold_s),
             judged: false,
+            activity: GazeActivity::default(),
         }
     }
 
     /// Why there is no eye gaze at all, if there is none.
     pub(super) fn unavailable(&self) -> Option<&'static str> {
         self.tracker.as_ref().err().map(|why| why.message())
+    }
+
+    /// How often the action was active in focused frames so far.
+    pub(super) fn activity(&self) -> GazeActivity {
+        self.activity
     }
 
     /// The gaze for the frame displayed at `time`, for eyes `cameras` with `images`.
@@ -73,6 +87,8 @@ impl HeadsetGaze {
                     );
                 }
                 self.judged |= focused;
+                self.activity.focused_frames += focused as u64;
+                self.activity.active_frames += (focused && sample.active) as u64;
                 sample.pose.and_then(|pose| {
                     let (origin, dir) = placement.gaze_ray(&pose);
                     let hit = |o, d| self.raycaster.closest_hit(o, d);

@@ -21,6 +21,10 @@ pub struct XrInstance {
     pub runtime: String,
     pub eye_gaze_extension: bool,
     pub visibility_mask: bool,
+    /// XR_FB_display_refresh_rate is offered (and enabled): the display's rates can be read.
+    pub refresh_rates: bool,
+    /// Every extension the runtime offers, by name.
+    pub offered: Vec<String>,
 }
 
 fn load_entry(source: RuntimeSource) -> Result<xr::Entry, XrError> {
@@ -48,6 +52,7 @@ impl XrInstance {
         wanted.khr_vulkan_enable2 = true;
         wanted.ext_eye_gaze_interaction = offered.ext_eye_gaze_interaction;
         wanted.khr_visibility_mask = offered.khr_visibility_mask;
+        wanted.fb_display_refresh_rate = offered.fb_display_refresh_rate;
         let app = xr::ApplicationInfo {
             application_name: "fovea",
             application_version: 1,
@@ -83,6 +88,12 @@ impl XrInstance {
             runtime,
             eye_gaze_extension: wanted.ext_eye_gaze_interaction,
             visibility_mask: wanted.khr_visibility_mask,
+            refresh_rates: wanted.fb_display_refresh_rate,
+            offered: offered
+                .names()
+                .iter()
+                .map(|n| String::from_utf8_lossy(n.strip_suffix(&[0]).unwrap_or(n)).into_owned())
+                .collect(),
         })
     }
 

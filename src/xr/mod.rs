@@ -7,6 +7,7 @@ mod eye_gaze;
 mod headset_gaze;
 mod instance;
 pub mod poses;
+mod probe;
 mod recording;
 mod session;
 mod swapchains;
@@ -14,5 +15,6 @@ mod vulkan;
 
 pub use error::XrError;
 pub use instance::RuntimeSource;
+pub use probe::{ProbeReport, PROBE_FRAMES};
 pub use recording::SessionRecorder;
 pub use session::{run, FrameRecord, SessionEnd, XrOptions, XrSummary};

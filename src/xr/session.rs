@@ -9,6 +9,7 @@ use super::eye_gaze::EyeGaze;
 use super::headset_gaze::HeadsetGaze;
 use super::instance::{RuntimeSource, XrInstance};
 use super::poses::SpacePlacement;
+use super::probe::ProbeReport;
 use super::swapchains::{choose_format, EyeSwapchain};
 use super::vulkan::RuntimeVulkan;
 use crate::foveation::gaze_filter::FilteredGaze;
@@ -17,6 +18,7 @@ use crate::gpu::{ContextNeeds, GpuContext, GpuOptions, SourceRect};
 use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
 use crate::scene::Scene;
 use openxr as xr;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -46,6 +48,12 @@ pub struct XrOptions {
     pub gaze_hold_s: f64,
     /// Use the runtime's visibility mask where offered.
     pub visibility_mask: bool,
+    /// Render nothing: set everything up, submit empty frames until `frames`, and report
+    /// what the runtime offers ([`XrSummary::probe`]).
+    pub probe: bool,
+    /// Set (by a Ctrl+C or termination handler) to end the session as `frames` does: the
+    /// runtime is asked to stop, and everything is torn down and recorded.
+    pub stop: Arc<AtomicBool>,
 }
 
 /// One rendered frame, for whoever records the session.
@@ -88,6 +96,8 @@ pub struct XrSummary {
     pub end: SessionEnd,
     /// Validation messages, including those reported while the Vulkan device was destroyed.
     pub validation: Vec<String>,
+    /// What `--probe` found (probe sessions only).
+    pub probe: Option<ProbeReport>,
 }
 
 /// Runs a session to its end; `record` sees every rendered frame.
@@ -187,6 +197,17 @@ fn run_with_context(
         .enumerate_swapchain_formats()
         .xr("xrEnumerateSwapchainFormats")?;
     let format = choose_format(&offered, ctx)?;
+    let probe = match options.probe {
+        true => Some(ProbeReport::new(
+            xr_instance,
+            &views,
+            &session,
+            &offered,
+            format,
+            &ctx.info,
+        )?),
+        false => None,
+    };
     let mut swapchains = [
         EyeSwapchain::new(&session, format, size)?,
         EyeSwapchain::new(&session, format, size)?,
@@ -207,6 +228,7 @@ fn run_with_context(
         states: Vec::new(),
         end: SessionEnd::RuntimeExit,
         validation: Vec::new(),
+        probe: None,
     };
     let mut running = false;
     let mut exit_asked: Option<Instant> = None;
@@ -252,6 +274,15 @@ fn run_with_context(
                 xr::Event::VisibilityMaskChangedKHR(_) => masks_stale = use_mask,
                 _ => {}
             }
+        }
+        if exit_asked.is_none() && options.stop.load(Ordering::Relaxed) {
+            eprintln!("fovea xr: stopping the session (interrupted)");
+            if !running {
+                summary.end = SessionEnd::Requested;
+                break;
+            }
+            session.request_exit().xr("xrRequestExitSession")?;
+            exit_asked = Some(Instant::now());
         }
         if let Some(asked) = exit_asked {
             if asked.elapsed() > STOP_TIMEOUT {
@@ -313,6 +344,18 @@ fn run_with_context(
         let gaze = headset_gaze.frame(
             &session, &space, &placement, time, focused, &cameras, &images,
         )?;
+        if probe.is_some() {
+            // The probe renders nothing; an empty frame keeps the session running.
+            stream
+                .end(time, xr::EnvironmentBlendMode::OPAQUE, &[])
+                .xr("xrEndFrame")?;
+            summary.frames += 1;
+            if options.frames.is_some_and(|n| summary.frames >= n) {
+                session.request_exit().xr("xrRequestExitSession")?;
+                exit_asked = Some(Instant::now());
+            }
+            continue;
+        }
         let filtered = gaze.filtered;
         let gaze_time_s = gaze.time_s;
         let gazes = filtered.gazes(&images);
@@ -385,6 +428,11 @@ fn run_with_context(
             exit_asked = Some(Instant::now());
         }
     }
+    summary.probe = probe.map(|report| ProbeReport {
+        gaze: headset_gaze.activity(),
+        frames: summary.frames,
+        ..report
+    });
     // Teardown in reverse order of creation: the swapchains' images and the spaces belong
     // to the session, which must go before the Vulkan device it uses.
     drop(swapchains);
