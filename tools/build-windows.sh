@@ -110,6 +110,8 @@ while [ ${#pending[@]} -gt 0 ]; do
     pending+=("$stage/$dll")
   done
 done
+# Symbols are for debuggers this archive does not ship (the mingw runtime alone carries 20 MB).
+x86_64-w64-mingw32-strip --strip-unneeded "$stage"/*.exe "$stage"/*.dll
 (cd dist && zip -q -r "$name.zip" "$name")
 elapsed=$(($(date +%s) - started))
 echo "build-windows: wrote dist/$name.zip ($(du -h "dist/$name.zip" | cut -f1)) in ${elapsed} s"

@@ -5,8 +5,10 @@
 #   1. fovea.exe --version
 #   2. fovea.exe render of cornell at 64x64 with a fixed seed, whose EXR must equal the Linux
 #      build's for the same arguments bit for bit (same SPIR-V, same driver)
-#   3. a 10-frame fovea.exe xr session on sim_headset.dll through XR_RUNTIME_JSON (the
-#      archive's manifest), which must exit cleanly and leave complete session files
+#   3. a 10-frame fovea.exe xr session on sim_headset.dll through openxr_loader.dll, the
+#      archive's manifest registered as the active runtime, which must exit cleanly and
+#      leave complete session files
+#   4. fovea.exe xr --probe on the same runtime, which must see its eye gaze delivered
 #
 # from the unpacked archive, without the validation layer (there is no Windows build of it
 # here; the Linux test suite runs the same code under it). For Wine only, a stand-in bcryptprimitives.dll (tools/windows/) goes beside the
@@ -66,10 +68,16 @@ wine_ms=$((($(date +%s%N) - wine_started) / 1000000))
 grep -q "llvmpipe" "$work/windows.log" || fail "fovea.exe did not render on lavapipe: $(cat "$work/windows.log")"
 cmp -s "$work/linux.exr" "$app/windows.exr" ||
   fail "the EXR fovea.exe wrote differs from the Linux build's for: ${render_args[*]}"
-step "fovea.exe render: EXR bit-identical to Linux's (${render_args[*]}); wall time Linux ${linux_ms} ms, Wine ${wine_ms} ms"
+gpu_ms() { sed -n 's/.*: \([0-9.]*\) ms GPU.*/\1/p' "$1" | head -n 1; }
+step "fovea.exe render: EXR bit-identical to Linux's (${render_args[*]}); GPU time Linux $(gpu_ms "$work/linux.log") ms, Wine $(gpu_ms "$work/windows.log") ms; wall time (process start to exit) Linux ${linux_ms} ms, Wine ${wine_ms} ms"
 
-# 3. A 10-frame session on the simulated headset through the OpenXR loader.
+# 3. A 10-frame session on the simulated headset through the OpenXR loader. Wine runs every
+# program as an administrator, and the loader ignores XR_RUNTIME_JSON in an elevated process,
+# so the manifest is made the active runtime the way a runtime's installer does (SteamVR's
+# too): HKLM\SOFTWARE\Khronos\OpenXR\1, ActiveRuntime.
 manifest=$(wine_in_x winepath -w "$app/sim-headset.json" 2>/dev/null | tr -d '\r')
+wine_in_x reg add 'HKLM\SOFTWARE\Khronos\OpenXR\1' /v ActiveRuntime /t REG_SZ /d "$manifest" /f \
+  >/dev/null 2>&1 || fail "could not register the simulated headset as the active OpenXR runtime"
 (cd "$app" && XR_RUNTIME_JSON="$manifest" \
   wine_in_x ./fovea.exe xr --frames 10 --size 64x64 --session session) >"$work/xr.log" 2>&1 ||
   fail "fovea.exe xr: $(cat "$work/xr.log")"
@@ -79,4 +87,11 @@ grep -q '"frames"' "$app/session/session.json" || fail "session/session.json is 
 grep -q "fovea simulated headset" "$app/session/session.json" ||
   fail "the session did not run on the simulated headset: $(cat "$app/session/session.json")"
 step "fovea.exe xr: 10 frames on sim_headset.dll through openxr_loader.dll, session files complete"
+grep -E "^OpenXR runtime" "$work/xr.log" || true
+# 4. The probe a headset user runs first, on the same runtime.
+(cd "$app" && wine_in_x ./fovea.exe xr --probe) >"$work/probe.log" 2>&1 ||
+  fail "fovea.exe xr --probe: $(cat "$work/probe.log")"
+grep -q "eye gaze:          delivered" "$work/probe.log" ||
+  fail "fovea.exe xr --probe did not see the simulated eye gaze: $(cat "$work/probe.log")"
+step "fovea.exe xr --probe: $(grep -E '^eye gaze:' "$work/probe.log")"
 echo "wine-check: all passed in $(($(date +%s) - started)) s"
