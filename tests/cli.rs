@@ -189,3 +189,64 @@ fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
     // The fovea is identical to the regular frame, the periphery is not.
     assert!(identical > 0.5 && identical < 100.0, "{text}");
 }
+
+/// `render --bench --json` writes what the table shows: a record per built-in scene and mode
+/// with the medians, the same GPU ms the table prints (to its 0.1 ms), the regular frame's
+/// samples equal to its pixels × spp, and the trace part of each frame's time.
+#[test]
+fn render_bench_json_holds_the_table() {
+    let dir = std::env::temp_dir().join(format!("fovea-cli-json-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json_path = dir.join("bench.json");
+    let (ok, text) = fovea(&[
+        "render",
+        "--bench",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--spp",
+        "2",
+        "--bench-frames",
+        "1",
+        "--foveation",
+        "thesis",
+        "--json",
+        json_path.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    let records = json["records"].as_array().unwrap();
+    let scenes = fovea::scene::builtin::BUILTIN_SCENES;
+    assert_eq!(records.len(), scenes.len() * 3, "{json:#}");
+    for (name, _) in scenes {
+        // The table's row: scene, then regular, forward and corner GPU ms.
+        let row: Vec<&str> = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("no table row for {name}:\n{text}"))
+            .split_whitespace()
+            .collect();
+        for (column, mode) in ["regular", "forward", "corner"].iter().enumerate() {
+            let r = records
+                .iter()
+                .find(|r| r["scene"] == *name && r["mode"] == *mode)
+                .unwrap_or_else(|| panic!("no record for {name} {mode}: {json:#}"));
+            let gpu_ms = r["gpu_ms"].as_f64().unwrap();
+            let trace_ms = r["trace_ms"].as_f64().unwrap();
+            let printed: f64 = row[1 + column].parse().unwrap();
+            assert!(
+                (gpu_ms - printed).abs() <= 0.05 + 1e-9,
+                "{name} {mode}: {gpu_ms} vs {printed}"
+            );
+            assert!(trace_ms > 0.0 && trace_ms <= gpu_ms, "{name} {mode}: {r}");
+            if *mode == "regular" {
+                assert_eq!(r["samples"].as_f64().unwrap(), (16 * 12 * 2) as f64, "{r}");
+            }
+        }
+    }
+    assert_eq!(json["width"], 16);
+    assert_eq!(json["spp"], 2);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -82,6 +82,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 3, allow_negative_numbers = true,
           value_parser = whole_number("a number of frames, 1 or more".into()))]
     pub bench_frames: u32,
+    /// With --bench: also write the table as JSON, one record per scene and mode (scene,
+    /// mode, and the medians gpu_ms, trace_ms, samples), rewritten after every scene.
+    #[arg(long, value_name = "FILE", requires = "bench")]
+    pub json: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -6,12 +6,13 @@
 
 use super::check_validation;
 use super::render::{render_named, with_source_gaze, RenderArgs};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use fovea::bench::stats::median;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
 use fovea::render::{eye_views, DebugView, FrameRequest, RenderSettings, Renderer};
 use fovea::scene::{self, builtin::BUILTIN_SCENES};
+use std::path::Path;
 use std::sync::Arc;
 
 /// One way of rendering a scene, and what its frames cost.
@@ -36,6 +37,19 @@ impl Mode {
             trace_ms: Vec::new(),
             samples: Vec::new(),
         }
+    }
+
+    /// The mode's medians for `--json`.
+    fn record(&self, scene: &str) -> serde_json::Value {
+        let samples: Vec<f64> = self.samples.iter().map(|&s| s as f64).collect();
+        serde_json::json!({
+            "scene": scene,
+            "mode": self.name,
+            "gpu_ms": median(&self.gpu_ms),
+            "trace_ms": median(&self.trace_ms),
+            "samples": median(&samples),
+            "frames": self.gpu_ms.len(),
+        })
     }
 
     /// Mean camera paths of a frame (the trace mode's vary from frame to frame).
@@ -90,6 +104,7 @@ pub fn run(
         );
     }
     let aspect = settings.width as f32 / settings.height as f32;
+    let mut records = Vec::new();
     for (name, _) in BUILTIN_SCENES {
         let scene = scene::builtin::builtin(name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene)?;
@@ -147,6 +162,10 @@ pub fn run(
                 }
             }
         }
+        if let Some(path) = &args.json {
+            records.extend(modes.iter().map(|m| m.record(name)));
+            write_json(path, ctx, args, settings, &records)?;
+        }
         let ms: Vec<f64> = modes.iter().map(|m| median(&m.gpu_ms)).collect();
         if foveated {
             let ratio = |m: &Mode| modes[0].mean_samples() / m.mean_samples().max(1.0);
@@ -198,4 +217,33 @@ pub fn run(
         }
     }
     check_validation(ctx)
+}
+
+/// Writes the records measured so far, with the device and settings they were measured at.
+fn write_json(
+    path: &Path,
+    ctx: &GpuContext,
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    records: &[serde_json::Value],
+) -> Result<()> {
+    let json = serde_json::json!({
+        "device": ctx.info.name,
+        "driver": ctx.info.driver,
+        "width": settings.width,
+        "height": settings.height,
+        "eyes": if args.stereo { 2 } else { 1 },
+        "fov": format!("{:?}", args.fov),
+        "spp": settings.spp,
+        "integrator": format!("{:?}", settings.integrator),
+        "max_bounces": settings.max_bounces,
+        "records": records,
+    });
+    let text = serde_json::to_string_pretty(&json)?;
+    std::fs::write(path, text + "\n").with_context(|| {
+        format!(
+            "cannot write {}: check the directory exists",
+            path.display()
+        )
+    })
 }
