@@ -20,7 +20,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render one frame headless and write it as PNG (+ linear EXR) or EXR.
-    Render(commands::render::RenderArgs),
+    Render(Box<commands::render::RenderArgs>),
     /// The thesis' evaluation, unattended: scenes x regular/forward/corner x frames x repeats,
     /// GPU timestamps, error against converged references, CSV/JSON/Markdown/plots/trace.
     Bench(Box<commands::bench::BenchArgs>),
