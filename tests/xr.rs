@@ -21,17 +21,23 @@ fn scratch(name: &str) -> PathBuf {
 /// Runs `fovea xr` on the simulated headset with `env` (SIM_HEADSET_*), its images saved and
 /// its report written under `dir`.
 fn xr(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
+    let session = dir.join("session");
+    let mut all_args = vec!["xr", "--session", session.to_str().unwrap()];
+    all_args.extend_from_slice(args);
+    fovea_saving_under(dir, &all_args, env)
+}
+
+/// Runs `fovea ARGS` with `env`, the simulated headset saving the eye images it is handed
+/// under `dir/images` and writing its report to `dir/report.json`.
+fn fovea_saving_under(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
     let images = dir.join("images");
     let report = dir.join("report.json");
-    let session = dir.join("session");
     let mut all_env = vec![
         ("SIM_HEADSET_SAVE_DIR", images.to_str().unwrap()),
         ("SIM_HEADSET_REPORT", report.to_str().unwrap()),
     ];
     all_env.extend_from_slice(env);
-    let mut all_args = vec!["xr", "--session", session.to_str().unwrap()];
-    all_args.extend_from_slice(args);
-    fovea_with_env(&all_args, &all_env)
+    fovea_with_env(args, &all_env)
 }
 
 fn report(dir: &Path) -> serde_json::Value {
@@ -682,14 +688,7 @@ fn bad_xr_options_are_refused_with_what_to_give() {
 /// `fovea xr --probe` on the simulated headset with `env`; its report and any submitted
 /// image go under `dir`.
 fn probe(dir: &Path, env: &[(&str, &str)]) -> (bool, String) {
-    let images = dir.join("images");
-    let report = dir.join("report.json");
-    let mut all_env = vec![
-        ("SIM_HEADSET_SAVE_DIR", images.to_str().unwrap()),
-        ("SIM_HEADSET_REPORT", report.to_str().unwrap()),
-    ];
-    all_env.extend_from_slice(env);
-    fovea_with_env(&["xr", "--probe", "--simulated"], &all_env)
+    fovea_saving_under(dir, &["xr", "--probe", "--simulated"], env)
 }
 
 /// The probe says, in each eye-gaze mode of the simulated headset, whether gaze is offered,
