@@ -29,14 +29,14 @@ vec3 turbo(float x) {
 
 // Camera samples that went into pixel p of this eye over `frames` frames: the samples per
 // pixel of the innermost layer containing it, spp / spacing^2 (a layer traces one target
-// pixel in spacing x spacing), as merge.comp picks layers. 0 outside the occlusion mask.
+// pixel in spacing x spacing), as resolve.comp picks layers. 0 outside the occlusion mask.
 float samples_per_pixel(ivec2 p, float frames) {
     uint base = pc.eye * pc.layer_count;
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].merge_cos.z)) return 0.0;
-    vec3 gaze = tan_direction(layers[base].gaze.xy);
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)) return 0.0;
+    vec3 gaze = layers[base].gaze.xyz;
     uint k = 0u;
-    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].merge_cos.x)) k++;
+    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].resolve_cos.x)) k++;
     float spacing = float(layers[base + k].spacing);
     return frames * float(layers[base + k].spp) / (spacing * spacing);
 }

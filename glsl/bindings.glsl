@@ -24,8 +24,14 @@ layout(std430, set = 0, binding = BINDING_PROBE_RAYS) readonly buffer ProbeRays 
 layout(std430, set = 0, binding = BINDING_PROBE_HITS) writeonly buffer ProbeHits { GpuProbeHit probe_hits[]; };
 
 layout(set = 0, binding = BINDING_LAYER_IMAGES, rgba32f) uniform image2DArray layer_images;
-layout(std430, set = 0, binding = BINDING_RAY_BUFFER) readonly buffer RayBufferBuf { uint ray_offsets[]; };
-layout(std430, set = 0, binding = BINDING_SPANS) readonly buffer Spans { GpuSpan spans[]; };
+// Only trace.comp writes LATTICE (it defines WRITES_LATTICE); read-only everywhere else, so
+// the validation layer's synchronization checks see the other passes as its readers.
+#ifdef WRITES_LATTICE
+layout(std430, set = 0, binding = BINDING_LATTICE) writeonly buffer LatticeBuf { vec4 lattice[]; };
+#else
+layout(std430, set = 0, binding = BINDING_LATTICE) readonly buffer LatticeBuf { vec4 lattice[]; };
+#endif
+layout(std430, set = 0, binding = BINDING_WORK) buffer WorkBuf { uint work[]; };
 layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };
 

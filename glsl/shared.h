@@ -19,12 +19,16 @@
 #define BINDING_OUTPUT 8       // rgba32f storage image: the merged frame, eyes side by side
 #define BINDING_PROBE_RAYS 9   // GpuProbeRay[] (raycast.comp only)
 #define BINDING_PROBE_HITS 10  // GpuProbeHit[] (raycast.comp only)
-#define BINDING_LAYER_IMAGES 11 // rgba32f 2D array image: one full-size layer per (eye, layer)
-#define BINDING_RAY_BUFFER 12  // uint[]: target-pixel offsets, two int16 (dx low, dy high)
-#define BINDING_SPANS 13       // GpuSpan[]: this frame's traced index ranges of the ray buffer
+#define BINDING_LAYER_IMAGES 11 // rgba32f 2D array image (accumulate.comp's running means)
+#define BINDING_LATTICE 12     // vec4[]: traced lattice values; per eye, one entry per lattice
+                               // point of the ray buffer (GpuLayer.first, .cols locate a point)
+#define BINDING_WORK 13        // uint[]: the plan pass's work lists, eye e's at e * PushConstants
+                               // .work_stride: lattice index | layer << WORK_LAYER_SHIFT
 #define BINDING_LAYERS 14      // GpuLayer[]: this frame's layers, eye-major
-#define BINDING_VISIBILITY 15  // uint[]: [0] words per eye (0: no mask), then per eye one bit
-                               // per pixel (row-major, low bit first), 1 where the lens shows it
+#define BINDING_VISIBILITY 15  // uint[]: [0] words per plane (0: no mask), then per eye 1 + layers
+                               // planes of one bit per pixel (row-major, low bit first): the pixels
+                               // the lens shows, then per layer the pixels whose lattice points are
+                               // needed (the shown ones dilated by the layer's Catmull-Rom reach)
 #define BINDING_COUNT 16
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
@@ -35,6 +39,7 @@
 #define SPEC_HAS_EMITTERS 4
 #define SPEC_MAX_BOUNCES 5
 #define SPEC_INTEGRATOR 6
+#define SPEC_PLAN_IN_TRACE 7 // trace.comp: plan each point itself (no plan pass, no work list)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -54,6 +59,15 @@
 #define STAT_RAYS 3            // all rays traced (camera, bounce and shadow)
 #define STAT_COUNT 4
 #define STAT_EYES 2            // one block of STAT_COUNT counters per eye: stats[eye * STAT_COUNT + STAT_*]
+#define MAX_LAYERS 8           // src/foveation/config.rs's limit
+// The plan pass's results, in the same host-visible buffer (reset by the host every frame):
+// lattice points traced per eye and layer, then per eye the trace dispatch's
+// VkDispatchIndirectCommand (x, y, z) and the length of the eye's work list.
+#define STAT_LAYER_POINTS 8    // STAT_EYES * STAT_COUNT; + eye * MAX_LAYERS + layer
+#define STAT_DISPATCH 24       // STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS; + eye * 4
+#define STAT_WORK_COUNT 3      // within an eye's STAT_DISPATCH block, after x, y, z
+#define STAT_WORDS 32          // STAT_DISPATCH + STAT_EYES * 4
+#define WORK_LAYER_SHIFT 28    // work items: lattice index in the low 28 bits, layer above
 
 // ---- debug views (PushConstants.debug) -------------------------------------------------------
 #define DEBUG_NONE 0
@@ -68,11 +82,12 @@
 #define WORKGROUP_SIZE_X 8
 #define WORKGROUP_SIZE_Y 8
 #define PROBE_WORKGROUP_SIZE 64
-// Fill and merge: each invocation does this many pixels, WORKGROUP_SIZE_X apart in x, so a
+// Resolve: each invocation does this many pixels, WORKGROUP_SIZE_X apart in x, so a
 // workgroup covers 32x8 pixels. Lavapipe pays a fixed cost per invocation that was as large
-// as the per-pixel work of these passes; GPUs are indifferent at headset resolutions.
+// as the per-pixel work of the pass; GPUs are indifferent at headset resolutions.
 #define PIXELS_PER_INVOCATION 4
-#define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the frame's spans
+#define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the eye's work list
+#define PLAN_WORKGROUP_SIZE 64  // plan.comp is 1D over the eye's layers' lattice boxes
 #define MAX_GROUPS_X 65535 // the guaranteed maxComputeWorkGroupCount[0]; larger dispatches use y
 
 struct GpuTriangle {
@@ -143,44 +158,39 @@ struct PushConstants {
     uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
     uint probe_count;
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
-    uint layer; // interpolate.comp: index into LAYERS of the layer to fill
-    uint span_first; // trace.comp: this eye's spans are SPANS[span_first .. span_first+span_count]
-    uint span_count;
+    uint layer; // accumulate.comp: the running mean's layer of LAYER_IMAGES
+    uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
+    uint plan_points; // plan.comp: threads of this eye (its layers' lattice boxes together)
     uint debug; // DEBUG_*
     uint layer_count; // layers per eye; this eye's are LAYERS[eye*layer_count ..]
 };
 
-// A run of consecutive ray-buffer entries, all traced by one layer this frame.
-struct GpuSpan {
-    uint first; // index into RAY_BUFFER
-    uint count;
-    uint prefix; // sum of count over this eye's earlier spans: the first thread of the span
-    uint layer; // index into LAYERS
-};
-
-// One layer of one eye for this frame. Angles are radians from the gaze direction.
+// One layer of one eye for this frame: the O(layers) numbers the CPU writes per frame, from
+// which plan.comp decides which lattice points are traced and resolve.comp composes the image.
+// Angles are radians from the gaze direction; directions are in the eye's view space.
 struct GpuLayer {
-    vec4 gaze; // xy: the gaze's tangent-space point; z: one pixel's largest angle; w: blend band
-    // Cosines of the angle limits, so per-pixel tests are one dot product (a pixel is within
+    vec4 gaze; // xyz: the unit gaze direction, w: the blend band
+    // Cosines of the angle limits, so per-point tests are one dot product (a point is within
     // a limit when dot(direction, centre) > cos). -2: no limit; 2: nothing is within.
-    vec4 fill_cos; // x: outer + slack, y: inner - slack, z: occlusion + slack (from the gaze / axis)
-    vec4 merge_cos; // x: outer, y: outer - band, z: occlusion
-    int anchor_x; // pixel the ray-buffer offsets are relative to
+    vec4 plan_cos; // traced region, margins included: x occlusion (from the axis), y outer, z inner
+    vec4 resolve_cos; // x: outer, y: outer - band, z: occlusion
+    vec4 pixel_tan; // xy: tangent-space point of pixel (0, 0)'s centre; zw: its step per pixel
+    int anchor_x; // pixel of lattice point (0, 0): the gaze pixel, or 0,0 for the background
     int anchor_y;
     int spacing;
     uint spp;
-    int lattice_min_x; // first and last lattice pixels on the image (taps clamp to these)
-    int lattice_min_y;
-    int lattice_max_x;
-    int lattice_max_y;
-    int fill_min_x; // interpolate.comp visits [fill_min, fill_max)
-    int fill_min_y;
-    int fill_max_x;
-    int fill_max_y;
+    int box_i0; // lattice points on the image and in the buffer: i in box_i0 + [0, box_cols)
+    int box_j0;
+    uint box_cols;
+    uint box_rows;
+    int col_min; // the ray buffer's extent: point (i, j) is LATTICE[first + (j - row_min) *
+    int row_min; //   cols + (i - col_min)]
+    uint cols;
+    uint first;
+    uint box_prefix; // plan.comp's first thread of this layer's box
+    uint mask_plane; // VISIBILITY plane of the points this layer needs (any value without a mask)
     float outer; // radius: shown where angle < outer (NO_LIMIT: background); blends inside it
-    uint image_layer; // layer of LAYER_IMAGES holding this layer's image
     uint pad0;
-    uint pad1;
 };
 
 struct GpuProbeRay {

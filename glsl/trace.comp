@@ -1,15 +1,21 @@
 #version 460
-// The trace pass (thesis 3.2.1-3.2.2): one thread per traced target pixel of this eye. The
-// thread finds its span (a run of ray-buffer entries of one layer) by binary search over the
-// spans' prefix sums, reads its pixel offset from the ray buffer, adds the layer's anchor
-// (the gaze pixel, or 0,0 for the background) and writes the mean of the layer's spp samples
-// into that layer's image. A sample's jitter and random numbers depend only on (pixel, sample,
-// seed, eye), so the same pixel traced by any layer config gives bit-identical values.
+// The trace pass (thesis 3.2.1-3.2.2): one thread per traced lattice point of one eye, read
+// from the work list the plan pass wrote (an indirect dispatch sized by the GPU). The thread
+// traces the layer's spp samples at the point's pixel and writes their mean into LATTICE. A
+// sample's jitter and random numbers depend only on (pixel, sample, seed, eye), so the same
+// pixel traced by any layer config gives bit-identical values.
+//
+// With PLAN_IN_TRACE the plan pass is skipped instead: the dispatch covers every layer's box
+// and each thread tests its own point (plan.glsl), exiting when it is not traced. Kept as the
+// measured alternative to compaction (`render --bench` with FOVEA_PLAN_IN_TRACE=1).
 #extension GL_GOOGLE_include_directive : require
+#define WRITES_LATTICE
 #include "integrators.glsl"
+#include "plan.glsl"
 #include "view.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
+layout(constant_id = SPEC_PLAN_IN_TRACE) const bool PLAN_IN_TRACE = false;
 
 vec3 camera_ray(vec2 pixel, vec2 jitter) {
     vec2 t = pixel_tan(pixel + jitter);
@@ -19,22 +25,22 @@ vec3 camera_ray(vec2 pixel, vec2 jitter) {
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
                 + gl_GlobalInvocationID.x;
-    if (pc.span_count == 0u) return;
-    uint last = pc.span_first + pc.span_count - 1u;
-    if (thread >= spans[last].prefix + spans[last].count) return;
-    uint lo = pc.span_first;
-    uint hi = last;
-    while (lo < hi) { // the last span whose prefix is <= thread
-        uint mid = (lo + hi + 1u) / 2u;
-        if (spans[mid].prefix <= thread) lo = mid; else hi = mid - 1u;
+    uint block = pc.eye * STAT_COUNT; // each eye counts in its own block
+    uint k;
+    ivec2 ij;
+    if (PLAN_IN_TRACE) {
+        if (!plan_point(thread, k, ij) || !traced_point(k, lattice_pixel(k, ij))) return;
+        atomicAdd(stats[STAT_LAYER_POINTS + pc.eye * MAX_LAYERS + k - pc.eye * pc.layer_count], 1u);
+    } else {
+        if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
+        uint item = work[pc.eye * pc.work_stride + thread];
+        k = pc.eye * pc.layer_count + (item >> WORK_LAYER_SHIFT);
+        uint local = (item & ((1u << WORK_LAYER_SHIFT) - 1u)) - layers[k].first;
+        uint cols = layers[k].cols;
+        ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
     }
-    GpuSpan span = spans[lo];
-    uint packed = ray_offsets[span.first + (thread - span.prefix)];
-    ivec2 offset = ivec2(int(packed << 16) >> 16, int(packed) >> 16);
-    // Only the three fields a thread needs: the whole GpuLayer is 96 bytes per thread.
-    ivec2 pixel = ivec2(layers[span.layer].anchor_x, layers[span.layer].anchor_y) + offset;
-    uint spp = layers[span.layer].spp;
-    uint image_layer = layers[span.layer].image_layer;
+    ivec2 pixel = lattice_pixel(k, ij);
+    uint spp = layers[k].spp;
 
     uint pixel_index = uint(pixel.y) * pc.width + uint(pixel.x);
     uint seed = pc.seed + pc.eye * 0x9E3779B9u; // eye 0 keeps the user's seed
@@ -56,9 +62,7 @@ void main() {
             sum += L;
         }
     }
-    imageStore(layer_images, ivec3(pixel, image_layer), vec4(sum / float(spp), 1.0));
-    // Each eye counts in its own block, so a stereo frame reports rays per eye.
-    uint block = pc.eye * STAT_COUNT;
+    lattice[lattice_index(k, ij)] = vec4(sum / float(spp), 1.0);
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
     atomicAdd(stats[block + STAT_PATHS], spp);

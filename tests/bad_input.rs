@@ -85,8 +85,9 @@ fn a_driver_without_its_hardware_is_no_device() {
 
 #[test]
 fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
-    // 1024x1024 mono with the thesis' 4 layers: 4 RGBA32F layer images of 16 MiB, the frame
-    // image and its read-back: more than a 64 MiB limit.
+    // 1024x1024 mono with the thesis' 4 layers: the frame image and its read-back (16 MiB
+    // each) fit a 40 MiB limit, the layers' lattice values (7 MiB) and work lists beside them
+    // do not.
     let text = fails_with(
         &[
             "render",
@@ -101,22 +102,22 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
             "--out",
             "/tmp/fovea-bad.png",
         ],
-        &[("FOVEA_GPU_MEMORY_LIMIT", "64M")],
+        &[("FOVEA_GPU_MEMORY_LIMIT", "40M")],
         &[
             "not enough GPU memory for the frame targets of a 1024x1024 mono frame with 4 layers",
-            "layer images 64.00 MiB",
             "frame image 16.00 MiB",
             "frame read-back 16.00 MiB",
-            "FOVEA_GPU_MEMORY_LIMIT caps fovea at 64.00 MiB (67108864 bytes)",
+            "lattice values 7.06 MiB",
+            "work lists 1.76 MiB",
+            "FOVEA_GPU_MEMORY_LIMIT caps fovea at 40.00 MiB (41943040 bytes)",
             "memory heap 0",
             "raise or unset FOVEA_GPU_MEMORY_LIMIT",
         ],
     );
     assert!(!text.contains("gpu pass"), "no frame may run:\n{text}");
 
-    // The example: a 16384x16384 stereo thesis frame needs 48 GiB of images. With a
-    // limit the case does not depend on the device's memory; without one lavapipe here
-    // (23.5 GiB) refuses it the same way.
+    // A 16384x16384 stereo thesis frame needs 16 GiB for its image and read-back alone. With
+    // a limit the case does not depend on the device's memory.
     let started = std::time::Instant::now();
     fails_with(
         &[
@@ -134,13 +135,13 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
         &[("FOVEA_GPU_MEMORY_LIMIT", "8G")],
         &[
             "16384x16384 stereo frame with 4 layers",
-            "it needs 48.00 GiB, 51539673984 bytes",
-            "layer images 32.00 GiB",
+            "it needs 16.00 GiB, 17179870208 bytes",
             "frame image 8.00 GiB",
+            "frame read-back 8.00 GiB",
             "caps fovea at 8.00 GiB (8589934592 bytes)",
         ],
     );
-    // Refused by arithmetic, not by trying: nothing of the 48 GiB was allocated or built.
+    // Refused by arithmetic, not by trying: nothing of the 16 GiB was allocated or built.
     assert!(started.elapsed().as_secs() < 20, "{:?}", started.elapsed());
 }
 
@@ -212,9 +213,9 @@ fn lost_device_names_the_last_pass_and_the_running_one() {
         "/tmp/fovea-bad.png",
     ];
     for (inject, completed, running) in [
-        ("left trace", "'left trace'", "'left fill' was running"),
-        ("left fill", "'left fill'", "'left merge' was running"),
-        ("right trace", "'right trace'", "'right fill' was running"),
+        ("left plan", "'left plan'", "'right plan' was running"),
+        ("left trace", "'left trace'", "'right trace' was running"),
+        ("right trace", "'right trace'", "'left resolve' was running"),
     ] {
         let text = fails_with(
             &stereo,
@@ -230,8 +231,8 @@ fn lost_device_names_the_last_pass_and_the_running_one() {
     }
     fails_with(
         &stereo,
-        &[("FOVEA_INJECT_DEVICE_LOST", "right merge")],
-        &["every pass had completed, the last one 'right merge'"],
+        &[("FOVEA_INJECT_DEVICE_LOST", "right resolve")],
+        &["every pass had completed, the last one 'right resolve'"],
     );
     // Mono passes have no eye prefix.
     fails_with(
@@ -240,7 +241,7 @@ fn lost_device_names_the_last_pass_and_the_running_one() {
             .chain(SMALL.iter().copied())
             .collect::<Vec<_>>(),
         &[("FOVEA_INJECT_DEVICE_LOST", "trace")],
-        &["the last pass that completed was 'trace', so 'merge' was running"],
+        &["the last pass that completed was 'trace', so 'resolve' was running"],
     );
 }
 

@@ -100,7 +100,7 @@ fn a_quick_run_writes_every_file_and_they_parse() {
     for r in &frames {
         let f = |name: &str| r[col(name)].parse::<f64>().unwrap();
         assert!(f("frame_gpu_ms") > 0.0 && f("cpu_ms") > 0.0, "{r:?}");
-        let sum = f("trace_ms") + f("fill_ms") + f("merge_ms");
+        let sum = f("gpu_plan_ms") + f("trace_ms") + f("resolve_ms");
         assert!((sum - f("eye_gpu_ms")).abs() < 1e-9, "{r:?}");
         assert!(f("eye_gpu_ms") <= f("frame_gpu_ms") + 1e-9, "{r:?}");
         assert!(f("rays") >= f("paths") && f("paths") > 0.0, "{r:?}");

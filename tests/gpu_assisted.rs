@@ -15,19 +15,15 @@ use gpu_allocator::MemoryLocation;
 
 const SIZE: u32 = 8;
 
-/// Merge reads each layer's parameters (a GpuLayer, 112 bytes) from a 16-byte buffer: the
+/// Resolve reads each layer's parameters (a GpuLayer, 128 bytes) from a 16-byte buffer: the
 /// instrumented shader reports the access past its end.
 #[test]
 fn an_out_of_bounds_read_is_reported() {
     let ctx = common::gpu_assisted_context();
     let layout = PipelineLayout::new(&ctx).unwrap();
-    let merge = ComputePipeline::new(&ctx, &layout, "merge", shaders::MERGE, &[]).unwrap();
+    let resolve = ComputePipeline::new(&ctx, &layout, "resolve", shaders::RESOLVE, &[]).unwrap();
     let frame = StorageImage::new(&ctx, "frame", SIZE, SIZE).unwrap();
     frame.upload(&[0.0; (SIZE * SIZE * 4) as usize]).unwrap();
-    let layer_images = StorageImage::new_array(&ctx, "layers", SIZE, SIZE, 1).unwrap();
-    layer_images
-        .upload(&[0.0; (SIZE * SIZE * 4) as usize])
-        .unwrap();
     let small = |name| {
         Buffer::new(
             &ctx,
@@ -39,12 +35,14 @@ fn an_out_of_bounds_read_is_reported() {
         .unwrap()
     };
     let (layers, visibility) = (small("too small for a layer"), small("no mask"));
+    let lattice = small("lattice");
     layout.bind(
-        &[(BINDING_LAYERS, &layers), (BINDING_VISIBILITY, &visibility)],
         &[
-            (BINDING_OUTPUT, &frame),
-            (BINDING_LAYER_IMAGES, &layer_images),
+            (BINDING_LAYERS, &layers),
+            (BINDING_VISIBILITY, &visibility),
+            (BINDING_LATTICE, &lattice),
         ],
+        &[(BINDING_OUTPUT, &frame)],
     );
     let push = PushConstants {
         width: SIZE,
@@ -53,7 +51,7 @@ fn an_out_of_bounds_read_is_reported() {
         ..Default::default()
     };
     ctx.submit_and_wait("out of bounds", |cmd| {
-        merge.cmd_dispatch(cmd, &layout, &push, [1, 1, 1])
+        resolve.cmd_dispatch(cmd, &layout, &push, [1, 1, 1])
     })
     .unwrap();
     let messages = ctx.take_validation_messages();
@@ -66,7 +64,7 @@ fn an_out_of_bounds_read_is_reported() {
     );
 }
 
-/// trace, interpolate and merge: a foveated stereo frame (every layer filled, both eyes);
+/// plan, dispatch sizes, trace and resolve: a foveated stereo frame (every layer, both eyes);
 /// accumulate: that frame added to a running mean and shown as the heat map (which reads
 /// every layer's parameters); raycast: a few probe rays.
 #[test]
@@ -90,7 +88,15 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
         })
         .unwrap();
     let passes: Vec<&str> = frame.stats.pass_ms.iter().map(|p| p.0.as_str()).collect();
-    for pass in ["left trace", "left fill", "left merge", "right merge"] {
+    for pass in [
+        "left plan",
+        "right plan",
+        "dispatch sizes",
+        "left trace",
+        "right trace",
+        "left resolve",
+        "right resolve",
+    ] {
         assert!(passes.contains(&pass), "{pass} did not run: {passes:?}");
     }
     common::assert_no_validation_messages(&ctx);

@@ -127,43 +127,35 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             probe_count,
             eye,
             layer,
-            span_first,
-            span_count,
+            work_stride,
+            plan_points,
             debug,
             layer_count
         }
     );
     check!(
         s,
-        GpuSpan {
-            first,
-            count,
-            prefix,
-            layer
-        }
-    );
-    check!(
-        s,
         GpuLayer {
             gaze,
-            fill_cos,
-            merge_cos,
+            plan_cos,
+            resolve_cos,
+            pixel_tan,
             anchor_x,
             anchor_y,
             spacing,
             spp,
-            lattice_min_x,
-            lattice_min_y,
-            lattice_max_x,
-            lattice_max_y,
-            fill_min_x,
-            fill_min_y,
-            fill_max_x,
-            fill_max_y,
+            box_i0,
+            box_j0,
+            box_cols,
+            box_rows,
+            col_min,
+            row_min,
+            cols,
+            first,
+            box_prefix,
+            mask_plane,
             outer,
-            image_layer,
-            pad0,
-            pad1
+            pad0
         }
     );
     check!(s, GpuProbeRay { origin, direction });

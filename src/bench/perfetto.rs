@@ -144,13 +144,14 @@ mod tests {
             repeat: 0,
             frame,
             eye: "left".into(),
+            gpu_plan_ms: 0.5,
             trace_ms: 1.0,
-            fill_ms: 0.5,
-            merge_ms: 0.25,
+            resolve_ms: 0.25,
             eye_gpu_ms: 1.75,
             frame_gpu_ms: 3.5,
             cpu_ms: 5.0,
             plan_ms: 0.1,
+            record_ms: 0.05,
             paths: 10,
             rays: 20,
             nonfinite: 0,
@@ -164,7 +165,7 @@ mod tests {
     fn passes() -> Vec<(String, f64, f64)> {
         vec![
             ("left trace".into(), 0.0, 1.0),
-            ("left fill".into(), 1.0, 0.5),
+            ("left resolve".into(), 1.0, 0.5),
         ]
     }
 
@@ -197,12 +198,12 @@ mod tests {
             2,
             "the resumed run reuses the GPU and CPU tracks"
         );
-        let fill = slices
+        let resolve = slices
             .iter()
-            .find(|e| e["name"] == "left fill" && e["args"]["frame"] == 1)
+            .find(|e| e["name"] == "left resolve" && e["args"]["frame"] == 1)
             .unwrap();
-        assert_eq!(fill["ts"].as_f64().unwrap(), 1_010_000.0 + 1000.0);
-        assert_eq!(fill["dur"].as_f64().unwrap(), 500.0);
+        assert_eq!(resolve["ts"].as_f64().unwrap(), 1_010_000.0 + 1000.0);
+        assert_eq!(resolve["dur"].as_f64().unwrap(), 500.0);
 
         // Opening a finished trace again removes its bracket and goes on.
         let mut w = TraceWriter::open(&path).unwrap();

@@ -257,7 +257,7 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
     let _ = writeln!(md, "## {name}\n");
     let _ = writeln!(
         md,
-        "| mode | frames | fps mean ± std | median ms | p99 ms | trace / fill / merge ms per eye | CPU ms | paths per frame | impact (range) |"
+        "| mode | frames | fps mean ± std | median ms | p99 ms | plan / trace / resolve ms per eye | CPU ms | paths per frame | impact (range) |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
     for m in &scene.modes {
@@ -274,9 +274,9 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
             r.fps.std,
             r.ms.median,
             r.ms.p99,
+            ms(m.gpu_plan_ms),
             ms(m.trace_ms),
-            ms(m.fill_ms),
-            ms(m.merge_ms),
+            ms(m.resolve_ms),
             ms(m.cpu_ms),
             m.paths_per_frame,
             fmt_impact(m)

@@ -15,20 +15,22 @@ pub struct FrameRow {
     pub repeat: u32,
     pub frame: u32,
     pub eye: String,
-    /// GPU milliseconds of this eye's passes (0 where a pass did not run: nothing to trace,
-    /// or no layer to fill).
+    /// GPU milliseconds of this eye's passes: plan (which lattice points are traced), trace
+    /// and resolve.
+    pub gpu_plan_ms: f64,
     pub trace_ms: f64,
-    pub fill_ms: f64,
-    pub merge_ms: f64,
-    /// This eye's passes together.
+    pub resolve_ms: f64,
+    /// This eye's passes together (the frame's also has the dispatch sizes, both eyes').
     pub eye_gpu_ms: f64,
     /// Both eyes' passes: the frame's GPU time, from which fps is computed.
     pub frame_gpu_ms: f64,
     /// Wall-clock milliseconds of the whole frame on the CPU: planning, recording, submit and
     /// wait (no image read-back).
     pub cpu_ms: f64,
-    /// CPU milliseconds planning both eyes (gaze → traced spans).
+    /// CPU milliseconds planning both eyes (gaze → their layers' parameters).
     pub plan_ms: f64,
+    /// CPU milliseconds recording the frame's command buffer (both eyes).
+    pub record_ms: f64,
     /// Camera paths and all rays this eye traced, counted on the GPU.
     pub paths: u64,
     pub rays: u64,
@@ -70,20 +72,22 @@ impl FrameRow {
             .iter()
             .enumerate()
             .map(|(e, counters)| {
-                let (trace, fill, merge) = (pass(e, "trace"), pass(e, "fill"), pass(e, "merge"));
+                let (plan, trace, resolve) =
+                    (pass(e, "plan"), pass(e, "trace"), pass(e, "resolve"));
                 FrameRow {
                     scene: key.scene.clone(),
                     mode: key.mode,
                     repeat: key.repeat,
                     frame: key.frame,
                     eye: EYE_NAMES[e].to_string(),
+                    gpu_plan_ms: plan,
                     trace_ms: trace,
-                    fill_ms: fill,
-                    merge_ms: merge,
-                    eye_gpu_ms: trace + fill + merge,
+                    resolve_ms: resolve,
+                    eye_gpu_ms: plan + trace + resolve,
                     frame_gpu_ms: s.gpu_ms(),
                     cpu_ms,
                     plan_ms: s.plan_ms,
+                    record_ms: s.record_ms,
                     paths: counters.paths,
                     rays: counters.rays,
                     nonfinite: counters.nonfinite_samples,

@@ -300,9 +300,10 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
     let planned: u64 = s.layer_samples.iter().sum();
     let full = frame.width as u64 * frame.height as u64 * settings.spp as u64;
     println!(
-        "samples traced: {planned} ({:.2}% of a regular frame's {full}); frame planned in {:.2} ms",
+        "samples traced: {planned} ({:.2}% of a regular frame's {full}); CPU: planned in {:.3} ms, recorded in {:.3} ms",
         100.0 * planned as f64 / full as f64,
-        s.plan_ms
+        s.plan_ms,
+        s.record_ms
     );
     for (pass, ms) in &s.pass_ms {
         println!("gpu pass {pass}: {ms:.2} ms");

@@ -185,7 +185,7 @@ pub fn run(
             );
             for m in &modes[1..] {
                 println!(
-                    "{:<12}   {:<8} samples {:>10.0} (regular {:.0}), trace {:.1} ms, fill+merge {:.1} ms",
+                    "{:<12}   {:<8} samples {:>10.0} (regular {:.0}), trace {:.1} ms, plan+resolve {:.1} ms",
                     "",
                     m.name,
                     m.mean_samples(),

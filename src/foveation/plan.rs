@@ -1,8 +1,9 @@
-//! One eye's frame plan: given the gaze, which rays of the ray buffer are traced. Each layer
-//! traces the lattice points whose angle from the gaze lies in its region (plus a margin the
-//! fill needs), that are on the image and inside the occlusion mask; everything else is
-//! neither traced nor dispatched. Traced points of one lattice row are consecutive in the
-//! buffer, so the plan is a short list of index ranges (spans) that the trace pass walks.
+//! One eye's frame plan on the CPU: given the gaze, which rays of the ray buffer are traced.
+//! Each layer traces the lattice points whose angle from the gaze lies in its region (plus
+//! the margin its Catmull-Rom taps need), that are on the image and inside the occlusion
+//! mask. The renderer decides this per point on the GPU (glsl/plan.comp) from [`Regions`]'
+//! numbers; this planner, which walks the lattice rows and lists the traced points as index
+//! ranges (spans), is the oracle the GPU's counts are tested against.
 
 use super::ray_buffer::RayBuffer;
 use super::view::{direction, ImageGeometry};
@@ -25,15 +26,6 @@ pub struct LayerPlan {
     /// First and last lattice points on the image (pixels), for clamping Catmull-Rom taps.
     pub lattice_min: [i32; 2],
     pub lattice_max: [i32; 2],
-    /// Pixels the fill pass visits: `[min, max)`; empty for spacing 1 or nothing traced.
-    pub fill_min: [i32; 2],
-    pub fill_max: [i32; 2],
-}
-
-impl LayerPlan {
-    pub fn fill_is_empty(&self) -> bool {
-        self.fill_max[0] <= self.fill_min[0] || self.fill_max[1] <= self.fill_min[1]
-    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -46,80 +38,109 @@ pub struct EyePlan {
 }
 
 /// Angular membership tests for one eye and gaze, shared by the planner and by anyone who
-/// wants to count traced rays another way.
-pub struct Regions<'a> {
-    image: &'a ImageGeometry,
-    gaze_dir: [f64; 3],
-    layers: Vec<LayerCosines>,
+/// wants to count traced rays another way. The numbers are the f32 values the GPU's plan
+/// pass gets (`GpuLayer`) and [`Self::traced`] is glsl/plan.glsl's `traced_point` with the
+/// same operations in the same order, so the CPU and the GPU decide every point alike.
+pub struct Regions {
+    /// Tangent-space point of pixel (0, 0)'s centre, then its step per pixel in x and y.
+    tan_map: [f32; 4],
+    gaze_dir: [f32; 3],
+    layers: Vec<[f32; 3]>,
 }
 
-/// `cos` of an angle limit, with limits of π or more (everything is within) and of 0 or
-/// less (nothing is) turned into cosines no dot product can fail or pass.
-fn cos_limit(angle: f64) -> f64 {
+/// `cos` of an angle limit as the shaders test it (`dot > cos·|t|`): limits of π or more
+/// (everything is within) become -2, limits of 0 or less (nothing is) 2.
+pub fn cos_limit(angle: f64) -> f32 {
     if angle >= std::f64::consts::PI {
-        f64::NEG_INFINITY
+        -2.0
     } else if angle <= 0.0 {
-        f64::INFINITY
+        2.0
     } else {
-        angle.cos()
+        angle.cos() as f32
     }
 }
 
-/// Cosines of one layer's traced region: the occlusion mask and the outer and inner edges,
-/// each widened by the layer's margin.
-#[derive(Clone, Copy)]
-struct LayerCosines {
-    occlusion: f64,
-    outer: f64,
-    inner: f64,
-}
-
-impl LayerCosines {
-    /// No limit at all (a background layer without a mask): skip the dot products.
-    fn everything(&self) -> bool {
-        self.occlusion == f64::NEG_INFINITY
-            && self.outer == f64::NEG_INFINITY
-            && self.inner == f64::INFINITY
-    }
-}
-
-impl<'a> Regions<'a> {
-    pub fn new(buffer: &'a RayBuffer, image: &'a ImageGeometry, gaze_px: [f64; 2]) -> Self {
+impl Regions {
+    pub fn new(buffer: &RayBuffer, image: &ImageGeometry, gaze_px: [f64; 2]) -> Self {
         let layers = buffer
             .layers
             .iter()
-            .map(|l| LayerCosines {
-                occlusion: cos_limit(buffer.occlusion + l.margin),
-                outer: cos_limit(l.outer + l.margin),
-                inner: cos_limit(l.inner - l.margin),
+            .map(|l| {
+                [
+                    cos_limit(buffer.occlusion + l.margin),
+                    cos_limit(l.outer + l.margin),
+                    cos_limit(l.inner - l.margin),
+                ]
             })
             .collect();
+        let centre = image.pixel_centre_tan(0, 0);
+        let g = direction(image.tan_of(gaze_px[0], gaze_px[1]));
         Self {
-            image,
-            gaze_dir: direction(image.tan_of(gaze_px[0], gaze_px[1])),
+            tan_map: [
+                centre[0] as f32,
+                centre[1] as f32,
+                ((image.tan_right - image.tan_left) / image.width as f64) as f32,
+                ((image.tan_down - image.tan_up) / image.height as f64) as f32,
+            ],
+            gaze_dir: [g[0] as f32, g[1] as f32, g[2] as f32],
             layers,
         }
     }
 
+    /// The pixel → tangent-space map (GpuLayer::pixel_tan).
+    pub fn tan_map(&self) -> [f32; 4] {
+        self.tan_map
+    }
+
+    /// The unit gaze direction in the eye's view space.
+    pub fn gaze_dir(&self) -> [f32; 3] {
+        self.gaze_dir
+    }
+
+    /// Cosines of `layer`'s traced region, margins included: occlusion, outer, inner
+    /// (GpuLayer::plan_cos).
+    pub fn plan_cos(&self, layer: usize) -> [f32; 3] {
+        self.layers[layer]
+    }
+
     /// Does `layer` trace every lattice point on the image (no radius, inner edge or mask)?
     pub fn traces_everything(&self, layer: usize) -> bool {
-        self.layers[layer].everything()
+        self.layers[layer] == [-2.0, -2.0, 2.0]
     }
 
     /// Is pixel `(x, y)` (on the image) traced by `layer` if it is one of its lattice points?
     pub fn traced(&self, layer: usize, x: i64, y: i64) -> bool {
         // θ < limit ⇔ cos θ > cos limit (cos decreases on [0, π]); comparing unnormalised
-        // dot products with cos·|u| avoids a division and any trig per point.
-        let c = &self.layers[layer];
-        if c.everything() {
-            return true;
-        }
-        let t = self.image.pixel_centre_tan(x, y);
-        let norm = (t[0] * t[0] + t[1] * t[1] + 1.0).sqrt();
+        // dot products with cos·|t| avoids a division and any trig per point.
+        let [occlusion, outer, inner] = self.layers[layer];
+        let m = self.tan_map;
         let g = self.gaze_dir;
-        let to_gaze = t[0] * g[0] + t[1] * g[1] + g[2];
-        1.0 > c.occlusion * norm && to_gaze > c.outer * norm && to_gaze <= c.inner * norm
+        let tx = m[0] + x as f32 * m[2];
+        let ty = m[1] + y as f32 * m[3];
+        let norm = (tx * tx + ty * ty + 1.0).sqrt();
+        let to_gaze = tx * g[0] + ty * g[1] + g[2];
+        1.0 > occlusion * norm && to_gaze > outer * norm && to_gaze <= inner * norm
     }
+}
+
+/// Lattice indices `(i0, i1, j0, j1)` (inclusive) of a layer's points that are on the image
+/// and within the ray buffer's extent, for a lattice anchored at `anchor`: the box the plan
+/// pass visits and the points Catmull-Rom taps clamp to. `i0 > i1` or `j0 > j1` when empty.
+pub fn layer_box(
+    layer: &super::ray_buffer::LayerLattice,
+    image: &ImageGeometry,
+    anchor: [i32; 2],
+) -> (i32, i32, i32, i32) {
+    let d = layer.spacing as i32;
+    let (w, h) = (image.width as i32, image.height as i32);
+    let lo = |a: i32| (-a).div_euclid(d) + i32::from((-a).rem_euclid(d) != 0);
+    let hi = |a: i32, size: i32| (size - 1 - a).div_euclid(d);
+    (
+        lo(anchor[0]).max(layer.col_min),
+        hi(anchor[0], w).min(layer.col_max),
+        lo(anchor[1]).max(layer.row_min),
+        hi(anchor[1], h).min(layer.row_max),
+    )
 }
 
 /// The pixel a gaze-anchored lattice is anchored at: the gaze's pixel, kept on the image.
@@ -147,7 +168,6 @@ impl EyePlan {
         mask: Option<&VisibilityMask>,
     ) -> Self {
         let regions = Regions::new(buffer, image, gaze_px);
-        let (w, h) = (image.width as i32, image.height as i32);
         let mut spans = Vec::new();
         let mut layers = Vec::new();
         for (k, l) in buffer.layers.iter().enumerate() {
@@ -158,18 +178,8 @@ impl EyePlan {
                 [0, 0]
             };
             // Lattice indices whose pixels are on the image, within the buffer's extent.
-            let lo = |a: i32| (-a).div_euclid(d) + i32::from((-a).rem_euclid(d) != 0);
-            let hi = |a: i32, size: i32| (size - 1 - a).div_euclid(d);
-            let (i0, i1) = (
-                lo(anchor[0]).max(l.col_min),
-                hi(anchor[0], w).min(l.col_max),
-            );
-            let (j0, j1) = (
-                lo(anchor[1]).max(l.row_min),
-                hi(anchor[1], h).min(l.row_max),
-            );
+            let (i0, i1, j0, j1) = layer_box(l, image, anchor);
             let mut targets = 0u64;
-            let (mut min, mut max) = ([i32::MAX; 2], [i32::MIN; 2]);
             let mut emit = |start: i32, count: u32, j: i32| {
                 spans.push(Span {
                     first: l.index(start, j),
@@ -177,9 +187,6 @@ impl EyePlan {
                     layer: k as u32,
                 });
                 targets += count as u64;
-                let (x0, y) = (anchor[0] + start * d, anchor[1] + j * d);
-                min = [min[0].min(x0), min[1].min(y)];
-                max = [max[0].max(x0 + (count as i32 - 1) * d), max[1].max(y)];
             };
             // A layer without limits (regular rendering, an unmasked background) traces whole
             // rows: one span each, without testing every point.
@@ -228,26 +235,11 @@ impl EyePlan {
                     }
                 }
             }
-            // Pixels up to d-1 beyond the outermost traced points are filled (between
-            // lattice points, or extrapolated at the image border by clamped taps).
-            let (fill_min, fill_max) = if d == 1 || targets == 0 {
-                ([0, 0], [0, 0])
-            } else {
-                (
-                    [(min[0] - d + 1).max(0), (min[1] - d + 1).max(0)],
-                    [(max[0] + d).min(w), (max[1] + d).min(h)],
-                )
-            };
             layers.push(LayerPlan {
                 anchor,
                 targets,
-                lattice_min: [anchor[0] + lo(anchor[0]) * d, anchor[1] + lo(anchor[1]) * d],
-                lattice_max: [
-                    anchor[0] + hi(anchor[0], w) * d,
-                    anchor[1] + hi(anchor[1], h) * d,
-                ],
-                fill_min,
-                fill_max,
+                lattice_min: [anchor[0] + i0 * d, anchor[1] + j0 * d],
+                lattice_max: [anchor[0] + i1 * d, anchor[1] + j1 * d],
             });
         }
         Self {
@@ -423,7 +415,6 @@ mod tests {
         assert_eq!(plan.layers[0].targets, 64 * 48);
         assert_eq!(plan.samples(&buffer), 64 * 48 * 3);
         assert_eq!(plan.spans.len(), 48, "one span per row");
-        assert!(plan.layers[0].fill_is_empty());
     }
 
     #[test]

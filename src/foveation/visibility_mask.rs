@@ -82,13 +82,16 @@ impl VisibilityMask {
     }
 
     /// The mask as bits, row-major, 1 where the pixel is visible, packed 32 to a word (low
-    /// bit first): shared.h's BINDING_VISIBILITY layout for one eye.
+    /// bit first): one plane of shared.h's BINDING_VISIBILITY layout.
     pub fn bits(&self) -> Vec<u32> {
-        let mut words = vec![0u32; self.visible.len().div_ceil(32)];
-        for (i, v) in self.visible.iter().enumerate() {
-            words[i / 32] |= (*v as u32) << (i % 32);
-        }
-        words
+        pack_bits(&self.visible)
+    }
+
+    /// The pixels whose lattice points a layer of this spacing needs ([`Self::needed`]), as
+    /// bits like [`Self::bits`]; prepares the spacing first.
+    pub fn needed_bits(&mut self, spacing: u32) -> Vec<u32> {
+        self.prepare(spacing);
+        pack_bits(&self.needed[&spacing].map)
     }
 
     /// Visible pixels of the image.
@@ -132,6 +135,15 @@ impl VisibilityMask {
             .get(&spacing)
             .map(|n| n.rows[y as usize].as_slice())
     }
+}
+
+/// Booleans packed 32 to a word, low bit first.
+fn pack_bits(flags: &[bool]) -> Vec<u32> {
+    let mut words = vec![0u32; flags.len().div_ceil(32)];
+    for (i, v) in flags.iter().enumerate() {
+        words[i / 32] |= (*v as u32) << (i % 32);
+    }
+    words
 }
 
 #[derive(Clone, Debug)]

@@ -163,13 +163,13 @@ mod tests {
     fn device_lost_names_the_passes() {
         let e = GpuError::DeviceLost {
             submission: "frame".into(),
-            completed: Some("left fill".into()),
-            running: Some("left merge".into()),
+            completed: Some("left trace".into()),
+            running: Some("left resolve".into()),
             injected: false,
         }
         .to_string();
         assert!(
-            e.contains("'left fill'") && e.contains("'left merge' was running"),
+            e.contains("'left trace'") && e.contains("'left resolve' was running"),
             "{e}"
         );
         assert!(!e.contains("injected"), "{e}");

@@ -135,6 +135,27 @@ impl Buffer {
             .and_then(|a| a.mapped_slice())
             .ok_or_else(|| GpuError::Limit("buffer is not host-visible".into()))
     }
+
+    /// Records filling the first `bytes` bytes with zeros (the buffer needs TRANSFER_DST).
+    pub fn cmd_zero(&self, cmd: vk::CommandBuffer, bytes: u64) {
+        // SAFETY: cmd is recording; the buffer is alive until the submission completes.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_fill_buffer(cmd, self.buffer, 0, bytes, 0)
+        };
+    }
+
+    /// Records copying the first `bytes` bytes into `to` (TRANSFER_SRC here, TRANSFER_DST there).
+    pub fn cmd_copy_to(&self, cmd: vk::CommandBuffer, to: &Buffer, bytes: u64) {
+        let region = [vk::BufferCopy::default().size(bytes)];
+        // SAFETY: cmd is recording; both buffers are alive until the submission completes.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_copy_buffer(cmd, self.buffer, to.buffer, &region)
+        };
+    }
 }
 
 impl Drop for Buffer {

@@ -23,7 +23,7 @@ pub struct GpuOptions {
     /// bytes with an optional K, M, G or T suffix (powers of 1024), e.g. `6G` or `512M`.
     pub memory_limit: Option<u64>,
     /// Testing only: the name of a pass (as the GPU timestamps name it, e.g. `trace` or
-    /// `left fill`) after which every command buffer containing it ends, and whose submission
+    /// `left trace`) after which every command buffer containing it ends, and whose submission
     /// then reports VK_ERROR_DEVICE_LOST as a driver would. The error is built by the real
     /// crash-marker read-back, so tests exercise that path on lavapipe, which never loses its
     /// device. A real device loss was not reproduced while writing this. Set by

@@ -211,14 +211,8 @@ impl Drop for ComputePipeline {
 }
 
 impl ComputePipeline {
-    /// Records binding, push constants and a dispatch of `groups` workgroups.
-    pub fn cmd_dispatch(
-        &self,
-        cmd: vk::CommandBuffer,
-        layout: &PipelineLayout,
-        push: &PushConstants,
-        groups: [u32; 3],
-    ) {
+    /// Records binding the pipeline, the layout's descriptor set and `push`.
+    fn cmd_bind(&self, cmd: vk::CommandBuffer, layout: &PipelineLayout, push: &PushConstants) {
         let d = &self.ctx.device;
         // SAFETY: cmd is recording; pipeline, layout and set are alive until the submit completes.
         unsafe {
@@ -238,7 +232,43 @@ impl ComputePipeline {
                 0,
                 bytemuck::bytes_of(push),
             );
-            d.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
         }
+    }
+
+    /// Records binding, push constants and a dispatch of `groups` workgroups.
+    pub fn cmd_dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        layout: &PipelineLayout,
+        push: &PushConstants,
+        groups: [u32; 3],
+    ) {
+        self.cmd_bind(cmd, layout, push);
+        // SAFETY: cmd is recording, with this pipeline and its resources bound just above.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_dispatch(cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Records binding, push constants and a dispatch whose workgroup counts the GPU wrote:
+    /// a VkDispatchIndirectCommand at byte `offset` of `args` (INDIRECT_BUFFER usage).
+    pub fn cmd_dispatch_indirect(
+        &self,
+        cmd: vk::CommandBuffer,
+        layout: &PipelineLayout,
+        push: &PushConstants,
+        args: &Buffer,
+        offset: u64,
+    ) {
+        self.cmd_bind(cmd, layout, push);
+        // SAFETY: cmd is recording, with this pipeline bound; `args` is alive until the
+        // submission completes.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_dispatch_indirect(cmd, args.buffer, offset)
+        };
     }
 }

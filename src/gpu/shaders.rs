@@ -2,6 +2,7 @@
 
 pub const TRACE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace.spv"));
 pub const RAYCAST: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast.spv"));
-pub const INTERPOLATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/interpolate.spv"));
-pub const MERGE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/merge.spv"));
+pub const PLAN: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan.spv"));
+pub const PLAN_ARGS: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan_args.spv"));
+pub const RESOLVE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/resolve.spv"));
 pub const ACCUMULATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));

@@ -6,6 +6,13 @@ use bytemuck::{Pod, Zeroable};
 
 include!(concat!(env!("OUT_DIR"), "/shared_consts.rs"));
 
+// shared.h writes the stats buffer's regions as numbers (GLSL has no constant expressions in
+// #defines that build.rs could evaluate); they must follow from the sizes before them.
+const _: () = assert!(STAT_LAYER_POINTS == STAT_EYES * STAT_COUNT);
+const _: () = assert!(STAT_DISPATCH == STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS);
+const _: () = assert!(STAT_WORDS == STAT_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(MAX_LAYERS as usize == crate::foveation::config::MAX_LAYERS);
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuTriangle {
@@ -84,43 +91,35 @@ pub struct PushConstants {
     pub probe_count: u32,
     pub eye: u32,
     pub layer: u32,
-    pub span_first: u32,
-    pub span_count: u32,
+    pub work_stride: u32,
+    pub plan_points: u32,
     pub debug: u32,
     pub layer_count: u32,
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct GpuSpan {
-    pub first: u32,
-    pub count: u32,
-    pub prefix: u32,
-    pub layer: u32,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuLayer {
     pub gaze: [f32; 4],
-    pub fill_cos: [f32; 4],
-    pub merge_cos: [f32; 4],
+    pub plan_cos: [f32; 4],
+    pub resolve_cos: [f32; 4],
+    pub pixel_tan: [f32; 4],
     pub anchor_x: i32,
     pub anchor_y: i32,
     pub spacing: i32,
     pub spp: u32,
-    pub lattice_min_x: i32,
-    pub lattice_min_y: i32,
-    pub lattice_max_x: i32,
-    pub lattice_max_y: i32,
-    pub fill_min_x: i32,
-    pub fill_min_y: i32,
-    pub fill_max_x: i32,
-    pub fill_max_y: i32,
+    pub box_i0: i32,
+    pub box_j0: i32,
+    pub box_cols: u32,
+    pub box_rows: u32,
+    pub col_min: i32,
+    pub row_min: i32,
+    pub cols: u32,
+    pub first: u32,
+    pub box_prefix: u32,
+    pub mask_plane: u32,
     pub outer: f32,
-    pub image_layer: u32,
     pub pad0: u32,
-    pub pad1: u32,
 }
 
 /// shared.h's `NO_LIMIT` (a float, so build.rs does not generate it).

@@ -45,6 +45,9 @@ impl Scope {
     pub const BLIT_READ: Scope = Scope::new(Stage::BLIT, Access::TRANSFER_READ);
     /// Blits writing.
     pub const BLIT_WRITE: Scope = Scope::new(Stage::BLIT, Access::TRANSFER_WRITE);
+    /// An indirect dispatch reading its workgroup counts.
+    pub const INDIRECT_READ: Scope =
+        Scope::new(Stage::DRAW_INDIRECT, Access::INDIRECT_COMMAND_READ);
     /// The host reading mapped memory after the submission's fence.
     pub const HOST_READ: Scope = Scope::new(Stage::HOST, Access::HOST_READ);
     /// An image handed to someone else (a compositor, a presentation engine), who orders its

@@ -4,9 +4,10 @@
 //! must be rendered with seed `seed + n` (see [`frame_seed`]); the mean of `N` frames of `s`
 //! samples per pixel is then an estimate with `N·s` samples per pixel.
 
-use super::renderer::cos_limit;
 use super::request::EyeView;
 use super::RenderError;
+use crate::foveation::plan::cos_limit;
+use crate::foveation::view::direction;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
 use crate::gpu::shared::*;
 use crate::gpu::{
@@ -239,12 +240,12 @@ impl Accumulator {
     }
 }
 
-/// What accumulate.comp's heat map reads of one eye's layers: the gaze in tangent space, each
+/// What accumulate.comp's heat map reads of one eye's layers: the gaze direction, each
 /// layer's radius and the occlusion radius as cosines, spacing and spp. The rest is unused.
 fn gpu_layers(eye: &EyeView, size: [u32; 2], config: &FoveationConfig) -> Vec<GpuLayer> {
     let image = eye.image(size[0], size[1]);
     let (gaze_px, _) = eye.gaze.resolve(&image);
-    let gaze = image.tan_of(gaze_px[0], gaze_px[1]);
+    let g = direction(image.tan_of(gaze_px[0], gaze_px[1]));
     let occlusion = config
         .occlusion_deg
         .map_or(f64::INFINITY, |o| (o as f64).to_radians());
@@ -252,8 +253,8 @@ fn gpu_layers(eye: &EyeView, size: [u32; 2], config: &FoveationConfig) -> Vec<Gp
         .layers
         .iter()
         .map(|l| GpuLayer {
-            gaze: [gaze[0] as f32, gaze[1] as f32, 0.0, 0.0],
-            merge_cos: [
+            gaze: [g[0] as f32, g[1] as f32, g[2] as f32, 0.0],
+            resolve_cos: [
                 cos_limit(
                     l.radius_deg
                         .map_or(f64::INFINITY, |r| (r as f64).to_radians()),

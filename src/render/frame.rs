@@ -1,7 +1,6 @@
 //! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
 
-/// Counters the shaders keep for every frame (shared.h's STAT_*), and GPU time per pass.
-/// What trace.comp counted for one eye of a frame.
+/// What trace.comp counted for one eye of a frame (shared.h's STAT_*).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EyeCounters {
     pub nonfinite_samples: u64,
@@ -28,8 +27,11 @@ pub struct FrameStats {
     pub pass_start_ms: Vec<f64>,
     /// Camera paths planned per foveation layer (innermost first), summed over the eyes.
     pub layer_samples: Vec<u64>,
-    /// CPU milliseconds spent planning the frame (gaze → traced spans).
+    /// CPU milliseconds spent planning the frame (gaze → every eye's layer parameters; which
+    /// lattice points are traced is decided on the GPU).
     pub plan_ms: f64,
+    /// CPU milliseconds spent recording the frame's command buffer.
+    pub record_ms: f64,
 }
 
 impl FrameStats {

@@ -1,15 +1,18 @@
-//! The per-eye frame: scene upload, passes in order, timing and read-back.
+//! The frame: scene upload, per-eye planning, the passes in order, timing and read-back.
 
 pub mod accumulate;
+mod counters;
+mod eye_params;
 mod frame;
 pub mod output;
+mod passes;
 mod renderer;
 mod request;
 mod settings;
 mod targets;
 
 pub use frame::{EyeCounters, Frame, FrameStats};
-pub use renderer::Renderer;
+pub use renderer::{LatticePoint, Renderer};
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
 pub use settings::{Integrator, RenderSettings, MAX_SIDE};
 

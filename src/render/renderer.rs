@@ -1,15 +1,17 @@
 //! The per-frame driver. Scene buffers are uploaded once and pipelines specialised per scene
 //! and integrator. Every frame, of every layer config (regular rendering is the one-layer
-//! config), runs the same passes per eye: trace (the planned rays of every layer), fill
-//! (Catmull-Rom for layers with spacing > 1) and merge (blend masks), each timed.
+//! config), plans each eye on the CPU (O(layers) numbers, `eye_params`) and records the same
+//! passes for both eyes in one submission (`passes`): plan, trace and resolve, each timed.
 
-use super::frame::{EyeCounters, Frame, FrameStats};
+use super::counters::FrameCounters;
+use super::eye_params::{eye_params, EyeParams};
+use super::frame::{Frame, FrameStats};
+use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
 use super::settings::RenderSettings;
 use super::targets::{FrameTargets, TargetKey};
 use super::RenderError;
-use crate::foveation::gaze::GazeFix;
-use crate::foveation::{EyePlan, FoveationConfig, Gaze, RayBuffer, VisibilityMask};
+use crate::foveation::{FoveationConfig, Gaze, VisibilityMask};
 use crate::gpu::shared::*;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation, Scope,
@@ -33,20 +35,22 @@ struct SceneBuffers {
     info: Buffer,
 }
 
-/// One eye's planned frame, ready to record.
-struct EyeFrame {
-    push: PushConstants,
-    /// Threads of the trace dispatch (target pixels).
-    threads: u64,
-    /// `(layer index in LAYERS, fill size)` of every layer with pixels to fill.
-    fills: Vec<(u32, [u32; 2])>,
+/// A lattice point whose value [`Renderer::compose`] asks for: eye, layer (innermost first)
+/// and the point's pixel (which may lie off the image; those are never read).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LatticePoint {
+    pub eye: usize,
+    pub layer: usize,
+    pub x: i32,
+    pub y: i32,
 }
 
 pub struct Renderer {
     // Field order is drop order: every resource before the context it borrows.
     trace: HashMap<(u32, u32), ComputePipeline>,
-    interpolate: Option<ComputePipeline>,
-    merge: Option<ComputePipeline>,
+    plan: Option<ComputePipeline>,
+    plan_args: Option<ComputePipeline>,
+    resolve: Option<ComputePipeline>,
     raycast: Option<ComputePipeline>,
     timestamps: TimestampPool,
     targets: Option<FrameTargets>,
@@ -56,21 +60,22 @@ pub struct Renderer {
     spare_targets: Option<FrameTargets>,
     probe: Option<(Buffer, Buffer)>,
     /// Per eye, the lens's visibility mask (OpenXR): hidden pixels are never traced, and
-    /// merge makes them black.
+    /// resolve makes them black.
     masks: Vec<VisibilityMask>,
-    /// The masks as bits for merge (BINDING_VISIBILITY), and the eye size they were made
-    /// for (`None`: no mask).
+    /// The masks as bit planes for plan and resolve (BINDING_VISIBILITY), and the eye size
+    /// and layer spacings they were made for (`None`: no mask).
     visibility: Buffer,
-    visibility_size: Option<[u32; 2]>,
+    visibility_key: Option<([u32; 2], Vec<u32>)>,
     visibility_stale: bool,
-    stats: Buffer,
+    counters: FrameCounters,
     buffers: SceneBuffers,
     layout: PipelineLayout,
     features: SceneFeatures,
     ctx: Arc<GpuContext>,
 }
 
-/// Timed passes per frame: trace, fill and merge for each of two eyes, with room to spare.
+/// Timed passes per frame: plan, trace and resolve for each of two eyes and the dispatch
+/// sizes, with room to spare.
 const TIMED_PASSES: u32 = 16;
 
 impl Renderer {
@@ -92,17 +97,11 @@ impl Renderer {
             emitters: upload("emitters", bytemuck::cast_slice(&gpu.emitters))?,
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
         };
-        let stats = Buffer::new(
-            ctx,
-            "stats",
-            (STAT_COUNT * STAT_EYES) as u64 * 4,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuToCpu,
-        )?;
         Ok(Self {
             trace: HashMap::new(),
-            interpolate: None,
-            merge: None,
+            plan: None,
+            plan_args: None,
+            resolve: None,
             raycast: None,
             timestamps: TimestampPool::new(ctx, TIMED_PASSES)?,
             targets: None,
@@ -110,9 +109,9 @@ impl Renderer {
             probe: None,
             masks: Vec::new(),
             visibility: Buffer::with_data(ctx, "visibility mask", &0u32.to_le_bytes())?,
-            visibility_size: None,
+            visibility_key: None,
             visibility_stale: false,
-            stats,
+            counters: FrameCounters::new(ctx)?,
             buffers,
             layout: PipelineLayout::new(ctx)?,
             features: gpu.features,
@@ -135,30 +134,42 @@ impl Renderer {
         self.visibility_stale = true;
     }
 
-    /// Uploads the masks' bits for merge when they or the eye size changed: every eye's mask
-    /// when all eyes have one of the frame's size, else the one-word "no mask".
-    fn ensure_visibility(&mut self, eyes: usize, size: [u32; 2]) -> Result<(), RenderError> {
+    /// Uploads the masks' bit planes when they, the eye size or the layer spacings changed:
+    /// per eye the shown pixels and each layer's needed lattice points when all eyes have a
+    /// mask of the frame's size, else the one-word "no mask".
+    fn ensure_visibility(
+        &mut self,
+        eyes: usize,
+        size: [u32; 2],
+        config: &FoveationConfig,
+    ) -> Result<(), RenderError> {
         let applies = self.masks.len() >= eyes
             && self.masks[..eyes]
                 .iter()
                 .all(|m| [m.width, m.height] == size);
-        let wanted = applies.then_some(size);
-        if wanted == self.visibility_size && !self.visibility_stale {
+        let spacings: Vec<u32> = config.layers.iter().map(|l| l.spacing).collect();
+        let wanted = applies.then(|| (size, spacings.clone()));
+        if wanted == self.visibility_key && !self.visibility_stale {
             return Ok(());
         }
-        // shared.h's layout: words per eye (0: no mask), then each eye's bits.
+        // shared.h's layout: words per plane (0: no mask), then each eye's planes.
         let words: Vec<u32> = match applies {
             true => {
-                let per_eye = (size[0] as usize * size[1] as usize).div_ceil(32) as u32;
-                std::iter::once(per_eye)
-                    .chain(self.masks[..eyes].iter().flat_map(|m| m.bits()))
-                    .collect()
+                let per_plane = (size[0] as usize * size[1] as usize).div_ceil(32) as u32;
+                let mut words = vec![per_plane];
+                for mask in &mut self.masks[..eyes] {
+                    words.extend(mask.bits());
+                    for &d in &spacings {
+                        words.extend(mask.needed_bits(d));
+                    }
+                }
+                words
             }
             false => vec![0],
         };
         self.visibility =
             Buffer::with_data(&self.ctx, "visibility mask", bytemuck::cast_slice(&words))?;
-        self.visibility_size = wanted;
+        self.visibility_key = wanted;
         self.visibility_stale = false;
         Ok(())
     }
@@ -189,23 +200,20 @@ impl Renderer {
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", shaders::TRACE, &spec)?;
             self.trace.insert(key, p);
         }
-        if self.interpolate.is_none() {
-            self.interpolate = Some(ComputePipeline::new(
-                &self.ctx,
-                &self.layout,
-                "interpolate",
-                shaders::INTERPOLATE,
-                &[],
-            )?);
-        }
-        if self.merge.is_none() {
-            self.merge = Some(ComputePipeline::new(
-                &self.ctx,
-                &self.layout,
-                "merge",
-                shaders::MERGE,
-                &[],
-            )?);
+        for (slot, name, spirv) in [
+            (&mut self.plan, "plan", shaders::PLAN),
+            (&mut self.plan_args, "dispatch sizes", shaders::PLAN_ARGS),
+            (&mut self.resolve, "resolve", shaders::RESOLVE),
+        ] {
+            if slot.is_none() {
+                *slot = Some(ComputePipeline::new(
+                    &self.ctx,
+                    &self.layout,
+                    name,
+                    spirv,
+                    &[],
+                )?);
+            }
         }
         Ok(())
     }
@@ -225,30 +233,25 @@ impl Renderer {
             (BINDING_MATERIALS, &b.materials),
             (BINDING_EMITTERS, &b.emitters),
             (BINDING_SCENE_INFO, &b.info),
-            (BINDING_STATS, &self.stats),
-            (BINDING_RAY_BUFFER, &t.ray_buffer),
-            (BINDING_SPANS, &t.spans),
+            (BINDING_STATS, &self.counters.device),
+            (BINDING_LATTICE, &t.lattice),
+            (BINDING_WORK, &t.work),
             (BINDING_LAYERS, &t.layers),
             (BINDING_VISIBILITY, &self.visibility),
         ];
-        // The probe bindings must be valid even for trace.comp; reuse the stats buffer until
+        // The probe bindings must be valid even for trace.comp; reuse the counters until
         // raycast() creates real ones.
         match &self.probe {
             Some((rays, hits)) => {
                 list.extend([(BINDING_PROBE_RAYS, rays), (BINDING_PROBE_HITS, hits)])
             }
             None => list.extend([
-                (BINDING_PROBE_RAYS, &self.stats),
-                (BINDING_PROBE_HITS, &self.stats),
+                (BINDING_PROBE_RAYS, &self.counters.device),
+                (BINDING_PROBE_HITS, &self.counters.device),
             ]),
         }
-        self.layout.bind(
-            &list,
-            &[
-                (BINDING_OUTPUT, &t.output),
-                (BINDING_LAYER_IMAGES, &t.layer_images),
-            ],
-        );
+        // LAYER_IMAGES is accumulate.comp's alone: no frame pass uses it.
+        self.layout.bind(&list, &[(BINDING_OUTPUT, &t.output)]);
     }
 
     fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
@@ -281,27 +284,6 @@ impl Renderer {
         Ok(())
     }
 
-    fn reset_stats(&mut self) -> Result<(), RenderError> {
-        self.stats
-            .write(0, &[0u8; (STAT_COUNT * STAT_EYES) as usize * 4])?;
-        Ok(())
-    }
-
-    /// The counters of every eye (shared.h's STAT_EYES blocks of STAT_COUNT).
-    fn read_stats(&self) -> Result<Vec<EyeCounters>, RenderError> {
-        let bytes = self.stats.read()?;
-        let words: &[u32] = bytemuck::cast_slice(&bytes[..(STAT_COUNT * STAT_EYES) as usize * 4]);
-        Ok(words
-            .chunks_exact(STAT_COUNT as usize)
-            .map(|c| EyeCounters {
-                nonfinite_samples: c[STAT_NONFINITE as usize] as u64,
-                stack_overflows: c[STAT_STACK_OVERFLOW as usize] as u64,
-                paths: c[STAT_PATHS as usize] as u64,
-                rays: c[STAT_RAYS as usize] as u64,
-            })
-            .collect())
-    }
-
     /// Renders one regular (non-foveated) mono frame of `camera`: the one-layer config with
     /// `settings.spp` samples per pixel, through the same passes as a foveated frame.
     pub fn render(
@@ -324,7 +306,7 @@ impl Renderer {
 
     /// Renders one frame, foveated by `request.foveation`, for one or two eyes (side by side).
     pub fn render_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
-        self.run_frame(request, None, true).map(|(frame, _)| frame)
+        self.run_frame(request, None, true)
     }
 
     /// Renders one frame like [`Self::render_frame`] but leaves the image on the GPU: the
@@ -332,28 +314,75 @@ impl Renderer {
     /// measurements use this so that the read-back, which a headset frame never does, is not
     /// counted.
     pub fn measure_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
-        self.run_frame(request, None, false).map(|(frame, _)| frame)
+        self.run_frame(request, None, false)
     }
 
-    /// Runs only the fill and merge passes of `request` on layer images given by the caller
-    /// (`eyes × layers` RGBA images of the eye's size, eye-major) instead of traced ones, and
-    /// returns the frame and the filled layer images. For testing the passes against CPU
-    /// references on data with known answers.
+    /// Runs only the resolve pass of `request`, on lattice values given by the caller
+    /// (`value` of every lattice point of every eye and layer) instead of traced ones. For
+    /// testing the pass against CPU references on data with known answers.
     pub fn compose(
         &mut self,
         request: &FrameRequest,
-        layer_rgba: &[f32],
-    ) -> Result<(Frame, Vec<f32>), RenderError> {
-        let (frame, layers) = self.run_frame(request, Some(layer_rgba), true)?;
-        Ok((frame, layers.unwrap_or_default()))
+        value: impl Fn(LatticePoint) -> [f32; 4],
+    ) -> Result<Frame, RenderError> {
+        self.run_frame(request, Some(&value), true)
     }
 
     fn run_frame(
         &mut self,
         request: &FrameRequest,
-        given_layers: Option<&[f32]>,
+        given: Option<&dyn Fn(LatticePoint) -> [f32; 4]>,
         read_output: bool,
-    ) -> Result<(Frame, Option<Vec<f32>>), RenderError> {
+    ) -> Result<Frame, RenderError> {
+        self.prepare(request)?;
+        let planning = Instant::now();
+        let targets = self.targets.as_ref().expect("prepared");
+        let eyes: Vec<EyeParams> = (0..request.eyes.len())
+            .map(|e| eye_params(request, e, &targets.buffer, &targets.images[e]))
+            .collect();
+        let plan_ms = planning.elapsed().as_secs_f64() * 1e3;
+        let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.clone()).collect();
+        let targets = self.targets.as_mut().expect("prepared");
+        targets.write_layers(&layers)?;
+        if let Some(value) = given {
+            targets.lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
+        }
+        self.bind();
+
+        let recording = Instant::now();
+        let mut record_ms = 0.0;
+        let mut passes = FramePasses {
+            ctx: &self.ctx,
+            layout: &self.layout,
+            pipelines: FramePipelines {
+                plan: self.plan.as_ref().expect("prepared"),
+                plan_args: self.plan_args.as_ref().expect("prepared"),
+                trace: &self.trace[&(
+                    request.settings.integrator.id(),
+                    request.settings.max_bounces,
+                )],
+                resolve: self.resolve.as_ref().expect("prepared"),
+            },
+            timestamps: &mut self.timestamps,
+            counters: &self.counters,
+            targets: self.targets.as_ref().expect("prepared"),
+            eyes: &eyes,
+        };
+        self.ctx.submit_and_wait("frame", |cmd| {
+            passes.begin(cmd);
+            if given.is_none() {
+                passes.plan(cmd);
+                passes.trace(cmd);
+            }
+            passes.resolve(cmd);
+            passes.finish(cmd);
+            record_ms = recording.elapsed().as_secs_f64() * 1e3;
+        })?;
+        self.frame_results(request, &eyes, read_output, plan_ms, record_ms)
+    }
+
+    /// Validates the request and makes pipelines, targets and masks ready for it.
+    fn prepare(&mut self, request: &FrameRequest) -> Result<(), RenderError> {
         let s = &request.settings;
         s.validate().map_err(RenderError::Settings)?;
         request
@@ -373,184 +402,47 @@ impl Renderer {
             height: s.height,
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
         })?;
+        self.ensure_visibility(request.eyes.len(), [s.width, s.height], request.foveation)
+    }
 
-        // Plan every eye on the CPU: gaze → spans of the ray buffer, layer parameters.
-        let planning = Instant::now();
-        let targets = self.targets.as_ref().expect("ensured above");
-        let layer_count = targets.buffer.layers.len() as u32;
-        let mut spans = Vec::new();
-        let mut layers = Vec::new();
-        let mut eyes = Vec::new();
-        let mut gazes = Vec::new();
-        let mut layer_samples = vec![0u64; layer_count as usize];
-        for (e, eye) in request.eyes.iter().enumerate() {
-            let image = &targets.images[e];
-            let (gaze_px, fix) = eye.gaze.resolve(image);
-            match fix {
-                GazeFix::None => {}
-                GazeFix::NotFinite => tracing::warn!(
-                    "eye {e}: gaze {:?} is not finite; foveating around the view axis",
-                    eye.gaze
-                ),
-                GazeFix::Clamped => tracing::info!(
-                    "eye {e}: gaze {:?} is off the image; clamped to its border",
-                    eye.gaze
-                ),
-            }
-            gazes.push((gaze_px, fix));
-            let mask = self
-                .masks
-                .get_mut(e)
-                .filter(|m| m.width == image.width && m.height == image.height);
-            let mask = mask.map(|m| {
-                for l in &targets.buffer.layers {
-                    m.prepare(l.spacing);
-                }
-                &*m
-            });
-            let plan = EyePlan::masked(&targets.buffer, image, gaze_px, mask);
-            for (k, l) in plan.layers.iter().enumerate() {
-                layer_samples[k] += l.targets * targets.buffer.layers[k].spp as u64;
-            }
-            let span_first = spans.len() as u32;
-            let mut prefix = 0u32;
-            for span in &plan.spans {
-                spans.push(GpuSpan {
-                    first: span.first,
-                    count: span.count,
-                    prefix,
-                    layer: e as u32 * layer_count + span.layer,
-                });
-                prefix += span.count;
-            }
-            let base = e as u32 * layer_count;
-            layers.extend(gpu_layers(
-                &targets.buffer,
-                &plan,
-                image,
-                request.foveation,
-                base,
-            ));
-            let fills = plan
-                .layers
-                .iter()
-                .enumerate()
-                .filter(|(_, l)| !l.fill_is_empty())
-                .map(|(k, l)| {
-                    (
-                        base + k as u32,
-                        [
-                            (l.fill_max[0] - l.fill_min[0]) as u32,
-                            (l.fill_max[1] - l.fill_min[1]) as u32,
-                        ],
-                    )
-                })
-                .collect();
-            let mut push = push_constants(&eye.camera, s);
-            push.eye = e as u32;
-            push.span_first = span_first;
-            push.span_count = plan.spans.len() as u32;
-            push.layer_count = layer_count;
-            push.debug = request.debug.id();
-            eyes.push(EyeFrame {
-                push,
-                threads: prefix as u64,
-                fills,
-            });
-        }
-        let plan_ms = planning.elapsed().as_secs_f64() * 1e3;
-        let targets = self.targets.as_mut().expect("ensured above");
-        targets.write_frame(&self.ctx, &spans, &layers)?;
-        if let Some(rgba) = given_layers {
-            targets.layer_images.upload(rgba)?;
-        }
-        self.ensure_visibility(request.eyes.len(), [s.width, s.height])?;
-        self.reset_stats()?;
-        self.bind();
-
-        let targets = self.targets.as_ref().expect("ensured above");
-        let trace = &self.trace[&(s.integrator.id(), s.max_bounces)];
-        let interpolate = self.interpolate.as_ref().expect("ensured above");
-        let merge = self.merge.as_ref().expect("ensured above");
-        let timestamps = &mut self.timestamps;
-        let layout = &self.layout;
-        let ctx = &self.ctx;
-        let stereo = eyes.len() == 2;
-        let name = |e: usize, pass: &str| match (stereo, e) {
-            (false, _) => pass.to_string(),
-            (true, 0) => format!("left {pass}"),
-            (true, _) => format!("right {pass}"),
-        };
-        ctx.submit_and_wait("frame", |cmd| {
-            timestamps.cmd_reset(cmd);
-            if given_layers.is_none() {
-                targets.layer_images.cmd_prepare_for_write(cmd);
-            }
-            targets.output.cmd_prepare_for_write(cmd);
-            for (e, eye) in eyes.iter().enumerate() {
-                if e > 0 {
-                    // The eyes share the layer images and the output (each eye its own layers
-                    // and half): the previous eye's merge has read the layers this eye's trace
-                    // overwrites, and written the output this eye's merge writes.
-                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_WRITE);
-                }
-                if given_layers.is_none() && eye.threads > 0 {
-                    timestamps.cmd_timed(cmd, &name(e, "trace"), || {
-                        trace.cmd_dispatch(cmd, layout, &eye.push, groups_1d(eye.threads))
-                    });
-                    // Fill reads the traced lattice points and writes the pixels between them.
-                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-                }
-                if !eye.fills.is_empty() {
-                    timestamps.cmd_timed(cmd, &name(e, "fill"), || {
-                        for (layer, size) in &eye.fills {
-                            let push = PushConstants {
-                                layer: *layer,
-                                ..eye.push
-                            };
-                            let groups = [
-                                size[0].div_ceil(WORKGROUP_SIZE_X),
-                                size[1].div_ceil(WORKGROUP_SIZE_Y),
-                                1,
-                            ];
-                            interpolate.cmd_dispatch(cmd, layout, &push, groups);
-                        }
-                    });
-                    // Merge reads the filled layers.
-                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ);
-                }
-                timestamps.cmd_timed(cmd, &name(e, "merge"), || {
-                    let groups = [
-                        s.width.div_ceil(WORKGROUP_SIZE_X * PIXELS_PER_INVOCATION),
-                        s.height.div_ceil(WORKGROUP_SIZE_Y),
-                        1,
-                    ];
-                    merge.cmd_dispatch(cmd, layout, &eye.push, groups)
-                });
-            }
-            // The trace's counters, read by the host after the fence.
-            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
-        })?;
+    /// The finished frame: counters, timings and (when asked) the pixels.
+    fn frame_results(
+        &self,
+        request: &FrameRequest,
+        eyes: &[EyeParams],
+        read_output: bool,
+        plan_ms: f64,
+        record_ms: f64,
+    ) -> Result<Frame, RenderError> {
         let passes = self.timestamps.read()?;
-        let mut counters = self.read_stats()?;
-        counters.truncate(request.eyes.len());
-        let rgba = match read_output {
-            true => targets.output.read_back()?,
+        let counted = self.counters.read()?;
+        let mut counters = counted.eyes;
+        counters.truncate(eyes.len());
+        let layer_count = request.foveation.layers.len();
+        let layer_samples = (0..layer_count)
+            .map(|k| {
+                let points: u64 = counted.layer_points[..eyes.len()]
+                    .iter()
+                    .map(|p| p[k])
+                    .sum();
+                points * request.foveation.layers[k].spp as u64
+            })
+            .collect();
+        let targets = self.targets.as_ref().expect("prepared");
+        let rgb = match read_output {
+            true => targets
+                .output
+                .read_back()?
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect(),
             false => Vec::new(),
         };
-        let layer_images = match given_layers {
-            Some(_) => Some(targets.layer_images.read_back()?),
-            None => None,
-        };
-        let rgb = rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
-        let frame = Frame {
-            width: s.width * request.eyes.len() as u32,
-            height: s.height,
+        Ok(Frame {
+            width: request.settings.width * eyes.len() as u32,
+            height: request.settings.height,
             rgb,
-            gazes,
+            gazes: eyes.iter().map(|e| e.gaze).collect(),
             stats: FrameStats {
                 nonfinite_samples: counters.iter().map(|c| c.nonfinite_samples).sum(),
                 stack_overflows: counters.iter().map(|c| c.stack_overflows).sum(),
@@ -561,9 +453,9 @@ impl Renderer {
                 pass_start_ms: passes.iter().map(|p| p.start_ms).collect(),
                 layer_samples,
                 plan_ms,
+                record_ms,
             },
-        };
-        Ok((frame, layer_images))
+        })
     }
 
     /// Closest hits of arbitrary rays through the GPU traversal (for tests and tools).
@@ -607,7 +499,6 @@ impl Renderer {
                 }],
             })?;
         }
-        self.reset_stats()?;
         self.bind();
         let push = PushConstants {
             probe_count: rays.len() as u32,
@@ -617,12 +508,15 @@ impl Renderer {
         let pipeline = self.raycast.as_ref().expect("created above");
         let layout = &self.layout;
         let ctx = &self.ctx;
+        let counters = &self.counters;
         ctx.submit_and_wait("raycast", |cmd| {
+            counters.cmd_reset(ctx, cmd);
             pipeline.cmd_dispatch(cmd, layout, &push, groups);
-            // The hits and counters, read by the host after the fence.
+            // The hits, read by the host after the fence.
             ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
+            counters.cmd_collect(ctx, cmd);
         })?;
-        let overflows = self.read_stats()?[0].stack_overflows;
+        let overflows = self.counters.read()?.eyes[0].stack_overflows;
         let (_, hits) = self.probe.as_ref().expect("set above");
         let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
         Ok((hits, overflows))
@@ -650,111 +544,38 @@ fn scene_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
         .collect();
     // Each buffer is uploaded through its own staging buffer, freed before the next.
     plan.push(PlannedAllocation::host("upload staging", largest, false));
-    plan.push(PlannedAllocation::host(
-        "stats",
-        (STAT_COUNT * STAT_EYES) as u64 * 4,
-        true,
-    ));
+    plan.extend(FrameCounters::plan());
     plan
 }
 
-/// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
-fn groups_1d(threads: u64) -> [u32; 3] {
-    let groups = threads.div_ceil(TRACE_WORKGROUP_SIZE as u64);
-    let x = groups.min(MAX_GROUPS_X as u64);
-    [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
-}
-
-/// Clamps an angle to the range the shaders use for "no limit".
-fn angle(a: f64) -> f32 {
-    a.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32
-}
-
-/// The cosine of an angle limit as the shaders test it (`dot > cos`): -2 when everything is
-/// within (a limit of π or more), 2 when nothing is (a limit of 0 or less).
-pub(super) fn cos_limit(a: f64) -> f32 {
-    if a >= std::f64::consts::PI {
-        -2.0
-    } else if a <= 0.0 {
-        2.0
-    } else {
-        a.cos() as f32
+/// The lattice values `value` gives every lattice point of every eye and layer, uploaded
+/// in place of the frame's traced ones.
+fn given_lattice(
+    ctx: &Arc<GpuContext>,
+    targets: &FrameTargets,
+    eyes: &[EyeParams],
+    value: &dyn Fn(LatticePoint) -> [f32; 4],
+) -> Result<Buffer, RenderError> {
+    let mut values = vec![0.0f32; eyes.len() * targets.lattice_len() * 4];
+    for (e, eye) in eyes.iter().enumerate() {
+        for (k, (layer, lattice)) in eye.layers.iter().zip(&targets.buffer.layers).enumerate() {
+            for j in lattice.row_min..=lattice.row_max {
+                for i in lattice.col_min..=lattice.col_max {
+                    let point = LatticePoint {
+                        eye: e,
+                        layer: k,
+                        x: layer.anchor_x + i * layer.spacing,
+                        y: layer.anchor_y + j * layer.spacing,
+                    };
+                    let at = e * targets.lattice_len() + lattice.index(i, j) as usize;
+                    values[at * 4..at * 4 + 4].copy_from_slice(&value(point));
+                }
+            }
+        }
     }
-}
-
-/// The GPU's view of one eye's layers for this frame.
-fn gpu_layers(
-    buffer: &RayBuffer,
-    plan: &EyePlan,
-    image: &crate::foveation::ImageGeometry,
-    config: &FoveationConfig,
-    base: u32,
-) -> Vec<GpuLayer> {
-    let slack = image.max_radians_per_pixel();
-    let blend = (config.blend_deg as f64).to_radians();
-    let gaze = [
-        plan.gaze_tan[0] as f32,
-        plan.gaze_tan[1] as f32,
-        slack as f32,
-        blend as f32,
-    ];
-    buffer
-        .layers
-        .iter()
-        .zip(&plan.layers)
-        .enumerate()
-        .map(|(k, (l, p))| GpuLayer {
-            gaze,
-            fill_cos: [
-                cos_limit(l.outer + slack),
-                cos_limit(l.inner - slack),
-                cos_limit(buffer.occlusion + slack),
-                0.0,
-            ],
-            merge_cos: [
-                cos_limit(l.outer),
-                cos_limit(l.outer - blend),
-                cos_limit(buffer.occlusion),
-                0.0,
-            ],
-            anchor_x: p.anchor[0],
-            anchor_y: p.anchor[1],
-            spacing: l.spacing as i32,
-            spp: l.spp,
-            lattice_min_x: p.lattice_min[0],
-            lattice_min_y: p.lattice_min[1],
-            lattice_max_x: p.lattice_max[0],
-            lattice_max_y: p.lattice_max[1],
-            fill_min_x: p.fill_min[0],
-            fill_min_y: p.fill_min[1],
-            fill_max_x: p.fill_max[0],
-            fill_max_y: p.fill_max[1],
-            outer: angle(l.outer),
-            image_layer: base + k as u32,
-            pad0: 0,
-            pad1: 0,
-        })
-        .collect()
-}
-
-fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
-    let (r, u, f) = camera.basis();
-    let v = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
-    PushConstants {
-        cam_position: v(camera.position),
-        cam_right: v(r),
-        cam_up: v(u),
-        cam_forward: v(f),
-        // Image row 0 is the top edge, so the shader goes from the "up" tangent to "down".
-        cam_tan: [
-            camera.angle_left.tan(),
-            camera.angle_right.tan(),
-            camera.angle_up.tan(),
-            camera.angle_down.tan(),
-        ],
-        width: s.width,
-        height: s.height,
-        seed: s.seed,
-        ..Default::default()
-    }
+    Ok(Buffer::with_data(
+        ctx,
+        "lattice values",
+        bytemuck::cast_slice(&values),
+    )?)
 }

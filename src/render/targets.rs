@@ -1,10 +1,11 @@
-//! GPU resources of one (layer config, resolution, eyes' fields of view): the ray buffer,
-//! built and uploaded once; a full-size image per eye and layer; the merged output; and the
-//! small host-visible buffers the CPU rewrites every frame (spans and layer parameters).
+//! GPU resources of one (layer config, resolution, eyes' fields of view): per eye, a lattice
+//! value for every entry of the ray buffer (the layers at lattice resolution) and a work list
+//! as long; the resolved output; and the small host-visible buffer of layer parameters the
+//! CPU rewrites every frame.
 
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
-use crate::gpu::shared::{GpuLayer, GpuSpan};
+use crate::gpu::shared::{GpuLayer, WORK_LAYER_SHIFT};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -22,10 +23,11 @@ pub struct FrameTargets {
     pub key: TargetKey,
     pub buffer: RayBuffer,
     pub images: Vec<ImageGeometry>,
-    pub ray_buffer: Buffer,
-    pub layer_images: StorageImage,
+    /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
+    pub lattice: Buffer,
+    /// The plan pass's work lists, eye after eye (BINDING_WORK).
+    pub work: Buffer,
     pub output: StorageImage,
-    pub spans: Buffer,
     pub layers: Buffer,
 }
 
@@ -38,9 +40,6 @@ fn host_buffer(ctx: &Arc<GpuContext>, name: &str, bytes: u64) -> Result<Buffer, 
         MemoryLocation::CpuToGpu,
     )?)
 }
-
-/// Room in the span buffer for this many spans before a frame has to grow it.
-const INITIAL_SPANS: u64 = 4096;
 
 /// What to change when a frame's targets do not fit the device.
 const ADVICE: &str = "use a smaller --width/--height, mono instead of --stereo, or fewer \
@@ -64,26 +63,20 @@ impl TargetKey {
         )
     }
 
-    /// Every allocation of [`FrameTargets::new`] but the ray buffer (whose size is known only
-    /// once it is built), plus the read-back of the frame: cheap to compute, so a frame far
-    /// too large for the device is refused before the ray buffer is built.
+    /// Every allocation of [`FrameTargets::new`] but the lattice buffers (whose size is
+    /// known only once the ray buffer is built), plus the read-back of the frame: cheap to
+    /// compute, so a frame far too large for the device is refused before anything is built.
     pub fn image_plan(&self) -> Vec<PlannedAllocation> {
         let (w, h) = (self.width as u64, self.height as u64);
         let eyes = self.fovs.len() as u64;
         let layers = self.config.layers.len() as u64;
         let texel = 16; // RGBA32F, StorageImage::FORMAT
         vec![
-            PlannedAllocation::image("layer images", w * h * texel * eyes * layers),
             PlannedAllocation::image("frame image", w * eyes * h * texel),
             PlannedAllocation::host("frame read-back", w * eyes * h * texel, false),
             PlannedAllocation::host(
                 "frame layers",
                 eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
-                true,
-            ),
-            PlannedAllocation::host(
-                "frame spans",
-                INITIAL_SPANS * std::mem::size_of::<GpuSpan>() as u64,
                 true,
             ),
         ]
@@ -106,61 +99,54 @@ impl FrameTargets {
             .map(|f| ImageGeometry::new(key.width, key.height, *f))
             .collect();
         let buffer = RayBuffer::build(&key.config, &images);
-        let eyes = images.len() as u32;
-        let layer_count = buffer.layers.len() as u32;
-        // The ray buffer's upload staging is freed before the images are allocated, so it is
-        // not part of the peak; the allocation itself is still checked against any limit.
+        let eyes = images.len() as u64;
+        let entries = eyes * buffer.offsets.len() as u64;
+        if entries >= 1 << WORK_LAYER_SHIFT {
+            return Err(RenderError::Settings(format!(
+                "{} need {entries} lattice points, more than a work list can address (2^{WORK_LAYER_SHIFT}); {ADVICE}",
+                key.describe()
+            )));
+        }
         let mut plan = key.image_plan();
-        plan.push(PlannedAllocation::storage(
-            "ray buffer",
-            std::mem::size_of_val(buffer.offsets.as_slice()) as u64,
-        ));
+        plan.push(PlannedAllocation::storage("lattice values", entries * 16));
+        plan.push(PlannedAllocation::storage("work lists", entries * 4));
         ctx.check_memory(&key.describe(), &plan, ADVICE)?;
-        let ray_buffer =
-            Buffer::with_data(ctx, "ray buffer", bytemuck::cast_slice(&buffer.offsets))?;
-        let layer_images = StorageImage::new_array(
-            ctx,
-            "layer images",
-            key.width,
-            key.height,
-            eyes * layer_count,
-        )?;
-        let output = StorageImage::new(ctx, "frame", key.width * eyes, key.height)?;
+        let device_buffer = |name: &str, bytes: u64| {
+            Buffer::new(
+                ctx,
+                name,
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let lattice = device_buffer("lattice values", entries * 16)?;
+        let work = device_buffer("work lists", entries * 4)?;
+        let output = StorageImage::new(ctx, "frame", key.width * eyes as u32, key.height)?;
         let layers = host_buffer(
             ctx,
             "frame layers",
-            (eyes * layer_count) as u64 * std::mem::size_of::<GpuLayer>() as u64,
-        )?;
-        let spans = host_buffer(
-            ctx,
-            "frame spans",
-            INITIAL_SPANS * std::mem::size_of::<GpuSpan>() as u64,
+            eyes * buffer.layers.len() as u64 * std::mem::size_of::<GpuLayer>() as u64,
         )?;
         Ok(Self {
             key,
             buffer,
             images,
-            ray_buffer,
-            layer_images,
+            lattice,
+            work,
             output,
-            spans,
             layers,
         })
     }
 
-    /// Writes this frame's spans and layers, growing the span buffer when a frame needs more.
-    pub fn write_frame(
-        &mut self,
-        ctx: &Arc<GpuContext>,
-        spans: &[GpuSpan],
-        layers: &[GpuLayer],
-    ) -> Result<(), RenderError> {
-        let span_bytes: &[u8] = bytemuck::cast_slice(spans);
-        if span_bytes.len() as u64 > self.spans.size {
-            self.spans = host_buffer(ctx, "frame spans", span_bytes.len() as u64 * 2)?;
-        }
-        self.spans.write(0, span_bytes)?;
+    /// Writes this frame's layer parameters (every eye's, eye after eye).
+    pub fn write_layers(&mut self, layers: &[GpuLayer]) -> Result<(), RenderError> {
         self.layers.write(0, bytemuck::cast_slice(layers))?;
         Ok(())
+    }
+
+    /// Lattice points per eye (the ray buffer's entries).
+    pub fn lattice_len(&self) -> usize {
+        self.buffer.offsets.len()
     }
 }

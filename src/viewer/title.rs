@@ -35,7 +35,7 @@ impl FrameRate {
     }
 }
 
-/// GPU milliseconds per kind of pass ("trace", "fill", "merge", "accumulate"), summed over
+/// GPU milliseconds per kind of pass ("plan", "trace", "resolve", "accumulate"), summed over
 /// eyes ("left trace" and "right trace" are both "trace") and over the frames of a view
 /// (the regular frame of the difference view), in the order first seen.
 pub fn passes_by_kind<'a>(passes: impl Iterator<Item = (&'a str, f64)>) -> Vec<(String, f64)> {

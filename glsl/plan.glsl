@@ -1,0 +1,65 @@
+// Which lattice points a layer traces this frame (thesis 3.2.1, decided per point on the GPU
+// from the O(layers) numbers of GpuLayer), and where a lattice point's value is kept.
+//
+// A point is traced when its direction is inside the layer's region widened by its margin
+// (the occlusion mask from the view axis, the outer radius and the inner edge from the gaze)
+// and, behind a lens, when a pixel the lens shows needs it. src/foveation/plan.rs
+// (`Regions::traced`) makes the same test with the same f32 operations in the same order;
+// `precise` forbids fused multiply-adds here, so the CPU planner counts exactly the points
+// this code traces (tests/foveation.rs holds the two counts equal).
+#ifndef FOVEA_PLAN_GLSL
+#define FOVEA_PLAN_GLSL
+#include "bindings.glsl"
+
+// Is bit `i` of VISIBILITY plane `plane` set? (No mask: every bit is.)
+bool visibility_bit(uint plane, ivec2 p) {
+    uint words = visibility[0];
+    if (words == 0u) return true;
+    uint i = uint(p.y) * pc.width + uint(p.x);
+    return ((visibility[1u + plane * words + i / 32u] >> (i % 32u)) & 1u) != 0u;
+}
+
+// Does layer k (an index into LAYERS) trace its lattice point at pixel p (on the image)?
+bool traced_point(uint k, ivec2 p) {
+    vec4 tan_map = layers[k].pixel_tan;
+    vec3 g = layers[k].gaze.xyz;
+    vec4 c = layers[k].plan_cos;
+    precise float tx = tan_map.x + float(p.x) * tan_map.z;
+    precise float ty = tan_map.y + float(p.y) * tan_map.w;
+    // θ < limit ⇔ cos θ > cos limit; unnormalised dot products against cos·|t| need no
+    // division and no trig.
+    precise float norm = sqrt(tx * tx + ty * ty + 1.0);
+    precise float to_gaze = tx * g.x + ty * g.y + g.z;
+    precise float occlusion = c.x * norm;
+    precise float outer = c.y * norm;
+    precise float inner = c.z * norm;
+    return 1.0 > occlusion && to_gaze > outer && to_gaze <= inner
+        && visibility_bit(layers[k].mask_plane, p);
+}
+
+// Thread t of this eye's plan (one per lattice point of every layer's box, layer after
+// layer): its layer (an index into LAYERS) and lattice point. False past the last box.
+bool plan_point(uint t, out uint k, out ivec2 ij) {
+    uint base = pc.eye * pc.layer_count;
+    k = base;
+    ij = ivec2(0);
+    if (t >= pc.plan_points) return false;
+    while (k + 1u < base + pc.layer_count && t >= layers[k + 1u].box_prefix) k++;
+    uint local = t - layers[k].box_prefix;
+    uint cols = layers[k].box_cols;
+    ij = ivec2(layers[k].box_i0 + int(local % cols), layers[k].box_j0 + int(local / cols));
+    return true;
+}
+
+// The pixel of layer k's lattice point ij.
+ivec2 lattice_pixel(uint k, ivec2 ij) {
+    return ivec2(layers[k].anchor_x, layers[k].anchor_y) + ij * layers[k].spacing;
+}
+
+// Index into LATTICE of layer k's lattice point ij (inside the ray buffer's extent).
+uint lattice_index(uint k, ivec2 ij) {
+    return layers[k].first + uint(ij.y - layers[k].row_min) * layers[k].cols
+         + uint(ij.x - layers[k].col_min);
+}
+
+#endif

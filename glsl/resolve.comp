@@ -1,0 +1,109 @@
+#version 460
+// The resolve pass (thesis 3.2.3-3.2.4): every pixel of one eye is computed once, from the
+// lattice values the trace pass wrote. A pixel takes the innermost layer whose radius
+// contains it, F1, and inside that radius's blend band mixes in the next layer out, F0, by
+// eq. 3.18: (1 - v) F0 + v F1, v rising linearly from 0 at the radius to 1 one band-width
+// inside. A layer's value at a pixel is its lattice value there, or between lattice points
+// the bicubic Catmull-Rom value (eq. 3.17, fig. 3.10) of the 4x4 points around it, taps
+// clamped to the points on the image; the plan traces a margin of two lattice steps (plus
+// slack) around everything shown, so every tap read was traced this frame. Where v is 1 and
+// the pixel is a lattice point the output is the traced value itself (no arithmetic), so the
+// fovea of a foveated frame is bit-identical to a regular frame. Outside the occlusion mask
+// and where the headset's lens hides the pixel (never traced) the pixel is black, and no
+// layer is read.
+#extension GL_GOOGLE_include_directive : require
+#include "plan.glsl"
+#include "view.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+// Overlay colours of the layers, innermost first (thesis fig. 3.5's role).
+const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1), vec3(0.3, 0.9, 0.3),
+                                      vec3(0.25, 0.5, 1.0), vec3(0.7, 0.35, 1.0), vec3(0.2, 0.9, 0.9),
+                                      vec3(0.9, 0.9, 0.9), vec3(0.6, 0.6, 0.6));
+
+// Eq. 3.17: the value between v1 (t = 0) and v2 (t = 1); same operation order as
+// src/foveation/catmull_rom.rs.
+vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
+    vec3 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
+    vec3 b = v0 - 2.5 * v1 + 2.0 * v2 - 0.5 * v3;
+    vec3 c = -0.5 * v0 + 0.5 * v2;
+    return ((a * t + b) * t + c) * t + v1;
+}
+
+// Layer k's lattice value at point ij, clamped to the layer's points on the image.
+vec3 tap(uint k, ivec2 ij) {
+    ivec2 lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    ivec2 hi = lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    return lattice[lattice_index(k, clamp(ij, lo, hi))].rgb;
+}
+
+// Layer k's value at pixel p.
+vec3 layer_value(uint k, ivec2 p) {
+    int d = layers[k].spacing;
+    ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
+    ivec2 cell = floor_div(rel, d);
+    ivec2 within = rel - cell * d;
+    if (within == ivec2(0)) return tap(k, cell); // a lattice point: traced
+    vec2 f = vec2(within) / float(d);
+    vec3 rows[4];
+    for (int j = 0; j < 4; ++j) {
+        ivec2 r = cell + ivec2(-1, j - 1);
+        rows[j] = cubic(tap(k, r), tap(k, r + ivec2(1, 0)), tap(k, r + ivec2(2, 0)),
+                        tap(k, r + ivec2(3, 0)), f.x);
+    }
+    return cubic(rows[0], rows[1], rows[2], rows[3], f.y);
+}
+
+vec3 shown(uint k, uint depth, ivec2 p) {
+    vec3 c = layer_value(k, p);
+    if (pc.debug == DEBUG_LAYERS) {
+        float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
+        return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
+    }
+    return c;
+}
+
+void resolve_pixel(ivec2 p, uint base, vec3 gaze, float band, float cos_occlusion) {
+    ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
+    vec4 tan_map = layers[base].pixel_tan;
+    vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);
+    // Plane 0 of the eye: the pixels the lens shows.
+    if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion)
+        || !visibility_bit(pc.eye * (pc.layer_count + 1u), p)) {
+        imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    // The innermost layer whose radius contains the pixel (cosine tests, no trig).
+    uint depth = 0u;
+    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
+    uint k = base + depth;
+    // The blend weight needs the angle itself, but only inside the band.
+    float v = 1.0;
+    if (band > 0.0 && !within_angle(u, gaze, layers[k].resolve_cos.y)) {
+        v = clamp((layers[k].outer - angle_of(u, gaze)) / band, 0.0, 1.0);
+    }
+    vec3 c = shown(k, depth, p);
+    if (v < 1.0 && depth + 1u < pc.layer_count) {
+        c = mix(shown(k + 1u, depth + 1u, p), c, v);
+    }
+    if (pc.debug == DEBUG_LAYERS && v < 1.0) {
+        c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
+    }
+    imageStore(out_image, out_pixel, vec4(c, 1.0));
+}
+
+void main() {
+    uint base = pc.eye * pc.layer_count;
+    // Per-eye values, the same for every pixel: read once per invocation.
+    vec3 gaze = layers[base].gaze.xyz;
+    float band = layers[base].gaze.w;
+    float cos_occlusion = layers[base].resolve_cos.z;
+    int y = int(gl_GlobalInvocationID.y);
+    int x0 = int(gl_WorkGroupID.x * gl_WorkGroupSize.x) * PIXELS_PER_INVOCATION + int(gl_LocalInvocationID.x);
+    if (y >= int(pc.height)) return;
+    for (int i = 0; i < PIXELS_PER_INVOCATION; ++i) {
+        int x = x0 + i * int(gl_WorkGroupSize.x);
+        if (x < int(pc.width)) resolve_pixel(ivec2(x, y), base, gaze, band, cos_occlusion);
+    }
+}

@@ -1,0 +1,94 @@
+//! The counters the shaders keep for every frame (shared.h's STAT_* words): per eye what the
+//! trace counted, per eye and layer the lattice points the plan traced, and the trace's
+//! indirect dispatch sizes. They live in device memory, where atomics and the indirect
+//! dispatch are fast on a GPU, are zeroed by the frame's first command and copied into a
+//! host-visible buffer by its last.
+
+use super::frame::EyeCounters;
+use super::RenderError;
+use crate::gpu::shared::*;
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, Scope};
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+const BYTES: u64 = STAT_WORDS as u64 * 4;
+
+pub struct FrameCounters {
+    /// The shaders' counters (BINDING_STATS), also the trace's indirect arguments.
+    pub device: Buffer,
+    host: Buffer,
+}
+
+/// What one frame counted.
+pub struct CountedFrame {
+    /// Per eye (STAT_EYES of them; callers keep the frame's).
+    pub eyes: Vec<EyeCounters>,
+    /// Per eye, lattice points traced per layer (MAX_LAYERS of them).
+    pub layer_points: Vec<Vec<u64>>,
+}
+
+impl FrameCounters {
+    pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, RenderError> {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        Ok(Self {
+            device: Buffer::new(ctx, "counters", BYTES, usage, MemoryLocation::GpuOnly)?,
+            host: Buffer::new(
+                ctx,
+                "counters read-back",
+                BYTES,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+        })
+    }
+
+    /// The two allocations, for a scene's memory check.
+    pub fn plan() -> [PlannedAllocation; 2] {
+        [
+            PlannedAllocation::storage("counters", BYTES),
+            PlannedAllocation::host("counters read-back", BYTES, true),
+        ]
+    }
+
+    /// Records zeroing every counter before the passes that add to them.
+    pub fn cmd_reset(&self, ctx: &GpuContext, cmd: vk::CommandBuffer) {
+        self.device.cmd_zero(cmd, BYTES);
+        // vkCmdFillBuffer is a clear in synchronization2's terms, a copy-stage transfer to
+        // the installed validation layer (1.3.239): the barrier names both.
+        ctx.cmd_barrier(
+            cmd,
+            Scope::FILL_WRITE.and(Scope::COPY_WRITE),
+            Scope::COMPUTE_READ_WRITE,
+        );
+    }
+
+    /// Records copying the counters for the host, after every pass that wrote them.
+    pub fn cmd_collect(&self, ctx: &GpuContext, cmd: vk::CommandBuffer) {
+        ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
+        self.device.cmd_copy_to(cmd, &self.host, BYTES);
+        ctx.cmd_barrier(cmd, Scope::COPY_WRITE, Scope::HOST_READ);
+    }
+
+    /// The counters of the last frame (its fence has signalled).
+    pub fn read(&self) -> Result<CountedFrame, RenderError> {
+        let bytes = self.host.read()?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes[..BYTES as usize]);
+        let eyes = words[..(STAT_COUNT * STAT_EYES) as usize]
+            .chunks_exact(STAT_COUNT as usize)
+            .map(|c| EyeCounters {
+                nonfinite_samples: c[STAT_NONFINITE as usize] as u64,
+                stack_overflows: c[STAT_STACK_OVERFLOW as usize] as u64,
+                paths: c[STAT_PATHS as usize] as u64,
+                rays: c[STAT_RAYS as usize] as u64,
+            })
+            .collect();
+        let layer_points = words[STAT_LAYER_POINTS as usize..STAT_DISPATCH as usize]
+            .chunks_exact(MAX_LAYERS as usize)
+            .map(|c| c.iter().map(|&n| n as u64).collect())
+            .collect();
+        Ok(CountedFrame { eyes, layer_points })
+    }
+}

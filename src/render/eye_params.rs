@@ -1,0 +1,135 @@
+//! The CPU's share of planning a frame: per eye, the O(layers) numbers the GPU plans,
+//! traces and resolves from (one `GpuLayer` per layer: gaze, anchor, limits as cosines, the
+//! lattice box) and the eye's push constants. Which lattice points are traced is decided per
+//! point on the GPU (glsl/plan.comp); nothing here visits a lattice point.
+
+use super::request::{EyeView, FrameRequest};
+use super::settings::RenderSettings;
+use crate::foveation::gaze::GazeFix;
+use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
+use crate::foveation::{ImageGeometry, RayBuffer};
+use crate::gpu::shared::{GpuLayer, PushConstants, NO_LIMIT};
+use crate::scene::Camera;
+
+/// One eye of a planned frame.
+pub struct EyeParams {
+    pub push: PushConstants,
+    /// The eye's layers, innermost first (LAYERS[eye * layer_count ..]).
+    pub layers: Vec<GpuLayer>,
+    /// The gaze pixel used and whether the requested gaze had to be fixed.
+    pub gaze: ([f64; 2], GazeFix),
+}
+
+impl EyeParams {
+    /// Threads of the eye's plan pass: every layer's lattice box.
+    pub fn plan_points(&self) -> u32 {
+        self.push.plan_points
+    }
+}
+
+/// Plans eye `e` of `request` on `image`, whose ray buffer is `buffer` (all eyes' lattice
+/// values and work lists are `buffer.offsets.len()` entries apart).
+pub fn eye_params(
+    request: &FrameRequest,
+    e: usize,
+    buffer: &RayBuffer,
+    image: &ImageGeometry,
+) -> EyeParams {
+    let eye: &EyeView = &request.eyes[e];
+    let (gaze_px, fix) = eye.gaze.resolve(image);
+    match fix {
+        GazeFix::None => {}
+        GazeFix::NotFinite => tracing::warn!(
+            "eye {e}: gaze {:?} is not finite; foveating around the view axis",
+            eye.gaze
+        ),
+        GazeFix::Clamped => tracing::info!(
+            "eye {e}: gaze {:?} is off the image; clamped to its border",
+            eye.gaze
+        ),
+    }
+    let regions = Regions::new(buffer, image, gaze_px);
+    let stride = buffer.offsets.len() as u32;
+    let layer_count = buffer.layers.len() as u32;
+    let blend = (request.foveation.blend_deg as f64).to_radians();
+    let g = regions.gaze_dir();
+    let mut prefix = 0u32;
+    let layers = buffer
+        .layers
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            let anchor = match l.gaze_anchored {
+                true => gaze_anchor(image, gaze_px),
+                false => [0, 0],
+            };
+            let (i0, i1, j0, j1) = layer_box(l, image, anchor);
+            let (box_cols, box_rows) = ((i1 - i0 + 1).max(0) as u32, (j1 - j0 + 1).max(0) as u32);
+            let box_prefix = prefix;
+            prefix += box_cols * box_rows;
+            let [occlusion, outer, inner] = regions.plan_cos(k);
+            GpuLayer {
+                gaze: [g[0], g[1], g[2], blend as f32],
+                plan_cos: [occlusion, outer, inner, 0.0],
+                resolve_cos: [
+                    cos_limit(l.outer),
+                    cos_limit(l.outer - blend),
+                    cos_limit(buffer.occlusion),
+                    0.0,
+                ],
+                pixel_tan: regions.tan_map(),
+                anchor_x: anchor[0],
+                anchor_y: anchor[1],
+                spacing: l.spacing as i32,
+                spp: l.spp,
+                box_i0: i0,
+                box_j0: j0,
+                box_cols,
+                box_rows,
+                col_min: l.col_min,
+                row_min: l.row_min,
+                cols: l.cols() as u32,
+                first: e as u32 * stride + l.first,
+                box_prefix,
+                // shared.h's VISIBILITY planes: per eye the shown pixels, then one per layer.
+                mask_plane: e as u32 * (layer_count + 1) + 1 + k as u32,
+                outer: l.outer.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32,
+                pad0: 0,
+            }
+        })
+        .collect();
+    let mut push = push_constants(&eye.camera, &request.settings);
+    push.eye = e as u32;
+    push.layer_count = layer_count;
+    push.debug = request.debug.id();
+    push.work_stride = stride;
+    push.plan_points = prefix;
+    EyeParams {
+        push,
+        layers,
+        gaze: (gaze_px, fix),
+    }
+}
+
+/// The push constants every pass of a frame shares: the eye's camera and the image.
+pub fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
+    let (r, u, f) = camera.basis();
+    let v = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    PushConstants {
+        cam_position: v(camera.position),
+        cam_right: v(r),
+        cam_up: v(u),
+        cam_forward: v(f),
+        // Image row 0 is the top edge, so the shader goes from the "up" tangent to "down".
+        cam_tan: [
+            camera.angle_left.tan(),
+            camera.angle_right.tan(),
+            camera.angle_up.tan(),
+            camera.angle_down.tan(),
+        ],
+        width: s.width,
+        height: s.height,
+        seed: s.seed,
+        ..Default::default()
+    }
+}

@@ -1,0 +1,125 @@
+//! The frame's passes, each a short function over typed handles: plan (which lattice points
+//! every layer traces, decided on the GPU, compacted into work lists), trace (the work lists,
+//! through indirect dispatches the GPU sized) and resolve (every pixel once). Each pass
+//! records every eye's dispatch before the next pass: the eyes have their own lattice values,
+//! work lists and halves of the output, so nothing orders one eye after the other and a GPU
+//! may run them side by side; the barriers order only the passes.
+
+use super::counters::FrameCounters;
+use super::eye_params::EyeParams;
+use super::targets::FrameTargets;
+use crate::gpu::shared::*;
+use crate::gpu::{vk, ComputePipeline, GpuContext, PipelineLayout, Scope, TimestampPool};
+
+/// The frame's pipelines (trace specialised for the scene, integrator and depth).
+pub struct FramePipelines<'a> {
+    pub plan: &'a ComputePipeline,
+    pub plan_args: &'a ComputePipeline,
+    pub trace: &'a ComputePipeline,
+    pub resolve: &'a ComputePipeline,
+}
+
+/// Everything one frame's commands use.
+pub struct FramePasses<'a> {
+    pub ctx: &'a GpuContext,
+    pub layout: &'a PipelineLayout,
+    pub pipelines: FramePipelines<'a>,
+    pub timestamps: &'a mut TimestampPool,
+    pub counters: &'a FrameCounters,
+    pub targets: &'a FrameTargets,
+    pub eyes: &'a [EyeParams],
+}
+
+impl FramePasses<'_> {
+    /// A pass's name in the timings: "trace", or "left trace" and "right trace" in stereo.
+    fn name(&self, e: usize, pass: &str) -> String {
+        match (self.eyes.len(), e) {
+            (1, _) => pass.to_string(),
+            (_, 0) => format!("left {pass}"),
+            (_, _) => format!("right {pass}"),
+        }
+    }
+
+    /// Starts the frame: timings reset, counters zeroed, the output ready for writing.
+    pub fn begin(&mut self, cmd: vk::CommandBuffer) {
+        self.timestamps.cmd_reset(cmd);
+        self.counters.cmd_reset(self.ctx, cmd);
+        self.targets.output.cmd_prepare_for_write(cmd);
+    }
+
+    /// Plan: per eye, one thread per lattice point of every layer's box decides whether the
+    /// point is traced and appends it to the eye's work list; then one tiny dispatch turns
+    /// each list's length into the trace's workgroup counts.
+    pub fn plan(&mut self, cmd: vk::CommandBuffer) {
+        let (p, layout) = (&self.pipelines, self.layout);
+        for (e, eye) in self.eyes.iter().enumerate() {
+            let groups = groups_1d(eye.plan_points() as u64, PLAN_WORKGROUP_SIZE);
+            let name = self.name(e, "plan");
+            self.timestamps.cmd_timed(cmd, &name, || {
+                p.plan.cmd_dispatch(cmd, layout, &eye.push, groups)
+            });
+        }
+        // The counts are complete only when every plan workgroup has added to them.
+        self.ctx
+            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
+        let push = self.eyes[0].push;
+        let eyes = self.eyes.len() as u32;
+        self.timestamps.cmd_timed(cmd, "dispatch sizes", || {
+            p.plan_args.cmd_dispatch(cmd, layout, &push, [eyes, 1, 1])
+        });
+        // The trace reads the work lists and the counts, and its dispatch sizes.
+        self.ctx.cmd_barrier(
+            cmd,
+            Scope::COMPUTE_WRITE,
+            Scope::COMPUTE_READ.and(Scope::INDIRECT_READ),
+        );
+    }
+
+    /// Trace: per eye, one thread per work-list entry writes the point's lattice value.
+    pub fn trace(&mut self, cmd: vk::CommandBuffer) {
+        let (p, layout) = (&self.pipelines, self.layout);
+        for (e, eye) in self.eyes.iter().enumerate() {
+            let name = self.name(e, "trace");
+            let args = &self.counters.device;
+            let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
+            self.timestamps.cmd_timed(cmd, &name, || {
+                p.trace
+                    .cmd_dispatch_indirect(cmd, layout, &eye.push, args, offset)
+            });
+        }
+        // Resolve reads the lattice values.
+        self.ctx
+            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ);
+    }
+
+    /// Resolve: per eye, every output pixel from its one or two layers.
+    pub fn resolve(&mut self, cmd: vk::CommandBuffer) {
+        let (p, layout) = (&self.pipelines, self.layout);
+        let t = self.targets;
+        let groups = [
+            t.key
+                .width
+                .div_ceil(WORKGROUP_SIZE_X * PIXELS_PER_INVOCATION),
+            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
+            1,
+        ];
+        for (e, eye) in self.eyes.iter().enumerate() {
+            let name = self.name(e, "resolve");
+            self.timestamps.cmd_timed(cmd, &name, || {
+                p.resolve.cmd_dispatch(cmd, layout, &eye.push, groups)
+            });
+        }
+    }
+
+    /// Ends the frame: the counters copied where the host reads them after the fence.
+    pub fn finish(&mut self, cmd: vk::CommandBuffer) {
+        self.counters.cmd_collect(self.ctx, cmd);
+    }
+}
+
+/// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
+pub fn groups_1d(threads: u64, workgroup: u32) -> [u32; 3] {
+    let groups = threads.div_ceil(workgroup as u64);
+    let x = groups.min(MAX_GROUPS_X as u64);
+    [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
+}
