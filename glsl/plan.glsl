@@ -37,17 +37,22 @@ bool traced_point(uint k, ivec2 p) {
         && visibility_bit(layers[k].mask_plane, p);
 }
 
-// Thread t of this eye's plan (one per lattice point of every layer's box, layer after
-// layer): its layer (an index into LAYERS) and lattice point. False past the last box.
-bool plan_point(uint t, out uint k, out ivec2 ij) {
+// Thread t of this eye's plan: a run of up to PLAN_RUN points of one row of one layer's box
+// (rows after rows, layer after layer): its layer (an index into LAYERS), first lattice point
+// and length. False past the last run.
+bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
     uint base = pc.eye * pc.layer_count;
     k = base;
     ij = ivec2(0);
-    if (t >= pc.plan_points) return false;
+    n = 0u;
+    if (t >= pc.plan_runs) return false;
     while (k + 1u < base + pc.layer_count && t >= layers[k + 1u].box_prefix) k++;
-    uint local = t - layers[k].box_prefix;
     uint cols = layers[k].box_cols;
-    ij = ivec2(layers[k].box_i0 + int(local % cols), layers[k].box_j0 + int(local / cols));
+    uint runs_per_row = (cols + PLAN_RUN - 1u) / PLAN_RUN;
+    uint local = t - layers[k].box_prefix;
+    uint first = (local % runs_per_row) * PLAN_RUN;
+    ij = ivec2(layers[k].box_i0 + int(first), layers[k].box_j0 + int(local / runs_per_row));
+    n = min(PLAN_RUN, cols - first);
     return true;
 }
 

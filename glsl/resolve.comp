@@ -6,7 +6,8 @@
 // inside. A layer's value at a pixel is its lattice value there, or between lattice points
 // the bicubic Catmull-Rom value (eq. 3.17, fig. 3.10) of the 4x4 points around it, taps
 // clamped to the points on the image; the plan traces a margin of two lattice steps (plus
-// slack) around everything shown, so every tap read was traced this frame. Where v is 1 and
+// slack) around everything shown, so every tap read was traced this frame. Each invocation
+// resolves a run of PIXELS_PER_INVOCATION pixels of one row. Where v is 1 and
 // the pixel is a lattice point the output is the traced value itself (no arithmetic), so the
 // fovea of a foveated frame is bit-identical to a regular frame. Outside the occlusion mask
 // and where the headset's lens hides the pixel (never traced) the pixel is black, and no
@@ -22,7 +23,7 @@ const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1),
                                       vec3(0.25, 0.5, 1.0), vec3(0.7, 0.35, 1.0), vec3(0.2, 0.9, 0.9),
                                       vec3(0.9, 0.9, 0.9), vec3(0.6, 0.6, 0.6));
 
-// Eq. 3.17: the value between v1 (t = 0) and v2 (t = 1); same operation order as
+// Eq. 3.17: the value between v1 (t = 0) and v2 (t = 1); the operations of
 // src/foveation/catmull_rom.rs.
 vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
     vec3 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
@@ -38,25 +39,55 @@ vec3 tap(uint k, ivec2 ij) {
     return lattice[lattice_index(k, clamp(ij, lo, hi))].rgb;
 }
 
-// Layer k's value at pixel p.
-vec3 layer_value(uint k, ivec2 p) {
+// One layer's Catmull-Rom columns around the pixels of a run: the bicubic is separable, so a
+// lattice column's vertical cubic at this row (ty) is shared by every pixel of the run whose
+// horizontal taps include it. A run of 16 pixels at spacing 4 loads 5-6 columns (about 20
+// lattice values) instead of 16 per pixel.
+struct Columns {
+    uint k; // the layer (an index into LAYERS), NO_EMITTER before the first use
+    int cy; // the lattice row at or above this pixel row, and the row's fraction of a step
+    float ty;
+    bool on_row; // ty == 0: the pixel row is a lattice row, columns are lattice values
+    int cx; // col[1] is lattice column cx
+    vec3 col[4];
+};
+
+vec3 column(Columns w, int c) {
+    if (w.on_row) return tap(w.k, ivec2(c, w.cy));
+    return cubic(tap(w.k, ivec2(c, w.cy - 1)), tap(w.k, ivec2(c, w.cy)), tap(w.k, ivec2(c, w.cy + 1)),
+                 tap(w.k, ivec2(c, w.cy + 2)), w.ty);
+}
+
+// Layer k's value at pixel p, through the run's columns w of that layer. At a lattice point
+// the value is the traced one itself (no arithmetic): bit-identical to a regular frame.
+vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     int d = layers[k].spacing;
     ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
     ivec2 cell = floor_div(rel, d);
-    ivec2 within = rel - cell * d;
-    if (within == ivec2(0)) return tap(k, cell); // a lattice point: traced
-    vec2 f = vec2(within) / float(d);
-    vec3 rows[4];
-    for (int j = 0; j < 4; ++j) {
-        ivec2 r = cell + ivec2(-1, j - 1);
-        rows[j] = cubic(tap(k, r), tap(k, r + ivec2(1, 0)), tap(k, r + ivec2(2, 0)),
-                        tap(k, r + ivec2(3, 0)), f.x);
+    int tx = rel.x - cell.x * d;
+    if (w.k != k) {
+        w.k = k;
+        w.cy = cell.y;
+        int within_y = rel.y - cell.y * d;
+        w.on_row = within_y == 0;
+        w.ty = float(within_y) / float(d);
+        w.cx = cell.x - 4; // nothing loaded
     }
-    return cubic(rows[0], rows[1], rows[2], rows[3], f.y);
+    if (cell.x == w.cx + 1) {
+        w.col[0] = w.col[1];
+        w.col[1] = w.col[2];
+        w.col[2] = w.col[3];
+        w.col[3] = column(w, cell.x + 2);
+    } else if (cell.x != w.cx) {
+        for (int i = 0; i < 4; ++i) w.col[i] = column(w, cell.x - 1 + i);
+    }
+    w.cx = cell.x;
+    if (tx == 0) return w.col[1];
+    return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) / float(d));
 }
 
-vec3 shown(uint k, uint depth, ivec2 p) {
-    vec3 c = layer_value(k, p);
+vec3 shown(inout Columns w, uint k, uint depth, ivec2 p) {
+    vec3 c = layer_value(w, k, p);
     if (pc.debug == DEBUG_LAYERS) {
         float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
         return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
@@ -64,46 +95,46 @@ vec3 shown(uint k, uint depth, ivec2 p) {
     return c;
 }
 
-void resolve_pixel(ivec2 p, uint base, vec3 gaze, float band, float cos_occlusion) {
-    ivec2 out_pixel = ivec2(p.x + int(pc.eye * pc.width), p.y);
-    vec4 tan_map = layers[base].pixel_tan;
-    vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);
-    // Plane 0 of the eye: the pixels the lens shows.
-    if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion)
-        || !visibility_bit(pc.eye * (pc.layer_count + 1u), p)) {
-        imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
-        return;
-    }
-    // The innermost layer whose radius contains the pixel (cosine tests, no trig).
-    uint depth = 0u;
-    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
-    uint k = base + depth;
-    // The blend weight needs the angle itself, but only inside the band.
-    float v = 1.0;
-    if (band > 0.0 && !within_angle(u, gaze, layers[k].resolve_cos.y)) {
-        v = clamp((layers[k].outer - angle_of(u, gaze)) / band, 0.0, 1.0);
-    }
-    vec3 c = shown(k, depth, p);
-    if (v < 1.0 && depth + 1u < pc.layer_count) {
-        c = mix(shown(k + 1u, depth + 1u, p), c, v);
-    }
-    if (pc.debug == DEBUG_LAYERS && v < 1.0) {
-        c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
-    }
-    imageStore(out_image, out_pixel, vec4(c, 1.0));
-}
-
 void main() {
     uint base = pc.eye * pc.layer_count;
-    // Per-eye values, the same for every pixel: read once per invocation.
+    // Per-eye values, the same for every pixel.
     vec3 gaze = layers[base].gaze.xyz;
     float band = layers[base].gaze.w;
     float cos_occlusion = layers[base].resolve_cos.z;
+    vec4 tan_map = layers[base].pixel_tan;
+    uint lens_plane = pc.eye * (pc.layer_count + 1u); // the eye's shown pixels
     int y = int(gl_GlobalInvocationID.y);
-    int x0 = int(gl_WorkGroupID.x * gl_WorkGroupSize.x) * PIXELS_PER_INVOCATION + int(gl_LocalInvocationID.x);
+    int x0 = int(gl_GlobalInvocationID.x) * PIXELS_PER_INVOCATION;
     if (y >= int(pc.height)) return;
-    for (int i = 0; i < PIXELS_PER_INVOCATION; ++i) {
-        int x = x0 + i * int(gl_WorkGroupSize.x);
-        if (x < int(pc.width)) resolve_pixel(ivec2(x, y), base, gaze, band, cos_occlusion);
+    // Columns of the pixel's layer and of the next one out (blend bands).
+    Columns inner;
+    Columns outer;
+    inner.k = NO_EMITTER;
+    outer.k = NO_EMITTER;
+    for (int x = x0; x < min(x0 + PIXELS_PER_INVOCATION, int(pc.width)); ++x) {
+        ivec2 p = ivec2(x, y);
+        ivec2 out_pixel = ivec2(x + int(pc.eye * pc.width), y);
+        vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);
+        if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion) || !visibility_bit(lens_plane, p)) {
+            imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
+            continue;
+        }
+        // The innermost layer whose radius contains the pixel (cosine tests, no trig).
+        uint depth = 0u;
+        while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
+        uint k = base + depth;
+        // The blend weight needs the angle itself, but only inside the band.
+        float v = 1.0;
+        if (band > 0.0 && !within_angle(u, gaze, layers[k].resolve_cos.y)) {
+            v = clamp((layers[k].outer - angle_of(u, gaze)) / band, 0.0, 1.0);
+        }
+        vec3 c = shown(inner, k, depth, p);
+        if (v < 1.0 && depth + 1u < pc.layer_count) {
+            c = mix(shown(outer, k + 1u, depth + 1u, p), c, v);
+        }
+        if (pc.debug == DEBUG_LAYERS && v < 1.0) {
+            c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
+        }
+        imageStore(out_image, out_pixel, vec4(c, 1.0));
     }
 }

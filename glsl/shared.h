@@ -39,7 +39,6 @@
 #define SPEC_HAS_EMITTERS 4
 #define SPEC_MAX_BOUNCES 5
 #define SPEC_INTEGRATOR 6
-#define SPEC_PLAN_IN_TRACE 7 // trace.comp: plan each point itself (no plan pass, no work list)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -82,12 +81,15 @@
 #define WORKGROUP_SIZE_X 8
 #define WORKGROUP_SIZE_Y 8
 #define PROBE_WORKGROUP_SIZE 64
-// Resolve: each invocation does this many pixels, WORKGROUP_SIZE_X apart in x, so a
-// workgroup covers 32x8 pixels. Lavapipe pays a fixed cost per invocation that was as large
-// as the per-pixel work of the pass; GPUs are indifferent at headset resolutions.
-#define PIXELS_PER_INVOCATION 4
+// Resolve: each invocation does a run of this many consecutive pixels of one row, so a
+// workgroup covers 128x8 pixels and a run reuses the Catmull-Rom columns its pixels share.
+// Lavapipe also pays a fixed cost per invocation that was as large as a pixel's work.
+#define PIXELS_PER_INVOCATION 16
+// Plan: each invocation tests a run of this many lattice points of one row of one layer's
+// box (consecutive lattice entries) and reserves their work-list slots with one atomic.
+#define PLAN_RUN 16
 #define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the eye's work list
-#define PLAN_WORKGROUP_SIZE 64  // plan.comp is 1D over the eye's layers' lattice boxes
+#define PLAN_WORKGROUP_SIZE 64  // plan.comp is 1D over the eye's layers' runs
 #define MAX_GROUPS_X 65535 // the guaranteed maxComputeWorkGroupCount[0]; larger dispatches use y
 
 struct GpuTriangle {
@@ -160,7 +162,7 @@ struct PushConstants {
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
     uint layer; // accumulate.comp: the running mean's layer of LAYER_IMAGES
     uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
-    uint plan_points; // plan.comp: threads of this eye (its layers' lattice boxes together)
+    uint plan_runs; // plan.comp: threads of this eye (its layers' boxes' runs together)
     uint debug; // DEBUG_*
     uint layer_count; // layers per eye; this eye's are LAYERS[eye*layer_count ..]
 };
@@ -187,7 +189,7 @@ struct GpuLayer {
     int row_min; //   cols + (i - col_min)]
     uint cols;
     uint first;
-    uint box_prefix; // plan.comp's first thread of this layer's box
+    uint box_prefix; // plan.comp's first thread (run) of this layer's box
     uint mask_plane; // VISIBILITY plane of the points this layer needs (any value without a mask)
     float outer; // radius: shown where angle < outer (NO_LIMIT: background); blends inside it
     uint pad0;

@@ -4,10 +4,6 @@
 // traces the layer's spp samples at the point's pixel and writes their mean into LATTICE. A
 // sample's jitter and random numbers depend only on (pixel, sample, seed, eye), so the same
 // pixel traced by any layer config gives bit-identical values.
-//
-// With PLAN_IN_TRACE the plan pass is skipped instead: the dispatch covers every layer's box
-// and each thread tests its own point (plan.glsl), exiting when it is not traced. Kept as the
-// measured alternative to compaction (`render --bench` with FOVEA_PLAN_IN_TRACE=1).
 #extension GL_GOOGLE_include_directive : require
 #define WRITES_LATTICE
 #include "integrators.glsl"
@@ -15,7 +11,6 @@
 #include "view.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
-layout(constant_id = SPEC_PLAN_IN_TRACE) const bool PLAN_IN_TRACE = false;
 
 vec3 camera_ray(vec2 pixel, vec2 jitter) {
     vec2 t = pixel_tan(pixel + jitter);
@@ -26,19 +21,12 @@ void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
                 + gl_GlobalInvocationID.x;
     uint block = pc.eye * STAT_COUNT; // each eye counts in its own block
-    uint k;
-    ivec2 ij;
-    if (PLAN_IN_TRACE) {
-        if (!plan_point(thread, k, ij) || !traced_point(k, lattice_pixel(k, ij))) return;
-        atomicAdd(stats[STAT_LAYER_POINTS + pc.eye * MAX_LAYERS + k - pc.eye * pc.layer_count], 1u);
-    } else {
-        if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
-        uint item = work[pc.eye * pc.work_stride + thread];
-        k = pc.eye * pc.layer_count + (item >> WORK_LAYER_SHIFT);
-        uint local = (item & ((1u << WORK_LAYER_SHIFT) - 1u)) - layers[k].first;
-        uint cols = layers[k].cols;
-        ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
-    }
+    if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
+    uint item = work[pc.eye * pc.work_stride + thread];
+    uint k = pc.eye * pc.layer_count + (item >> WORK_LAYER_SHIFT);
+    uint local = (item & ((1u << WORK_LAYER_SHIFT) - 1u)) - layers[k].first;
+    uint cols = layers[k].cols;
+    ivec2 ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
     ivec2 pixel = lattice_pixel(k, ij);
     uint spp = layers[k].spp;
 

@@ -128,7 +128,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             eye,
             layer,
             work_stride,
-            plan_points,
+            plan_runs,
             debug,
             layer_count
         }

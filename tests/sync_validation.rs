@@ -86,7 +86,8 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
         ..Default::default()
     };
     let groups = [
-        SIZE.div_ceil(WORKGROUP_SIZE_X * PIXELS_PER_INVOCATION),
+        SIZE.div_ceil(PIXELS_PER_INVOCATION)
+            .div_ceil(WORKGROUP_SIZE_X),
         SIZE.div_ceil(WORKGROUP_SIZE_Y),
         1,
     ];

@@ -92,7 +92,7 @@ pub struct PushConstants {
     pub eye: u32,
     pub layer: u32,
     pub work_stride: u32,
-    pub plan_points: u32,
+    pub plan_runs: u32,
     pub debug: u32,
     pub layer_count: u32,
 }

@@ -8,7 +8,7 @@ use super::settings::RenderSettings;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::{ImageGeometry, RayBuffer};
-use crate::gpu::shared::{GpuLayer, PushConstants, NO_LIMIT};
+use crate::gpu::shared::{GpuLayer, PushConstants, NO_LIMIT, PLAN_RUN};
 use crate::scene::Camera;
 
 /// One eye of a planned frame.
@@ -21,9 +21,10 @@ pub struct EyeParams {
 }
 
 impl EyeParams {
-    /// Threads of the eye's plan pass: every layer's lattice box.
-    pub fn plan_points(&self) -> u32 {
-        self.push.plan_points
+    /// Threads of the eye's plan pass: every row of every layer's lattice box, in runs of
+    /// PLAN_RUN points.
+    pub fn plan_runs(&self) -> u32 {
+        self.push.plan_runs
     }
 }
 
@@ -66,7 +67,7 @@ pub fn eye_params(
             let (i0, i1, j0, j1) = layer_box(l, image, anchor);
             let (box_cols, box_rows) = ((i1 - i0 + 1).max(0) as u32, (j1 - j0 + 1).max(0) as u32);
             let box_prefix = prefix;
-            prefix += box_cols * box_rows;
+            prefix += box_cols.div_ceil(PLAN_RUN) * box_rows;
             let [occlusion, outer, inner] = regions.plan_cos(k);
             GpuLayer {
                 gaze: [g[0], g[1], g[2], blend as f32],
@@ -103,7 +104,7 @@ pub fn eye_params(
     push.layer_count = layer_count;
     push.debug = request.debug.id();
     push.work_stride = stride;
-    push.plan_points = prefix;
+    push.plan_runs = prefix;
     EyeParams {
         push,
         layers,

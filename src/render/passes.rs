@@ -47,13 +47,13 @@ impl FramePasses<'_> {
         self.targets.output.cmd_prepare_for_write(cmd);
     }
 
-    /// Plan: per eye, one thread per lattice point of every layer's box decides whether the
-    /// point is traced and appends it to the eye's work list; then one tiny dispatch turns
-    /// each list's length into the trace's workgroup counts.
+    /// Plan: per eye, one thread per run of lattice points of every layer's box decides which
+    /// are traced and appends them to the eye's work list; then one tiny dispatch turns each
+    /// list's length into the trace's workgroup counts.
     pub fn plan(&mut self, cmd: vk::CommandBuffer) {
         let (p, layout) = (&self.pipelines, self.layout);
         for (e, eye) in self.eyes.iter().enumerate() {
-            let groups = groups_1d(eye.plan_points() as u64, PLAN_WORKGROUP_SIZE);
+            let groups = groups_1d(eye.plan_runs() as u64, PLAN_WORKGROUP_SIZE);
             let name = self.name(e, "plan");
             self.timestamps.cmd_timed(cmd, &name, || {
                 p.plan.cmd_dispatch(cmd, layout, &eye.push, groups)
