@@ -32,19 +32,21 @@ vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
     return ((a * t + b) * t + c) * t + v1;
 }
 
-// Layer k's lattice value at point ij, clamped to the layer's points on the image.
-vec3 tap(uint k, ivec2 ij) {
-    ivec2 lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 hi = lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
-    return lattice[lattice_index(k, clamp(ij, lo, hi))].rgb;
-}
-
 // One layer's Catmull-Rom columns around the pixels of a run: the bicubic is separable, so a
 // lattice column's vertical cubic at this row (ty) is shared by every pixel of the run whose
 // horizontal taps include it. A run of 16 pixels at spacing 4 loads 5-6 columns (about 20
-// lattice values) instead of 16 per pixel.
+// lattice values) instead of 16 per pixel. The layer's parameters are read once per run:
+// on lavapipe every buffer read per pixel costs about as much as the arithmetic.
 struct Columns {
     uint k; // the layer (an index into LAYERS), NO_EMITTER before the first use
+    ivec2 anchor;
+    int d;
+    float inv_d;
+    ivec2 lo; // the layer's lattice points on the image (taps clamp to them)
+    ivec2 hi;
+    ivec2 extent_min; // LATTICE[first + (j - extent_min.y) * cols + (i - extent_min.x)]
+    uint first;
+    uint cols;
     int cy; // the lattice row at or above this pixel row, and the row's fraction of a step
     float ty;
     bool on_row; // ty == 0: the pixel row is a lattice row, columns are lattice values
@@ -52,38 +54,64 @@ struct Columns {
     vec3 col[4];
 };
 
-vec3 column(Columns w, int c) {
-    if (w.on_row) return tap(w.k, ivec2(c, w.cy));
-    return cubic(tap(w.k, ivec2(c, w.cy - 1)), tap(w.k, ivec2(c, w.cy)), tap(w.k, ivec2(c, w.cy + 1)),
-                 tap(w.k, ivec2(c, w.cy + 2)), w.ty);
+// Starts using layer k's columns on pixel row y.
+void use_layer(inout Columns w, uint k, int y) {
+    w.k = k;
+    w.anchor = ivec2(layers[k].anchor_x, layers[k].anchor_y);
+    w.d = layers[k].spacing;
+    w.inv_d = 1.0 / float(w.d);
+    w.lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    w.hi = w.lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    w.extent_min = ivec2(layers[k].col_min, layers[k].row_min);
+    w.first = layers[k].first;
+    w.cols = layers[k].cols;
+    w.cy = floor_div(ivec2(0, y - w.anchor.y), w.d).y;
+    int within_y = y - w.anchor.y - w.cy * w.d;
+    w.on_row = within_y == 0;
+    w.ty = float(within_y) / float(w.d);
+    w.cx = -0x40000000; // no column loaded
 }
 
-// Layer k's value at pixel p, through the run's columns w of that layer. At a lattice point
-// the value is the traced one itself (no arithmetic): bit-identical to a regular frame.
+// The layer's lattice value at point ij, clamped to its points on the image.
+vec3 tap(Columns w, ivec2 ij) {
+    ivec2 c = clamp(ij, w.lo, w.hi) - w.extent_min;
+    return lattice[w.first + uint(c.y) * w.cols + uint(c.x)].rgb;
+}
+
+vec3 column(Columns w, int c) {
+    if (w.on_row) return tap(w, ivec2(c, w.cy));
+    return cubic(tap(w, ivec2(c, w.cy - 1)), tap(w, ivec2(c, w.cy)), tap(w, ivec2(c, w.cy + 1)),
+                 tap(w, ivec2(c, w.cy + 2)), w.ty);
+}
+
+// Layer k's value at pixel p (on row y of the run), through the run's columns w of that
+// layer. At a lattice point the value is the traced one itself (no arithmetic):
+// bit-identical to a regular frame.
 vec3 layer_value(inout Columns w, uint k, ivec2 p) {
-    int d = layers[k].spacing;
-    ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
-    ivec2 cell = floor_div(rel, d);
-    int tx = rel.x - cell.x * d;
-    if (w.k != k) {
-        w.k = k;
-        w.cy = cell.y;
-        int within_y = rel.y - cell.y * d;
-        w.on_row = within_y == 0;
-        w.ty = float(within_y) / float(d);
-        w.cx = cell.x - 4; // nothing loaded
+    if (w.k != k) use_layer(w, k, p.y);
+    int rel = p.x - w.anchor.x;
+    // floor(rel / d) without an integer division (scalarised on SIMD CPUs), corrected for
+    // the reciprocal's rounding.
+    int cx = int(floor(float(rel) * w.inv_d));
+    int tx = rel - cx * w.d;
+    if (tx < 0) {
+        cx--;
+        tx += w.d;
+    } else if (tx >= w.d) {
+        cx++;
+        tx -= w.d;
     }
-    if (cell.x == w.cx + 1) {
+    if (cx == w.cx + 1) {
         w.col[0] = w.col[1];
         w.col[1] = w.col[2];
         w.col[2] = w.col[3];
-        w.col[3] = column(w, cell.x + 2);
-    } else if (cell.x != w.cx) {
-        for (int i = 0; i < 4; ++i) w.col[i] = column(w, cell.x - 1 + i);
+        w.col[3] = column(w, cx + 2);
+    } else if (cx != w.cx) {
+        for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
     }
-    w.cx = cell.x;
+    w.cx = cx;
     if (tx == 0) return w.col[1];
-    return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) / float(d));
+    return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d);
 }
 
 vec3 shown(inout Columns w, uint k, uint depth, ivec2 p) {
@@ -97,11 +125,15 @@ vec3 shown(inout Columns w, uint k, uint depth, ivec2 p) {
 
 void main() {
     uint base = pc.eye * pc.layer_count;
-    // Per-eye values, the same for every pixel.
+    // Per-eye values, the same for every pixel, read once per run.
     vec3 gaze = layers[base].gaze.xyz;
     float band = layers[base].gaze.w;
     float cos_occlusion = layers[base].resolve_cos.z;
     vec4 tan_map = layers[base].pixel_tan;
+    vec3 limits[MAX_LAYERS]; // per layer: cos radius, cos (radius - band), radius
+    for (uint depth = 0u; depth < pc.layer_count; ++depth) {
+        limits[depth] = vec3(layers[base + depth].resolve_cos.xy, layers[base + depth].outer);
+    }
     uint lens_plane = pc.eye * (pc.layer_count + 1u); // the eye's shown pixels
     int y = int(gl_GlobalInvocationID.y);
     int x0 = int(gl_GlobalInvocationID.x) * PIXELS_PER_INVOCATION;
@@ -121,16 +153,15 @@ void main() {
         }
         // The innermost layer whose radius contains the pixel (cosine tests, no trig).
         uint depth = 0u;
-        while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
-        uint k = base + depth;
+        while (depth + 1u < pc.layer_count && !within_angle(u, gaze, limits[depth].x)) depth++;
         // The blend weight needs the angle itself, but only inside the band.
         float v = 1.0;
-        if (band > 0.0 && !within_angle(u, gaze, layers[k].resolve_cos.y)) {
-            v = clamp((layers[k].outer - angle_of(u, gaze)) / band, 0.0, 1.0);
+        if (band > 0.0 && !within_angle(u, gaze, limits[depth].y)) {
+            v = clamp((limits[depth].z - angle_of(u, gaze)) / band, 0.0, 1.0);
         }
-        vec3 c = shown(inner, k, depth, p);
+        vec3 c = shown(inner, base + depth, depth, p);
         if (v < 1.0 && depth + 1u < pc.layer_count) {
-            c = mix(shown(outer, k + 1u, depth + 1u, p), c, v);
+            c = mix(shown(outer, base + depth + 1u, depth + 1u, p), c, v);
         }
         if (pc.debug == DEBUG_LAYERS && v < 1.0) {
             c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5

@@ -42,7 +42,7 @@ fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
     (info.width, info.height, buf)
 }
 
-/// Mean x of the pixels tinted as the innermost layer (merge.comp's LAYER_COLOURS[0], red:
+/// Mean x of the pixels tinted as the innermost layer (resolve.comp's LAYER_COLOURS[0], red:
 /// sRGB green and blue about 0.54 of red; the next layer's orange has green at 0.85) in the
 /// column range `x0..x1`.
 fn foveal_centroid_x(rgb: &[u8], width: u32, x0: u32, x1: u32) -> f64 {

@@ -1,5 +1,5 @@
 //! Blend masks (thesis eq. 3.18): how much of layer `k` shows at an angle from the gaze.
-//! merge.comp computes the same weight per pixel; the CPU version states the bound the
+//! resolve.comp computes the same weight per pixel; the CPU version states the bound the
 //! tests hold the GPU to.
 
 /// The blend-mask value `v_b` of a layer of angular radius `radius` with a blend band of

@@ -1,5 +1,5 @@
 //! The thesis' cubic interpolation (eq. 3.17, Catmull-Rom) and its bicubic use over a layer's
-//! lattice (fig. 3.10): the CPU reference that interpolate.comp is tested against.
+//! lattice (fig. 3.10): the CPU reference that resolve.comp is tested against.
 
 /// Eq. 3.17: the value between `v[1]` (t = 0) and `v[2]` (t = 1).
 pub fn cubic(v: [f32; 4], t: f32) -> f32 {
