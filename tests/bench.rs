@@ -146,7 +146,7 @@ fn a_quick_run_writes_every_file_and_they_parse() {
     // trace.json: a JSON array with a CPU frame slice and GPU pass slices for every frame.
     let trace = trace_events(&run);
     assert_eq!(frame_slices(&trace), SCENES * RUNS_PER_SCENE * FRAMES);
-    assert!(trace.iter().any(|e| e["name"] == "right merge"));
+    assert!(trace.iter().any(|e| e["name"] == "right resolve"));
 
     // report.md names every scene and links files that exist.
     let report = std::fs::read_to_string(run.join("report.md")).unwrap();

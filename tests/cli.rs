@@ -156,7 +156,7 @@ fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
         "{text}"
     );
     assert!(
-        text.contains("left trace") && text.contains("right merge"),
+        text.contains("left trace") && text.contains("right resolve"),
         "{text}"
     );
     assert!(text.contains("samples traced:"), "{text}");
