@@ -183,7 +183,7 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
     }
     // The session profile has the bench's columns for both eyes of every frame.
     let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
-    assert!(frames.starts_with("scene,mode,repeat,frame,eye,trace_ms"));
+    assert!(frames.starts_with("scene,mode,repeat,frame,eye,gpu_plan_ms,trace_ms,resolve_ms"));
     assert_eq!(frames.lines().count(), 1 + 2 * 10);
     assert!(frames
         .lines()
