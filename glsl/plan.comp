@@ -28,12 +28,13 @@ void main() {
     uint n;
     if (!plan_run(t, k, ij, n)) return;
     uint traced = 0u; // bit i: point ij + (i, 0) is traced
-    bool everything = layers[k].plan_cos.xyz == vec3(-2.0, -2.0, 2.0) && visibility[0] == 0u;
+    uint mask_words = visibility[0];
+    bool everything = layers[k].plan_cos.xyz == vec3(-2.0, -2.0, 2.0) && mask_words == 0u;
     if (everything) {
         traced = n == 32u ? ~0u : (1u << n) - 1u; // regular rendering: no limit, no mask
     } else {
         for (uint i = 0u; i < n; ++i) {
-            if (traced_point(k, lattice_pixel(k, ij + ivec2(i, 0)))) traced |= 1u << i;
+            if (traced_point(k, lattice_pixel(k, ij + ivec2(i, 0)), mask_words)) traced |= 1u << i;
         }
     }
     uint count = bitCount(traced);

@@ -11,16 +11,17 @@
 #define FOVEA_PLAN_GLSL
 #include "bindings.glsl"
 
-// Is bit `i` of VISIBILITY plane `plane` set? (No mask: every bit is.)
-bool visibility_bit(uint plane, ivec2 p) {
-    uint words = visibility[0];
+// Is pixel p's bit of VISIBILITY plane `plane` set? `words` is VISIBILITY[0], the words per
+// plane, read once by the caller (0, no mask: every bit is).
+bool visibility_bit(uint words, uint plane, ivec2 p) {
     if (words == 0u) return true;
     uint i = uint(p.y) * pc.width + uint(p.x);
     return ((visibility[1u + plane * words + i / 32u] >> (i % 32u)) & 1u) != 0u;
 }
 
 // Does layer k (an index into LAYERS) trace its lattice point at pixel p (on the image)?
-bool traced_point(uint k, ivec2 p) {
+// `mask_words` is VISIBILITY[0].
+bool traced_point(uint k, ivec2 p, uint mask_words) {
     vec4 tan_map = layers[k].pixel_tan;
     vec3 g = layers[k].gaze.xyz;
     vec4 c = layers[k].plan_cos;
@@ -34,7 +35,7 @@ bool traced_point(uint k, ivec2 p) {
     precise float outer = c.y * norm;
     precise float inner = c.z * norm;
     return 1.0 > occlusion && to_gaze > outer && to_gaze <= inner
-        && visibility_bit(layers[k].mask_plane, p);
+        && visibility_bit(mask_words, layers[k].mask_plane, p);
 }
 
 // Thread t of this eye's plan: a run of up to PLAN_RUN points of one row of one layer's box

@@ -135,6 +135,7 @@ void main() {
         limits[depth] = vec3(layers[base + depth].resolve_cos.xy, layers[base + depth].outer);
     }
     uint lens_plane = pc.eye * (pc.layer_count + 1u); // the eye's shown pixels
+    uint mask_words = visibility[0];
     int y = int(gl_GlobalInvocationID.y);
     int x0 = int(gl_GlobalInvocationID.x) * PIXELS_PER_INVOCATION;
     if (y >= int(pc.height)) return;
@@ -147,7 +148,7 @@ void main() {
         ivec2 p = ivec2(x, y);
         ivec2 out_pixel = ivec2(x + int(pc.eye * pc.width), y);
         vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);
-        if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion) || !visibility_bit(lens_plane, p)) {
+        if (!within_angle(u, vec3(0.0, 0.0, 1.0), cos_occlusion) || !visibility_bit(mask_words, lens_plane, p)) {
             imageStore(out_image, out_pixel, vec4(0.0, 0.0, 0.0, 1.0));
             continue;
         }

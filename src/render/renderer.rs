@@ -341,7 +341,7 @@ impl Renderer {
             .map(|e| eye_params(request, e, &targets.buffer, &targets.images[e]))
             .collect();
         let plan_ms = planning.elapsed().as_secs_f64() * 1e3;
-        let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.clone()).collect();
+        let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.iter().copied()).collect();
         let targets = self.targets.as_mut().expect("prepared");
         targets.write_layers(&layers)?;
         if let Some(value) = given {
