@@ -8,11 +8,22 @@
 // clamped to the points on the image; the plan traces a margin of two lattice steps (plus
 // slack) around everything shown, so every tap read was traced this frame. Each invocation
 // resolves a run of PIXELS_PER_INVOCATION pixels of one row. Where v is 1 and
-// the pixel is a lattice point the output is the traced value itself (no arithmetic), so the
-// fovea of a foveated frame is bit-identical to a regular frame. Outside the occlusion mask
+// the pixel is a lattice point the output is the traced value itself (the cubic at t = 0 is
+// its middle value exactly), so the fovea of a foveated frame is bit-identical to a regular
+// frame.
+//
+// Shaped for SIMD CPUs (lavapipe) as much as for GPUs: on lavapipe an `if` whose condition
+// differs between lanes runs its body for every lane (masked), while a loop runs until its
+// last lane leaves and a branch on a subgroup vote is a real branch. So the common case —
+// a subgroup whose runs each lie inside one layer, away from blend bands and the occlusion
+// edge — is decided once per run by a vote and walks lattice columns in a loop: one
+// vertical cubic per column, one horizontal cubic per pixel, no per-pixel direction, no
+// per-pixel layer test. A subgroup's lanes are 8 runs stacked vertically (16 x 8 pixels),
+// so few subgroups touch an edge; those take the per-pixel path. Outside the occlusion mask
 // and where the headset's lens hides the pixel (never traced) the pixel is black, and no
 // layer is read.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_vote : require
 #include "plan.glsl"
 #include "view.glsl"
 
@@ -49,7 +60,6 @@ struct Columns {
     uint cols;
     int cy; // the lattice row at or above this pixel row, and the row's fraction of a step
     float ty;
-    bool on_row; // ty == 0: the pixel row is a lattice row, columns are lattice values
     int cx; // col[1] is lattice column cx
     vec3 col[4];
 };
@@ -67,7 +77,6 @@ void use_layer(inout Columns w, uint k, int y) {
     w.cols = layers[k].cols;
     w.cy = floor_div(ivec2(0, y - w.anchor.y), w.d).y;
     int within_y = y - w.anchor.y - w.cy * w.d;
-    w.on_row = within_y == 0;
     w.ty = float(within_y) / float(w.d);
     w.cx = -0x40000000; // no column loaded
 }
@@ -78,8 +87,9 @@ vec3 tap(Columns w, ivec2 ij) {
     return lattice[w.first + uint(c.y) * w.cols + uint(c.x)].rgb;
 }
 
+// Lattice column c's vertical cubic at this row (on a lattice row, ty = 0, its value there:
+// the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway).
 vec3 column(Columns w, int c) {
-    if (w.on_row) return tap(w, ivec2(c, w.cy));
     return cubic(tap(w, ivec2(c, w.cy - 1)), tap(w, ivec2(c, w.cy)), tap(w, ivec2(c, w.cy + 1)),
                  tap(w, ivec2(c, w.cy + 2)), w.ty);
 }
@@ -110,17 +120,79 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
         for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
     }
     w.cx = cx;
-    if (tx == 0) return w.col[1];
     return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d);
 }
 
-vec3 shown(inout Columns w, uint k, uint depth, ivec2 p) {
-    vec3 c = layer_value(w, k, p);
+// A layer's value as shown: itself, or tinted by its layer in the layers debug view.
+vec3 tint(vec3 c, uint depth) {
     if (pc.debug == DEBUG_LAYERS) {
         float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
         return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
     }
     return c;
+}
+
+vec3 shown(inout Columns w, uint k, uint depth, ivec2 p) {
+    return tint(layer_value(w, k, p), depth);
+}
+
+// Pixels [x0, x1) of row y, all inside layer k (the eye's layer `depth`) with blend weight 1:
+// the loop walks the layer's lattice columns; a column's vertical cubic is computed once and
+// used by the d pixels after it.
+void resolve_run_in_layer(uint k, uint depth, int x0, int x1, int y, uint mask_words, uint lens_plane) {
+    Columns w;
+    use_layer(w, k, y);
+    int cx = floor_div(ivec2(x0 - w.anchor.x, 0), w.d).x;
+    int tx = x0 - w.anchor.x - cx * w.d; // pixel x0 is tx pixels right of column cx
+    vec3 col[4];
+    for (int i = 0; i < 4; ++i) col[i] = column(w, cx - 1 + i);
+    int x = x0;
+    while (x < x1) {
+        for (int end = min(x1, x + w.d - tx); x < end; ++x, ++tx) {
+            ivec2 p = ivec2(x, y);
+            vec3 c = tint(cubic(col[0], col[1], col[2], col[3], float(tx) * w.inv_d), depth);
+            if (!visibility_bit(mask_words, lens_plane, p)) c = vec3(0.0);
+            imageStore(out_image, ivec2(x + int(pc.eye * pc.width), y), vec4(c, 1.0));
+        }
+        tx = 0;
+        cx++;
+        col[0] = col[1];
+        col[1] = col[2];
+        col[2] = col[3];
+        col[3] = column(w, cx + 2);
+    }
+}
+
+// Half the angle a run of n pixels spans from its middle: the pixels' tangent-space points
+// lie within c = |step| (n - 1) / 2 of the middle's, and a point's direction is its tangent
+// point (t, 1) projected onto the unit sphere, a projection that never lengthens distances
+// (the nearest-point map onto the unit ball), so the chord between two directions is at most
+// c and the angle at most 2 asin(c / 2).
+float run_half_angle(float tan_step, int n) {
+    float c = abs(tan_step) * 0.5 * float(n - 1);
+    return 2.0 * asin(min(0.5 * c, 1.0));
+}
+
+// A margin (radians) for the rounding of the per-run angles against the per-pixel cosine
+// tests: a run this close to an edge takes the per-pixel path.
+const float RUN_MARGIN = 1.0e-3;
+
+// The eye's layer every pixel of the run [x0, x1) of row y lies in, away from its blend band
+// and the occlusion edge, or pc.layer_count when the run touches an edge or a band.
+uint run_layer(int x0, int x1, int y, vec3 gaze, float band, float cos_occlusion, vec4 tan_map, vec3 limits[MAX_LAYERS]) {
+    vec3 middle = tan_direction(tan_map.xy + vec2(0.5 * float(x0 + x1 - 1), float(y)) * tan_map.zw);
+    float spread = run_half_angle(tan_map.z, x1 - x0) + RUN_MARGIN;
+    if (cos_occlusion >= -1.0 && angle_of(middle, vec3(0.0, 0.0, 1.0)) + spread >= acos(min(cos_occlusion, 1.0))) {
+        return pc.layer_count;
+    }
+    float theta = angle_of(middle, gaze);
+    float inside = -NO_LIMIT; // the radius of the layer inside the one tested
+    for (uint depth = 0u; depth < pc.layer_count; ++depth) {
+        float pure_edge = depth + 1u == pc.layer_count ? NO_LIMIT : limits[depth].z - max(band, 0.0);
+        if (theta - spread > inside && theta + spread < pure_edge) return depth;
+        inside = limits[depth].z;
+    }
+    return pc.layer_count;
 }
 
 void main() {
@@ -136,15 +208,24 @@ void main() {
     }
     uint lens_plane = pc.eye * (pc.layer_count + 1u); // the eye's shown pixels
     uint mask_words = visibility[0];
-    int y = int(gl_GlobalInvocationID.y);
-    int x0 = int(gl_GlobalInvocationID.x) * PIXELS_PER_INVOCATION;
-    if (y >= int(pc.height)) return;
+    // The workgroup's 8 x 8 runs (128 x 8 pixels), numbered so that consecutive invocations
+    // (a subgroup's lanes) are runs of consecutive rows.
+    uint lane = gl_LocalInvocationIndex;
+    int y = int(gl_WorkGroupID.y * WORKGROUP_SIZE_Y + lane % WORKGROUP_SIZE_Y);
+    int x0 = int(gl_WorkGroupID.x * WORKGROUP_SIZE_X + lane / WORKGROUP_SIZE_Y) * PIXELS_PER_INVOCATION;
+    int x1 = min(x0 + PIXELS_PER_INVOCATION, int(pc.width));
+    if (y >= int(pc.height) || x0 >= x1) return;
+    uint depth_of_run = run_layer(x0, x1, y, gaze, band, cos_occlusion, tan_map, limits);
+    if (subgroupAll(depth_of_run < pc.layer_count)) {
+        resolve_run_in_layer(base + depth_of_run, depth_of_run, x0, x1, y, mask_words, lens_plane);
+        return;
+    }
     // Columns of the pixel's layer and of the next one out (blend bands).
     Columns inner;
     Columns outer;
     inner.k = NO_EMITTER;
     outer.k = NO_EMITTER;
-    for (int x = x0; x < min(x0 + PIXELS_PER_INVOCATION, int(pc.width)); ++x) {
+    for (int x = x0; x < x1; ++x) {
         ivec2 p = ivec2(x, y);
         ivec2 out_pixel = ivec2(x + int(pc.eye * pc.width), y);
         vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);

@@ -135,9 +135,23 @@ pub(super) fn pick_device(
             continue;
         };
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        let mut subgroups = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver)
+            .push_next(&mut subgroups);
         // SAFETY: Vulkan 1.2 device, properties2 is core.
         unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+        // resolve.comp branches on subgroup votes (GL_KHR_shader_subgroup_vote).
+        if !subgroups
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            || !subgroups
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::VOTE)
+        {
+            unusable.push(format!("{name} (no subgroup votes in compute shaders)"));
+            continue;
+        }
         // SAFETY: pd was enumerated from this instance.
         let extensions =
             unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default();
