@@ -10,6 +10,7 @@ layout(constant_id = SPEC_HAS_SPECULAR) const bool HAS_SPECULAR = true;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
 layout(constant_id = SPEC_MAX_BOUNCES) const uint MAX_BOUNCES = 8;
 layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
+layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 
 layout(std430, set = 0, binding = BINDING_BLAS_NODES) readonly buffer BlasNodes { uvec4 blas_nodes[]; };
 layout(std430, set = 0, binding = BINDING_TLAS_NODES) readonly buffer TlasNodes { uvec4 tlas_nodes[]; };

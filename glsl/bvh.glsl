@@ -15,6 +15,23 @@ const float CONSERVATIVE_TMAX = 1.0000004;
 // aimed exactly at an edge shared by two boxes (flat faces of a closed mesh) slip between them.
 const float SLAB_ROUNDING = 4.0 / 8388608.0;
 
+// With PROFILE, this invocation's traversal work (PROFILE_* counters; trace.comp adds them to
+// STAT_PROFILE). Without it every use is compiled away.
+uint profile_counts[PROFILE_COUNTERS];
+
+void profile_count(uint counter, uint n) {
+    if (PROFILE) profile_counts[counter] += n;
+}
+
+// One iteration of a traversal loop: per invocation, and once per subgroup (its elected lane):
+// their ratio over the subgroup size is the loop's SIMD occupancy.
+void profile_step(uint lane_counter, uint group_counter) {
+    if (PROFILE) {
+        profile_counts[lane_counter]++;
+        if (subgroupElect()) profile_counts[group_counter]++;
+    }
+}
+
 struct Hit {
     float t;
     uint object;    // TLAS object index, or NO_EMITTER for a miss
@@ -81,9 +98,11 @@ void traverse_blas(uint root, uint tri_base, vec3 o, vec3 d, float t_min, inout 
     uvec2 cur = uvec2(0u, 0x80000000u);
     uvec2 prim = uvec2(0u);
     for (;;) {
+        profile_step(PROFILE_BLAS_LANE_STEPS, PROFILE_BLAS_GROUP_STEPS);
         while (prim.y != 0u) {
             uint local = uint(findMSB(prim.y));
             prim.y &= ~(1u << local);
+            profile_count(PROFILE_TRIANGLES, 1u);
             uint tri = tri_base + prim.x + local;
             GpuTriangle T = triangles[tri];
             float t = intersect_triangle(o, w, T.v0.xyz, T.v1.xyz, T.v2.xyz, t_min, t_max);
@@ -109,6 +128,7 @@ void traverse_blas(uint root, uint tri_base, vec3 o, vec3 d, float t_min, inout 
             uint slot = (child_offset - 24u) ^ (oct & 0xffu);
             uint rel = uint(bitCount(hits_imask & ~(0xffffffffu << slot)));
             uint node = (root + cur.x + rel) * 5u;
+            profile_count(PROFILE_BLAS_NODES, 1u);
             uvec4 n1 = blas_nodes[node + 1u];
             uint hm = intersect_node(blas_nodes[node], n1, blas_nodes[node + 2u], blas_nodes[node + 3u],
                                      blas_nodes[node + 4u], o, inv_d, oct, t_min, t_max);
@@ -141,6 +161,7 @@ void intersect_object(uint index, vec3 o, vec3 d, vec3 inv_d, float t_min, inout
         vec3 ld = linear(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, d);
         traverse_blas(ob.blas_root, ob.triangle_base, lo, ld, t_min, t_max, index, any_hit, hit);
     } else if (HAS_BOXES && ob.kind == KIND_BOX) {
+        profile_count(PROFILE_PRIMITIVES, 1u);
         float t = intersect_box(o, inv_d, ob.a.xyz, ob.b.xyz, t_min, t_max);
         if (t < t_max) {
             t_max = t;
@@ -148,6 +169,7 @@ void intersect_object(uint index, vec3 o, vec3 d, vec3 inv_d, float t_min, inout
             hit.object = index;
         }
     } else if (HAS_SPHERES && ob.kind == KIND_SPHERE) {
+        profile_count(PROFILE_PRIMITIVES, 1u);
         float t = intersect_sphere(o, d, ob.a.xyz, ob.a.w, t_min, t_max);
         if (t < t_max) {
             t_max = t;
@@ -174,6 +196,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     uvec2 cur = uvec2(0u, 0x80000000u);
     uvec2 prim = uvec2(0u);
     for (;;) {
+        profile_step(PROFILE_TLAS_LANE_STEPS, PROFILE_TLAS_GROUP_STEPS);
         while (prim.y != 0u) {
             uint local = uint(findMSB(prim.y));
             prim.y &= ~(1u << local);
@@ -194,6 +217,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
             uint slot = (child_offset - 24u) ^ (oct & 0xffu);
             uint rel = uint(bitCount(hits_imask & ~(0xffffffffu << slot)));
             uint node = (cur.x + rel) * 5u;
+            profile_count(PROFILE_TLAS_NODES, 1u);
             uvec4 n1 = tlas_nodes[node + 1u];
             uint hm = intersect_node(tlas_nodes[node], n1, tlas_nodes[node + 2u], tlas_nodes[node + 3u],
                                      tlas_nodes[node + 4u], o, inv_d, oct, t_min, t_max);

@@ -2,6 +2,7 @@
 // Closest-hit queries for tests: one probe ray per invocation through the same traversal the
 // integrators use, so GPU hit distances can be compared with a CPU reference.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
 #include "bvh.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;

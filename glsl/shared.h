@@ -39,6 +39,7 @@
 #define SPEC_HAS_EMITTERS 4
 #define SPEC_MAX_BOUNCES 5
 #define SPEC_INTEGRATOR 6
+#define SPEC_PROFILE 7 // trace.comp counts its traversal work (STAT_PROFILE); off: compiled away
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -65,7 +66,19 @@
 #define STAT_LAYER_POINTS 8    // STAT_EYES * STAT_COUNT; + eye * MAX_LAYERS + layer
 #define STAT_DISPATCH 24       // STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS; + eye * 4
 #define STAT_WORK_COUNT 3      // within an eye's STAT_DISPATCH block, after x, y, z
-#define STAT_WORDS 32          // STAT_DISPATCH + STAT_EYES * 4
+// With SPEC_PROFILE, per eye PROFILE_COUNTERS 64-bit counters (low word, then high word) of
+// the traversal's work: PROFILE_* below.
+#define STAT_PROFILE 32        // STAT_DISPATCH + STAT_EYES * 4; + (eye * PROFILE_COUNTERS + counter) * 2
+#define PROFILE_COUNTERS 8
+#define PROFILE_TLAS_NODES 0        // TLAS nodes intersected (8 children each)
+#define PROFILE_BLAS_NODES 1        // BLAS nodes intersected
+#define PROFILE_TRIANGLES 2         // ray-triangle tests
+#define PROFILE_PRIMITIVES 3        // ray-box and ray-sphere tests
+#define PROFILE_TLAS_LANE_STEPS 4   // iterations of the TLAS loop, summed over invocations
+#define PROFILE_TLAS_GROUP_STEPS 5  // the same loop's iterations per subgroup (one per step of any lane)
+#define PROFILE_BLAS_LANE_STEPS 6   // iterations of the BLAS loop, summed over invocations
+#define PROFILE_BLAS_GROUP_STEPS 7  // the same per subgroup
+#define STAT_WORDS 64          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
 #define WORK_LAYER_SHIFT 28    // work items: lattice index in the low 28 bits, layer above
 
 // ---- debug views (PushConstants.debug) -------------------------------------------------------

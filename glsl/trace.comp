@@ -5,12 +5,21 @@
 // sample's jitter and random numbers depend only on (pixel, sample, seed, eye), so the same
 // pixel traced by any layer config gives bit-identical values.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
 #define WRITES_LATTICE
 #include "integrators.glsl"
 #include "plan.glsl"
 #include "view.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
+
+// Adds n to a 64-bit counter kept as two words (low, high) of STATS: a carry out of the low
+// word's atomic add (the value it returns plus n wraps) goes to the high word.
+void add_64(uint word, uint n) {
+    if (n == 0u) return;
+    uint before = atomicAdd(stats[word], n);
+    if (before + n < before) atomicAdd(stats[word + 1u], 1u);
+}
 
 vec3 camera_ray(vec2 pixel, vec2 jitter) {
     vec2 t = pixel_tan(pixel + jitter);
@@ -29,6 +38,9 @@ void main() {
     ivec2 ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
     ivec2 pixel = lattice_pixel(k, ij);
     uint spp = layers[k].spp;
+    if (PROFILE) {
+        for (uint c = 0u; c < PROFILE_COUNTERS; ++c) profile_counts[c] = 0u;
+    }
 
     uint pixel_index = uint(pixel.y) * pc.width + uint(pixel.x);
     uint seed = pc.seed + pc.eye * 0x9E3779B9u; // eye 0 keeps the user's seed
@@ -55,4 +67,9 @@ void main() {
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
     atomicAdd(stats[block + STAT_PATHS], spp);
     atomicAdd(stats[block + STAT_RAYS], rays);
+    if (PROFILE) {
+        for (uint c = 0u; c < PROFILE_COUNTERS; ++c) {
+            add_64(STAT_PROFILE + (pc.eye * PROFILE_COUNTERS + c) * 2u, profile_counts[c]);
+        }
+    }
 }

@@ -9,7 +9,7 @@ use fovea::foveation::{
 };
 use fovea::render::{
     eye_views, output, DebugView, EyeView, FovChoice, Frame, FrameRequest, Integrator,
-    RenderSettings, Renderer, MAX_SIDE,
+    RenderSettings, Renderer, TraversalCounts, MAX_SIDE,
 };
 use fovea::scene::{self, Camera};
 use std::path::PathBuf;
@@ -86,6 +86,11 @@ pub struct RenderArgs {
     /// mode, and the medians gpu_ms, trace_ms, samples), rewritten after every scene.
     #[arg(long, value_name = "FILE", requires = "bench")]
     pub json: Option<PathBuf>,
+    /// Count the trace's BVH traversal work (nodes, triangle and primitive tests, SIMD
+    /// occupancy of the traversal loops) and print it per ray; the image is unchanged, the
+    /// frame is slower. See tools/profile-trace.sh.
+    #[arg(long, conflicts_with = "bench")]
+    pub profile_traversal: bool,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -194,6 +199,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene = scene::load(&args.scene, aspect)?;
     let started = Instant::now();
     let mut renderer = Renderer::new(&ctx, &scene)?;
+    renderer.set_traversal_profile(args.profile_traversal);
     let setup = started.elapsed();
     println!(
         "scene {}: {} triangles, {} boxes, {} spheres ({}); BVH build + upload {:.1} ms",
@@ -226,7 +232,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         },
     };
     let mut frame = renderer.render_frame(&request)?;
-    report(&frame, &config, &settings);
+    report(&frame, &config, &settings, ctx.info.subgroup_size);
     if args.debug == Some(DebugArg::Diff) {
         let regular_config = FoveationConfig::regular(settings.spp);
         let regular = renderer.render_frame(&FrameRequest {
@@ -259,7 +265,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// Prints what the frame traced, per layer, and what it cost.
-fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
+fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings, subgroup_size: u32) {
     let s = &frame.stats;
     for (e, (gaze, fix)) in frame.gazes.iter().enumerate() {
         let which = match (frame.gazes.len(), e) {
@@ -321,6 +327,32 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings) {
     println!(
         "non-finite samples dropped: {}, BVH stack overflows: {}",
         s.nonfinite_samples, s.stack_overflows
+    );
+    if let Some(t) = &s.traversal {
+        report_traversal(t, s.rays, subgroup_size);
+    }
+}
+
+/// The traversal profile per ray, and the traversal loops' SIMD occupancy.
+fn report_traversal(t: &TraversalCounts, rays: u64, subgroup_size: u32) {
+    let per_ray = |n: u64| n as f64 / rays.max(1) as f64;
+    println!(
+        "traversal per ray: {:.2} TLAS nodes, {:.2} BLAS nodes, {:.2} triangle tests, {:.2} box/sphere tests, {:.2} TLAS steps, {:.2} BLAS steps",
+        per_ray(t.tlas_nodes),
+        per_ray(t.blas_nodes),
+        per_ray(t.triangles),
+        per_ray(t.primitives),
+        per_ray(t.tlas_lane_steps),
+        per_ray(t.blas_lane_steps),
+    );
+    let occupancy = |lane, group| {
+        TraversalCounts::occupancy(lane, group, subgroup_size)
+            .map_or("-".to_string(), |o| format!("{:.1}%", 100.0 * o))
+    };
+    println!(
+        "traversal SIMD occupancy ({subgroup_size} lanes): TLAS loop {}, BLAS loop {}",
+        occupancy(t.tlas_lane_steps, t.tlas_group_steps),
+        occupancy(t.blas_lane_steps, t.blas_group_steps),
     );
 }
 

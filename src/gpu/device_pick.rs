@@ -14,6 +14,8 @@ pub struct DeviceInfo {
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f64,
     pub max_storage_buffer_range: u64,
+    /// Invocations per subgroup (SIMD width on lavapipe, warp or wave size on a GPU).
+    pub subgroup_size: u32,
 }
 
 /// The chosen device, its compute queue family and what it offers.
@@ -181,6 +183,7 @@ pub(super) fn pick_device(
             ),
             timestamp_period_ns: props.limits.timestamp_period as f64,
             max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+            subgroup_size: subgroups.subgroup_size,
         };
         candidates.push((
             device_rank(props.device_type),

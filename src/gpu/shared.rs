@@ -10,7 +10,8 @@ include!(concat!(env!("OUT_DIR"), "/shared_consts.rs"));
 // #defines that build.rs could evaluate); they must follow from the sizes before them.
 const _: () = assert!(STAT_LAYER_POINTS == STAT_EYES * STAT_COUNT);
 const _: () = assert!(STAT_DISPATCH == STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS);
-const _: () = assert!(STAT_WORDS == STAT_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_PROFILE == STAT_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_WORDS == STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2);
 const _: () = assert!(MAX_LAYERS as usize == crate::foveation::config::MAX_LAYERS);
 
 #[repr(C)]

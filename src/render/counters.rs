@@ -1,10 +1,10 @@
 //! The counters the shaders keep for every frame (shared.h's STAT_* words): per eye what the
 //! trace counted, per eye and layer the lattice points the plan traced, and the trace's
-//! indirect dispatch sizes. They live in device memory, where atomics and the indirect
+//! indirect dispatch sizes, and with a profiling trace its traversal work. They live in device memory, where atomics and the indirect
 //! dispatch are fast on a GPU, are zeroed by the frame's first command and copied into a
 //! host-visible buffer by its last.
 
-use super::frame::EyeCounters;
+use super::frame::{EyeCounters, TraversalCounts};
 use super::RenderError;
 use crate::gpu::shared::*;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, Scope};
@@ -25,6 +25,8 @@ pub struct CountedFrame {
     pub eyes: Vec<EyeCounters>,
     /// Per eye, lattice points traced per layer (MAX_LAYERS of them).
     pub layer_points: Vec<Vec<u64>>,
+    /// Per eye, the traversal's work (zero unless the trace pipeline profiles).
+    pub traversal: Vec<TraversalCounts>,
 }
 
 impl FrameCounters {
@@ -89,6 +91,20 @@ impl FrameCounters {
             .chunks_exact(MAX_LAYERS as usize)
             .map(|c| c.iter().map(|&n| n as u64).collect())
             .collect();
-        Ok(CountedFrame { eyes, layer_points })
+        let traversal = words[STAT_PROFILE as usize..STAT_WORDS as usize]
+            .chunks_exact(PROFILE_COUNTERS as usize * 2)
+            .map(|eye| {
+                let wide: Vec<u64> = eye
+                    .chunks_exact(2)
+                    .map(|w| w[0] as u64 | (w[1] as u64) << 32)
+                    .collect();
+                TraversalCounts::from_counters(&wide)
+            })
+            .collect();
+        Ok(CountedFrame {
+            eyes,
+            layer_points,
+            traversal,
+        })
     }
 }

@@ -32,6 +32,66 @@ pub struct FrameStats {
     pub plan_ms: f64,
     /// CPU milliseconds spent recording the frame's command buffer.
     pub record_ms: f64,
+    /// The traversal's work, summed over the eyes, when the renderer profiles
+    /// (`Renderer::set_traversal_profile`).
+    pub traversal: Option<TraversalCounts>,
+}
+
+/// What the trace's BVH traversals did in one frame (shared.h's PROFILE_* counters).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TraversalCounts {
+    pub tlas_nodes: u64,
+    pub blas_nodes: u64,
+    pub triangles: u64,
+    /// Ray-box and ray-sphere tests.
+    pub primitives: u64,
+    /// Iterations of the TLAS and BLAS loops summed over invocations (lane) and counted once
+    /// per subgroup step (group).
+    pub tlas_lane_steps: u64,
+    pub tlas_group_steps: u64,
+    pub blas_lane_steps: u64,
+    pub blas_group_steps: u64,
+}
+
+impl TraversalCounts {
+    /// From PROFILE_COUNTERS values in shared.h's order.
+    pub fn from_counters(c: &[u64]) -> Self {
+        Self {
+            tlas_nodes: c[0],
+            blas_nodes: c[1],
+            triangles: c[2],
+            primitives: c[3],
+            tlas_lane_steps: c[4],
+            tlas_group_steps: c[5],
+            blas_lane_steps: c[6],
+            blas_group_steps: c[7],
+        }
+    }
+}
+
+impl std::ops::Add for TraversalCounts {
+    type Output = Self;
+
+    fn add(self, o: Self) -> Self {
+        Self {
+            tlas_nodes: self.tlas_nodes + o.tlas_nodes,
+            blas_nodes: self.blas_nodes + o.blas_nodes,
+            triangles: self.triangles + o.triangles,
+            primitives: self.primitives + o.primitives,
+            tlas_lane_steps: self.tlas_lane_steps + o.tlas_lane_steps,
+            tlas_group_steps: self.tlas_group_steps + o.tlas_group_steps,
+            blas_lane_steps: self.blas_lane_steps + o.blas_lane_steps,
+            blas_group_steps: self.blas_group_steps + o.blas_group_steps,
+        }
+    }
+}
+
+impl TraversalCounts {
+    /// The fraction of a subgroup's lanes busy in a loop's average step (SIMD occupancy):
+    /// lane steps / (group steps × subgroup size); None when the loop never ran.
+    pub fn occupancy(lane_steps: u64, group_steps: u64, subgroup_size: u32) -> Option<f64> {
+        (group_steps > 0).then(|| lane_steps as f64 / (group_steps as f64 * subgroup_size as f64))
+    }
 }
 
 impl FrameStats {

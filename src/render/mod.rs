@@ -11,7 +11,7 @@ mod request;
 mod settings;
 mod targets;
 
-pub use frame::{EyeCounters, Frame, FrameStats};
+pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use renderer::{LatticePoint, Renderer};
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
 pub use settings::{Integrator, RenderSettings, MAX_SIDE};

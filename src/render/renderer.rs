@@ -5,7 +5,7 @@
 
 use super::counters::FrameCounters;
 use super::eye_params::{eye_params, EyeParams};
-use super::frame::{Frame, FrameStats};
+use super::frame::{Frame, FrameStats, TraversalCounts};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
 use super::settings::RenderSettings;
@@ -47,7 +47,10 @@ pub struct LatticePoint {
 
 pub struct Renderer {
     // Field order is drop order: every resource before the context it borrows.
-    trace: HashMap<(u32, u32), ComputePipeline>,
+    /// Trace pipelines by (integrator, max bounces, profiling).
+    trace: HashMap<(u32, u32, bool), ComputePipeline>,
+    /// Whether the trace counts its traversal work (FrameStats::traversal).
+    profile_traversal: bool,
     plan: Option<ComputePipeline>,
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
@@ -99,6 +102,7 @@ impl Renderer {
         };
         Ok(Self {
             trace: HashMap::new(),
+            profile_traversal: false,
             plan: None,
             plan_args: None,
             resolve: None,
@@ -180,6 +184,13 @@ impl Renderer {
         self.targets.as_ref().map(|t| &t.output)
     }
 
+    /// From the next frame on, the trace counts its BVH traversal's work (nodes, triangle and
+    /// primitive tests, loop steps per lane and per subgroup) into `FrameStats::traversal`: a
+    /// second trace pipeline, specialised with SPEC_PROFILE; the image is the same.
+    pub fn set_traversal_profile(&mut self, on: bool) {
+        self.profile_traversal = on;
+    }
+
     fn specialization(&self, integrator: u32, max_bounces: u32) -> Vec<(u32, u32)> {
         let f = self.features;
         vec![
@@ -193,10 +204,16 @@ impl Renderer {
         ]
     }
 
+    fn trace_key(&self, settings: &RenderSettings) -> (u32, u32, bool) {
+        let s = settings;
+        (s.integrator.id(), s.max_bounces, self.profile_traversal)
+    }
+
     fn ensure_pipelines(&mut self, settings: &RenderSettings) -> Result<(), RenderError> {
-        let key = (settings.integrator.id(), settings.max_bounces);
+        let key = self.trace_key(settings);
         if !self.trace.contains_key(&key) {
-            let spec = self.specialization(key.0, key.1);
+            let mut spec = self.specialization(key.0, key.1);
+            spec.push((SPEC_PROFILE, key.2 as u32));
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", shaders::TRACE, &spec)?;
             self.trace.insert(key, p);
         }
@@ -357,10 +374,7 @@ impl Renderer {
             pipelines: FramePipelines {
                 plan: self.plan.as_ref().expect("prepared"),
                 plan_args: self.plan_args.as_ref().expect("prepared"),
-                trace: &self.trace[&(
-                    request.settings.integrator.id(),
-                    request.settings.max_bounces,
-                )],
+                trace: &self.trace[&self.trace_key(&request.settings)],
                 resolve: self.resolve.as_ref().expect("prepared"),
             },
             timestamps: &mut self.timestamps,
@@ -454,6 +468,11 @@ impl Renderer {
                 layer_samples,
                 plan_ms,
                 record_ms,
+                traversal: self.profile_traversal.then(|| {
+                    counted.traversal[..eyes.len()]
+                        .iter()
+                        .fold(TraversalCounts::default(), |a, &b| a + b)
+                }),
             },
         })
     }
