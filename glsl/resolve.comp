@@ -148,7 +148,8 @@ void resolve_run_in_layer(uint k, uint depth, int x0, int x1, int y, uint mask_w
     for (int i = 0; i < 4; ++i) col[i] = column(w, cx - 1 + i);
     int x = x0;
     while (x < x1) {
-        for (int end = min(x1, x + w.d - tx); x < end; ++x, ++tx) {
+        // At least one pixel per column: a corrupt spacing (0) must not stall the loop.
+        for (int end = min(x1, x + max(w.d - tx, 1)); x < end; ++x, ++tx) {
             ivec2 p = ivec2(x, y);
             vec3 c = tint(cubic(col[0], col[1], col[2], col[3], float(tx) * w.inv_d), depth);
             if (!visibility_bit(mask_words, lens_plane, p)) c = vec3(0.0);
