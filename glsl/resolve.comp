@@ -94,8 +94,23 @@ vec3 column(Columns w, int c) {
                  tap(w, ivec2(c, w.cy + 2)), w.ty);
 }
 
+// Loads the four columns around lattice column cx (col[1] is cx).
+void load_columns(inout Columns w, int cx) {
+    for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
+    w.cx = cx;
+}
+
+// Moves the window one lattice column right: one new column's vertical cubic.
+void next_column(inout Columns w) {
+    w.col[0] = w.col[1];
+    w.col[1] = w.col[2];
+    w.col[2] = w.col[3];
+    w.col[3] = column(w, w.cx + 3);
+    w.cx++;
+}
+
 // Layer k's value at pixel p (on row y of the run), through the run's columns w of that
-// layer. At a lattice point the value is the traced one itself (no arithmetic):
+// layer. At a lattice point the cubic at t = 0 returns the traced value exactly:
 // bit-identical to a regular frame.
 vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     if (w.k != k) use_layer(w, k, p.y);
@@ -112,14 +127,10 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
         tx -= w.d;
     }
     if (cx == w.cx + 1) {
-        w.col[0] = w.col[1];
-        w.col[1] = w.col[2];
-        w.col[2] = w.col[3];
-        w.col[3] = column(w, cx + 2);
+        next_column(w);
     } else if (cx != w.cx) {
-        for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
+        load_columns(w, cx);
     }
-    w.cx = cx;
     return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d);
 }
 
@@ -144,23 +155,18 @@ void resolve_run_in_layer(uint k, uint depth, int x0, int x1, int y, uint mask_w
     use_layer(w, k, y);
     int cx = floor_div(ivec2(x0 - w.anchor.x, 0), w.d).x;
     int tx = x0 - w.anchor.x - cx * w.d; // pixel x0 is tx pixels right of column cx
-    vec3 col[4];
-    for (int i = 0; i < 4; ++i) col[i] = column(w, cx - 1 + i);
+    load_columns(w, cx);
     int x = x0;
     while (x < x1) {
         // At least one pixel per column: a corrupt spacing (0) must not stall the loop.
         for (int end = min(x1, x + max(w.d - tx, 1)); x < end; ++x, ++tx) {
             ivec2 p = ivec2(x, y);
-            vec3 c = tint(cubic(col[0], col[1], col[2], col[3], float(tx) * w.inv_d), depth);
+            vec3 c = tint(cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d), depth);
             if (!visibility_bit(mask_words, lens_plane, p)) c = vec3(0.0);
             imageStore(out_image, ivec2(x + int(pc.eye * pc.width), y), vec4(c, 1.0));
         }
         tx = 0;
-        cx++;
-        col[0] = col[1];
-        col[1] = col[2];
-        col[2] = col[3];
-        col[3] = column(w, cx + 2);
+        next_column(w);
     }
 }
 

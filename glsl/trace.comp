@@ -33,7 +33,8 @@ void main() {
     if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
     uint item = work[pc.eye * pc.work_stride + thread];
     uint k = pc.eye * pc.layer_count + (item >> WORK_LAYER_SHIFT);
-    uint local = (item & ((1u << WORK_LAYER_SHIFT) - 1u)) - layers[k].first;
+    uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u); // the point's LATTICE index
+    uint local = entry - layers[k].first;
     uint cols = layers[k].cols;
     ivec2 ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
     ivec2 pixel = lattice_pixel(k, ij);
@@ -62,7 +63,7 @@ void main() {
             sum += L;
         }
     }
-    lattice[lattice_index(k, ij)] = vec4(sum / float(spp), 1.0);
+    lattice[entry] = vec4(sum / float(spp), 1.0);
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
     atomicAdd(stats[block + STAT_PATHS], spp);

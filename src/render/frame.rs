@@ -1,5 +1,10 @@
 //! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
 
+use crate::gpu::shared::{
+    PROFILE_BLAS_GROUP_STEPS, PROFILE_BLAS_LANE_STEPS, PROFILE_BLAS_NODES, PROFILE_PRIMITIVES,
+    PROFILE_TLAS_GROUP_STEPS, PROFILE_TLAS_LANE_STEPS, PROFILE_TLAS_NODES, PROFILE_TRIANGLES,
+};
+
 /// What trace.comp counted for one eye of a frame (shared.h's STAT_*).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EyeCounters {
@@ -54,17 +59,18 @@ pub struct TraversalCounts {
 }
 
 impl TraversalCounts {
-    /// From PROFILE_COUNTERS values in shared.h's order.
+    /// From PROFILE_COUNTERS values, indexed by shared.h's PROFILE_*.
     pub fn from_counters(c: &[u64]) -> Self {
+        let at = |i: u32| c[i as usize];
         Self {
-            tlas_nodes: c[0],
-            blas_nodes: c[1],
-            triangles: c[2],
-            primitives: c[3],
-            tlas_lane_steps: c[4],
-            tlas_group_steps: c[5],
-            blas_lane_steps: c[6],
-            blas_group_steps: c[7],
+            tlas_nodes: at(PROFILE_TLAS_NODES),
+            blas_nodes: at(PROFILE_BLAS_NODES),
+            triangles: at(PROFILE_TRIANGLES),
+            primitives: at(PROFILE_PRIMITIVES),
+            tlas_lane_steps: at(PROFILE_TLAS_LANE_STEPS),
+            tlas_group_steps: at(PROFILE_TLAS_GROUP_STEPS),
+            blas_lane_steps: at(PROFILE_BLAS_LANE_STEPS),
+            blas_group_steps: at(PROFILE_BLAS_GROUP_STEPS),
         }
     }
 }
