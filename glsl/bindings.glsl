@@ -1,6 +1,8 @@
 // Declarations of every set-0 resource and specialization constant, from shared.h's numbers.
 #ifndef FOVEA_BINDINGS_GLSL
 #define FOVEA_BINDINGS_GLSL
+// Texel buffers without samplers (utextureBuffer + texelFetch).
+#extension GL_EXT_samplerless_texture_functions : require
 #include "shared.h"
 
 layout(constant_id = SPEC_HAS_TRIANGLES) const bool HAS_TRIANGLES = true;
@@ -12,12 +14,81 @@ layout(constant_id = SPEC_MAX_BOUNCES) const uint MAX_BOUNCES = 8;
 layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
 layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 
-layout(std430, set = 0, binding = BINDING_BLAS_NODES) readonly buffer BlasNodes { uvec4 blas_nodes[]; };
-layout(std430, set = 0, binding = BINDING_TLAS_NODES) readonly buffer TlasNodes { uvec4 tlas_nodes[]; };
-layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
-layout(std430, set = 0, binding = BINDING_OBJECTS) readonly buffer Objects { GpuObject objects[]; };
-layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer Emitters { GpuEmitter emitters[]; };
+// The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
+// struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
+// load, a storage buffer's uvec4 as four bounds-checked scalar loads per lane
+// (src/gpu/memory.rs, TexelView). The load_* functions read the structs back; the compiler
+// drops the fetches of fields a caller does not use.
+layout(set = 0, binding = BINDING_NODES) uniform utextureBuffer bvh_nodes;
+layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer triangle_texels;
+layout(set = 0, binding = BINDING_OBJECTS) uniform utextureBuffer object_texels;
+layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer material_texels;
+layout(set = 0, binding = BINDING_EMITTERS) uniform utextureBuffer emitter_texels;
+
+vec4 fetch_vec4(utextureBuffer b, int texel) {
+    return uintBitsToFloat(texelFetch(b, texel));
+}
+
+GpuTriangle load_triangle(uint index) {
+    int t = int(index) * 3;
+    GpuTriangle T;
+    T.v0 = fetch_vec4(triangle_texels, t);
+    T.v1 = fetch_vec4(triangle_texels, t + 1);
+    T.v2 = fetch_vec4(triangle_texels, t + 2);
+    return T;
+}
+
+GpuObject load_object(uint index) {
+    int t = int(index) * 10;
+    GpuObject o;
+    o.world_to_object0 = fetch_vec4(object_texels, t);
+    o.world_to_object1 = fetch_vec4(object_texels, t + 1);
+    o.world_to_object2 = fetch_vec4(object_texels, t + 2);
+    o.object_to_world0 = fetch_vec4(object_texels, t + 3);
+    o.object_to_world1 = fetch_vec4(object_texels, t + 4);
+    o.object_to_world2 = fetch_vec4(object_texels, t + 5);
+    o.a = fetch_vec4(object_texels, t + 6);
+    o.b = fetch_vec4(object_texels, t + 7);
+    uvec4 ids = texelFetch(object_texels, t + 8);
+    o.kind = ids.x;
+    o.material = ids.y;
+    o.blas_root = ids.z;
+    o.triangle_base = ids.w;
+    uvec4 more = texelFetch(object_texels, t + 9);
+    o.emitter = more.x;
+    o.triangle_count = more.y;
+    o.pad1 = more.z;
+    o.pad2 = more.w;
+    return o;
+}
+
+uint load_object_kind(uint index) {
+    return texelFetch(object_texels, int(index) * 10 + 8).x;
+}
+
+GpuMaterial load_material(uint index) {
+    int t = int(index) * 3;
+    GpuMaterial m;
+    m.kd = fetch_vec4(material_texels, t);
+    m.ks = fetch_vec4(material_texels, t + 1);
+    m.emission = fetch_vec4(material_texels, t + 2);
+    return m;
+}
+
+GpuEmitter load_emitter(uint index) {
+    int t = int(index) * 5;
+    GpuEmitter e;
+    e.p0 = fetch_vec4(emitter_texels, t);
+    e.p1 = fetch_vec4(emitter_texels, t + 1);
+    e.p2 = fetch_vec4(emitter_texels, t + 2);
+    e.emission = fetch_vec4(emitter_texels, t + 3);
+    uvec4 ids = texelFetch(emitter_texels, t + 4);
+    e.kind = ids.x;
+    e.object = ids.y;
+    e.pad0 = ids.z;
+    e.pad1 = ids.w;
+    return e;
+}
 layout(std430, set = 0, binding = BINDING_SCENE_INFO) readonly buffer SceneInfoBuf { GpuSceneInfo scene_info; };
 layout(std430, set = 0, binding = BINDING_STATS) buffer Stats { uint stats[]; };
 layout(set = 0, binding = BINDING_OUTPUT, rgba32f) uniform image2D out_image;
@@ -32,6 +103,9 @@ layout(std430, set = 0, binding = BINDING_LATTICE) writeonly buffer LatticeBuf {
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE) readonly buffer LatticeBuf { vec4 lattice[]; };
 #endif
+// The same buffer as texels: resolve reads its taps this way (one vector load per lane on
+// lavapipe, see the scene arrays above).
+layout(set = 0, binding = BINDING_LATTICE_TEXELS) uniform utextureBuffer lattice_texels;
 layout(std430, set = 0, binding = BINDING_WORK) buffer WorkBuf { uint work[]; };
 layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };

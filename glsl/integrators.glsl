@@ -26,8 +26,8 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d) {
     vec3 n = hit_normal(h, s.p);
     s.front = dot(n, d) < 0.0;
     s.ng = s.front ? n : -n;
-    GpuObject ob = objects[h.object];
-    s.m = materials[ob.material];
+    GpuObject ob = load_object(h.object);
+    s.m = load_material(ob.material);
     s.emitter = NO_EMITTER;
     if (ob.emitter != NO_EMITTER) {
         s.emitter = ob.kind == KIND_INSTANCE ? ob.emitter + (h.primitive - ob.triangle_base) : ob.emitter;
@@ -39,50 +39,83 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d) {
 // analytic shapes.
 vec3 emitted(SurfaceHit s, Hit h) {
     if (!HAS_EMITTERS) return vec3(0.0);
-    bool triangle = objects[h.object].kind == KIND_INSTANCE;
+    bool triangle = load_object_kind(h.object) == KIND_INSTANCE;
     return (s.front || !triangle) ? s.m.emission.xyz : vec3(0.0);
+}
+
+// One camera path, advanced one bounce per *_step call. trace.comp keeps one per invocation
+// and starts the next sample as soon as a path ends, so the SIMD lanes of lavapipe (and the
+// threads of a GPU's warp) stay busy until all of an invocation's samples are done instead of
+// waiting, sample after sample, for the longest path among their neighbours.
+struct Path {
+    vec3 o;
+    vec3 d;
+    vec3 L;
+    vec3 throughput; // the seed estimator's "energy"
+    vec3 prev_p;     // pt: the previous vertex, for MIS weights of hits on emitters
+    float prev_pdf;  // pt: solid-angle density of the last brdf sample
+    bool prev_delta; // pt: camera rays and mirror bounces cannot be found by NEE
+    uint bounce;     // the vertex this step's ray finds: 0 for the camera ray's hit
+    bool done;
+};
+
+Path path_start(vec3 o, vec3 d) {
+    Path p;
+    p.o = o;
+    p.d = d;
+    p.L = vec3(0.0);
+    p.throughput = vec3(1.0);
+    p.prev_p = o;
+    p.prev_pdf = 0.0;
+    p.prev_delta = true;
+    p.bounce = 0u;
+    p.done = false;
+    return p;
 }
 
 // ---- seed: the thesis' estimator (eqs. 3.4-3.16) -------------------------------------------
 // Uniform hemisphere sampling (p = 1/2pi, eq. 3.5); the BRDF picked by comparing R with p_S
 // (eq. 3.11); the weight 2*k_d*cos (Lambert) or k_s(alpha+2)cos^alpha theta_r*cos (Phong) of eq. 3.13, divided
 // by the probability of the pick (the p^-1 of eq. 3.15); 8 bounces or until the energy is zero.
+// One call is one bounce of the path (see Path).
 // eq. 3.15's clamp f_c(n*w_i)^((alpha+2)/(alpha+1)) belongs to lobe-sampled directions; with the uniform
 // directions eq. 3.5 states it would bias the image, so the eq. 3.13 weight is used instead.
-vec3 trace_seed(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflow) {
-    vec3 L = vec3(0.0);
-    vec3 energy = vec3(1.0);
-    for (uint bounce = 0u; bounce <= MAX_BOUNCES; ++bounce) {
-        Hit h = trace_scene(o, d, 0.0, INF, false);
-        rays++;
-        overflow = overflow || h.overflow;
-        if (h.t == INF) {
-            L += energy * environment(d);
-            break;
-        }
-        SurfaceHit s = surface(h, o, d);
-        L += energy * emitted(s, h);
-        if (bounce == MAX_BOUNCES) break;
-        float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
-        vec3 wo = -d;
-        if (rng_next(rng) < p_s) {
-            if (is_mirror(s.m)) {
-                d = reflect(d, s.ng);
-                energy *= s.m.ks.xyz / p_s;
-            } else {
-                d = sample_power_cosine(rng_next2(rng), s.ng, 0.0);
-                vec3 r = reflect(-wo, s.ng);
-                float alpha = s.m.kd.w;
-                energy *= s.m.ks.xyz * (alpha + 2.0) * phong_lobe(d, r, alpha) * dot(s.ng, d) / p_s;
-            }
+void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
+    Hit h = trace_scene(p.o, p.d, 0.0, INF, false);
+    rays++;
+    overflow = overflow || h.overflow;
+    if (h.t == INF) {
+        p.L += p.throughput * environment(p.d);
+        p.done = true;
+        return;
+    }
+    SurfaceHit s = surface(h, p.o, p.d);
+    p.L += p.throughput * emitted(s, h);
+    if (p.bounce == MAX_BOUNCES) {
+        p.done = true;
+        return;
+    }
+    float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
+    vec3 wo = -p.d;
+    vec3 d;
+    if (rng_next(rng) < p_s) {
+        if (is_mirror(s.m)) {
+            d = reflect(p.d, s.ng);
+            p.throughput *= s.m.ks.xyz / p_s;
         } else {
             d = sample_power_cosine(rng_next2(rng), s.ng, 0.0);
-            energy *= 2.0 * s.m.kd.xyz * dot(s.ng, d) / (1.0 - p_s);
+            vec3 r = reflect(-wo, s.ng);
+            float alpha = s.m.kd.w;
+            p.throughput *= s.m.ks.xyz * (alpha + 2.0) * phong_lobe(d, r, alpha) * dot(s.ng, d) / p_s;
         }
-        if (all(equal(energy, vec3(0.0)))) break;
-        o = offset_ray_origin(s.p, s.ng, o);
+    } else {
+        d = sample_power_cosine(rng_next2(rng), s.ng, 0.0);
+        p.throughput *= 2.0 * s.m.kd.xyz * dot(s.ng, d) / (1.0 - p_s);
     }
-    return L;
+    p.d = d;
+    p.done = all(equal(p.throughput, vec3(0.0)));
+    p.o = offset_ray_origin(s.p, s.ng, p.o);
+    p.bounce++;
 }
 
 // ---- pt: importance sampling, next-event estimation with MIS, Russian roulette ---------------
@@ -104,101 +137,107 @@ float brdf_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
     return pdf;
 }
 
-vec3 trace_pt(vec3 o, vec3 d, inout Rng rng, inout uint rays, inout bool overflow) {
-    vec3 L = vec3(0.0);
-    vec3 throughput = vec3(1.0);
-    float prev_pdf = 0.0;   // solid-angle density of the last brdf sample
-    bool prev_delta = true; // camera rays and mirror bounces cannot be found by NEE
-    vec3 prev_p = o;
-    for (uint bounce = 0u; bounce <= MAX_BOUNCES; ++bounce) {
-        Hit h = trace_scene(o, d, 0.0, INF, false);
-        rays++;
-        overflow = overflow || h.overflow;
-        if (h.t == INF) {
-            L += throughput * environment(d);
-            break;
-        }
-        SurfaceHit s = surface(h, o, d);
-        vec3 le = emitted(s, h);
-        if (HAS_EMITTERS && any(greaterThan(le, vec3(0.0)))) {
-            float w = 1.0;
-            if (!prev_delta && s.emitter != NO_EMITTER) {
-                w = power_heuristic(prev_pdf, emitter_pdf_solid_angle(s.emitter, prev_p, s.p, s.ng));
-            }
-            L += throughput * le * w;
-        }
-        if (bounce == MAX_BOUNCES) break;
-        vec3 wo = -d;
-        vec3 n = s.ng;
-        vec3 origin = offset_ray_origin(s.p, n, o);
-        float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
-        bool mirror = HAS_SPECULAR && is_mirror(s.m);
-
-        // Next-event estimation for the non-delta lobes.
-        if (HAS_EMITTERS && scene_info.emitter_count > 0u && (!mirror || p_s < 1.0)) {
-            uint count = scene_info.emitter_count;
-            uint index = min(uint(rng_next(rng) * float(count)), count - 1u);
-            vec3 u = vec3(rng_next2(rng), rng_next(rng));
-            LightSample ls = sample_emitter(index, u);
-            vec3 to_light = ls.p - s.p;
-            float dist2 = dot(to_light, to_light);
-            vec3 wi = to_light * inversesqrt(max(dist2, 1e-30));
-            float cos_x = dot(wi, n);
-            GpuEmitter e = emitters[index];
-            float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
-            if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
-                float light_pdf = ls.area_pdf * dist2 / cos_l;
-                vec3 f = brdf_eval(s.m, wo, wi, n);
-                float bpdf = brdf_pdf(s.m, wo, wi, n);
-                // Shadow ray to just short of the light's surface.
-                vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p);
-                vec3 seg = target - origin;
-                rays++;
-                if (unoccluded(origin, seg, 1.0, overflow)) {
-                    L += throughput * f * cos_x * e.emission.xyz * (power_heuristic(light_pdf, bpdf) / light_pdf);
-                }
-            }
-        }
-
-        // Sample the brdf: choose a lobe with p_S, then importance-sample it.
-        vec3 wi;
-        bool spec_pick = rng_next(rng) < p_s;
-        vec2 u = rng_next2(rng);
-        if (spec_pick && mirror) {
-            wi = reflect(d, n);
-            throughput *= s.m.ks.xyz / p_s;
-            prev_delta = true;
-        } else {
-            if (spec_pick) {
-                // alpha = 0 is the constant lobe (cos^0 = 1 even where theta_r > 90 deg):
-                // sample it over the hemisphere around n, which is where it is non-zero.
-                float alpha = s.m.kd.w;
-                wi = sample_power_cosine(u, alpha == 0.0 ? n : reflect(d, n), alpha);
-            } else {
-                wi = sample_power_cosine(u, n, 1.0);
-            }
-            float cos_i = dot(wi, n);
-            if (cos_i <= 0.0) break; // the Phong lobe dipped below the surface: absorbed
-            // brdf_eval and brdf_pdf cover only the non-delta lobes, so a mirror's diffuse
-            // part needs no special case here.
-            vec3 f = brdf_eval(s.m, wo, wi, n);
-            float pdf = brdf_pdf(s.m, wo, wi, n);
-            if (!(pdf > 0.0)) break;
-            throughput *= f * cos_i / pdf;
-            prev_pdf = pdf;
-            prev_delta = false;
-        }
-        // Russian roulette after 3 bounces: continue with probability max(throughput).
-        if (bounce >= 3u) {
-            float q = min(max(max(throughput.x, throughput.y), throughput.z), 0.95);
-            if (!(rng_next(rng) < q)) break;
-            throughput /= q;
-        }
-        prev_p = s.p;
-        o = origin;
-        d = wi;
+void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
+    Hit h = trace_scene(p.o, p.d, 0.0, INF, false);
+    rays++;
+    overflow = overflow || h.overflow;
+    if (h.t == INF) {
+        p.L += p.throughput * environment(p.d);
+        p.done = true;
+        return;
     }
-    return L;
+    SurfaceHit s = surface(h, p.o, p.d);
+    vec3 le = emitted(s, h);
+    if (HAS_EMITTERS && any(greaterThan(le, vec3(0.0)))) {
+        float w = 1.0;
+        if (!p.prev_delta && s.emitter != NO_EMITTER) {
+            w = power_heuristic(p.prev_pdf, emitter_pdf_solid_angle(s.emitter, p.prev_p, s.p, s.ng));
+        }
+        p.L += p.throughput * le * w;
+    }
+    if (p.bounce == MAX_BOUNCES) {
+        p.done = true;
+        return;
+    }
+    vec3 wo = -p.d;
+    vec3 n = s.ng;
+    vec3 origin = offset_ray_origin(s.p, n, p.o);
+    float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
+    bool mirror = HAS_SPECULAR && is_mirror(s.m);
+
+    // Next-event estimation for the non-delta lobes.
+    if (HAS_EMITTERS && scene_info.emitter_count > 0u && (!mirror || p_s < 1.0)) {
+        uint count = scene_info.emitter_count;
+        uint index = min(uint(rng_next(rng) * float(count)), count - 1u);
+        vec3 u = vec3(rng_next2(rng), rng_next(rng));
+        LightSample ls = sample_emitter(index, u);
+        vec3 to_light = ls.p - s.p;
+        float dist2 = dot(to_light, to_light);
+        vec3 wi = to_light * inversesqrt(max(dist2, 1e-30));
+        float cos_x = dot(wi, n);
+        GpuEmitter e = load_emitter(index);
+        float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
+        if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
+            float light_pdf = ls.area_pdf * dist2 / cos_l;
+            vec3 f = brdf_eval(s.m, wo, wi, n);
+            float bpdf = brdf_pdf(s.m, wo, wi, n);
+            // Shadow ray to just short of the light's surface.
+            vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p);
+            vec3 seg = target - origin;
+            rays++;
+            if (unoccluded(origin, seg, 1.0, overflow)) {
+                p.L += p.throughput * f * cos_x * e.emission.xyz * (power_heuristic(light_pdf, bpdf) / light_pdf);
+            }
+        }
+    }
+
+    // Sample the brdf: choose a lobe with p_S, then importance-sample it.
+    vec3 wi;
+    bool spec_pick = rng_next(rng) < p_s;
+    vec2 u = rng_next2(rng);
+    if (spec_pick && mirror) {
+        wi = reflect(p.d, n);
+        p.throughput *= s.m.ks.xyz / p_s;
+        p.prev_delta = true;
+    } else {
+        if (spec_pick) {
+            // alpha = 0 is the constant lobe (cos^0 = 1 even where theta_r > 90 deg):
+            // sample it over the hemisphere around n, which is where it is non-zero.
+            float alpha = s.m.kd.w;
+            wi = sample_power_cosine(u, alpha == 0.0 ? n : reflect(p.d, n), alpha);
+        } else {
+            wi = sample_power_cosine(u, n, 1.0);
+        }
+        float cos_i = dot(wi, n);
+        if (cos_i <= 0.0) { // the Phong lobe dipped below the surface: absorbed
+            p.done = true;
+            return;
+        }
+        // brdf_eval and brdf_pdf cover only the non-delta lobes, so a mirror's diffuse
+        // part needs no special case here.
+        vec3 f = brdf_eval(s.m, wo, wi, n);
+        float pdf = brdf_pdf(s.m, wo, wi, n);
+        if (!(pdf > 0.0)) {
+            p.done = true;
+            return;
+        }
+        p.throughput *= f * cos_i / pdf;
+        p.prev_pdf = pdf;
+        p.prev_delta = false;
+    }
+    // Russian roulette after 3 bounces: continue with probability max(throughput).
+    if (p.bounce >= 3u) {
+        float q = min(max(max(p.throughput.x, p.throughput.y), p.throughput.z), 0.95);
+        if (!(rng_next(rng) < q)) {
+            p.done = true;
+            return;
+        }
+        p.throughput /= q;
+    }
+    p.prev_p = s.p;
+    p.o = origin;
+    p.d = wi;
+    p.bounce++;
 }
 
 #endif

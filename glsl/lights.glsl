@@ -11,7 +11,7 @@ struct LightSample {
 };
 
 LightSample sample_emitter(uint index, vec3 u) {
-    GpuEmitter e = emitters[index];
+    GpuEmitter e = load_emitter(index);
     LightSample s;
     s.area_pdf = 1.0 / (float(scene_info.emitter_count) * e.emission.w);
     if (e.kind == KIND_TRIANGLE) {
@@ -50,7 +50,7 @@ LightSample sample_emitter(uint index, vec3 u) {
 // Solid-angle density with which sample_emitter would have produced the point p with normal n
 // seen from x, for MIS weights of BSDF-sampled hits on emitters.
 float emitter_pdf_solid_angle(uint index, vec3 x, vec3 p, vec3 n) {
-    GpuEmitter e = emitters[index];
+    GpuEmitter e = load_emitter(index);
     vec3 d = p - x;
     float dist2 = dot(d, d);
     float cos_l = abs(dot(n, normalize(d)));

@@ -84,7 +84,7 @@ void use_layer(inout Columns w, uint k, int y) {
 // The layer's lattice value at point ij, clamped to its points on the image.
 vec3 tap(Columns w, ivec2 ij) {
     ivec2 c = clamp(ij, w.lo, w.hi) - w.extent_min;
-    return lattice[w.first + uint(c.y) * w.cols + uint(c.x)].rgb;
+    return uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
 }
 
 // Lattice column c's vertical cubic at this row (on a lattice row, ty = 0, its value there:

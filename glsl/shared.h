@@ -8,27 +8,29 @@
 #define FOVEA_SHARED_H
 
 // ---- descriptor set 0 bindings -------------------------------------------------------------
-#define BINDING_BLAS_NODES 0   // uvec4[5] per CWBVH node (80 bytes, obvhs layout), all meshes
-#define BINDING_TLAS_NODES 1   // uvec4[5] per CWBVH node over objects
-#define BINDING_TRIANGLES 2    // GpuTriangle[], in BLAS leaf order, object space
-#define BINDING_OBJECTS 3      // GpuObject[], in TLAS leaf order
-#define BINDING_MATERIALS 4    // GpuMaterial[]
-#define BINDING_EMITTERS 5     // GpuEmitter[]
-#define BINDING_SCENE_INFO 6   // GpuSceneInfo
-#define BINDING_STATS 7        // uint counters, STAT_*
-#define BINDING_OUTPUT 8       // rgba32f storage image: the merged frame, eyes side by side
-#define BINDING_PROBE_RAYS 9   // GpuProbeRay[] (raycast.comp only)
-#define BINDING_PROBE_HITS 10  // GpuProbeHit[] (raycast.comp only)
-#define BINDING_LAYER_IMAGES 11 // rgba32f 2D array image (accumulate.comp's running means)
-#define BINDING_LATTICE 12     // vec4[]: traced lattice values; per eye, one entry per lattice
+#define BINDING_NODES 0        // uvec4[5] per CWBVH node (80 bytes, obvhs layout): every mesh's
+                               // BLAS, then the TLAS over objects (at GpuSceneInfo.tlas_root);
+                               // this and the next four are uniform texel buffers (bindings.glsl)
+#define BINDING_TRIANGLES 1    // GpuTriangle[], in BLAS leaf order, object space
+#define BINDING_OBJECTS 2      // GpuObject[], in TLAS leaf order
+#define BINDING_MATERIALS 3    // GpuMaterial[]
+#define BINDING_EMITTERS 4     // GpuEmitter[]
+#define BINDING_SCENE_INFO 5   // GpuSceneInfo
+#define BINDING_STATS 6        // uint counters, STAT_*
+#define BINDING_OUTPUT 7       // rgba32f storage image: the merged frame, eyes side by side
+#define BINDING_PROBE_RAYS 8   // GpuProbeRay[] (raycast.comp only)
+#define BINDING_PROBE_HITS 9   // GpuProbeHit[] (raycast.comp only)
+#define BINDING_LAYER_IMAGES 10 // rgba32f 2D array image (accumulate.comp's running means)
+#define BINDING_LATTICE 11     // vec4[]: traced lattice values; per eye, one entry per lattice
                                // point of the ray buffer (GpuLayer.first, .cols locate a point)
-#define BINDING_WORK 13        // uint[]: the plan pass's work lists, eye e's at e * PushConstants
+#define BINDING_WORK 12        // uint[]: the plan pass's work lists, eye e's at e * PushConstants
                                // .work_stride: lattice index | layer << WORK_LAYER_SHIFT
-#define BINDING_LAYERS 14      // GpuLayer[]: this frame's layers, eye-major
-#define BINDING_VISIBILITY 15  // uint[]: [0] words per plane (0: no mask), then per eye 1 + layers
+#define BINDING_LAYERS 13      // GpuLayer[]: this frame's layers, eye-major
+#define BINDING_VISIBILITY 14  // uint[]: [0] words per plane (0: no mask), then per eye 1 + layers
                                // planes of one bit per pixel (row-major, low bit first): the pixels
                                // the lens shows, then per layer the pixels whose lattice points are
                                // needed (the shown ones dilated by the layer's Catmull-Rom reach)
+#define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
 #define BINDING_COUNT 16
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
@@ -88,9 +90,10 @@
 // Angles in GpuLayer that are "no limit" (the background's radius, the fovea's inner edge).
 #define NO_LIMIT 1.0e9
 
-// Traversal stack depth per BVH level. CWBVH trees are shallow (8-wide); an overflow is
+// Traversal stack depth, both BVH levels together (32 each, as when each had its own; the
+// size does not change lavapipe's speed). CWBVH trees are shallow (8-wide); an overflow is
 // counted in STAT_STACK_OVERFLOW, never silently ignored.
-#define TRAVERSAL_STACK_SIZE 32
+#define TRAVERSAL_STACK_SIZE 64
 #define WORKGROUP_SIZE_X 8
 #define WORKGROUP_SIZE_Y 8
 #define PROBE_WORKGROUP_SIZE 64
@@ -156,7 +159,7 @@ struct GpuSceneInfo {
     uint emitter_count;
     uint object_count;
     uint tlas_node_count;
-    uint pad0;
+    uint tlas_root; // node index of the TLAS's root in NODES (after every BLAS)
 };
 
 // Per-dispatch parameters (<= 128 bytes: the guaranteed push-constant size).

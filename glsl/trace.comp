@@ -49,19 +49,31 @@ void main() {
     uint rays = 0u;
     uint nonfinite = 0u;
     uint overflows = 0u;
-    for (uint s = 0u; s < spp; ++s) {
-        Rng rng = rng_init(pixel_index, pc.sample_offset + s, seed);
-        vec3 d = camera_ray(vec2(pixel), rng_next2(rng));
-        bool overflow = false;
-        vec3 L = INTEGRATOR == INTEGRATOR_SEED ? trace_seed(pc.cam_position.xyz, d, rng, rays, overflow)
-                                               : trace_pt(pc.cam_position.xyz, d, rng, rays, overflow);
+    // One path at a time per invocation, the next sample's started as soon as one ends (see
+    // Path): sample s's random numbers and camera ray are the same as in a loop over samples,
+    // and the samples are summed in the same order, so the image is too.
+    uint s = 0u;
+    Rng rng = rng_init(pixel_index, pc.sample_offset, seed);
+    Path path = path_start(pc.cam_position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+    bool overflow = false;
+    for (;;) {
+        if (INTEGRATOR == INTEGRATOR_SEED) {
+            seed_step(path, rng, rays, overflow);
+        } else {
+            pt_step(path, rng, rays, overflow);
+        }
+        if (!path.done) continue;
         if (overflow) overflows++;
         // A non-finite sample is dropped (counted as black) and reported, never written.
-        if (any(isnan(L)) || any(isinf(L))) {
+        if (any(isnan(path.L)) || any(isinf(path.L))) {
             nonfinite++;
         } else {
-            sum += L;
+            sum += path.L;
         }
+        if (++s == spp) break;
+        rng = rng_init(pixel_index, pc.sample_offset + s, seed);
+        path = path_start(pc.cam_position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+        overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);

@@ -161,7 +161,7 @@ fn scene_too_large_for_the_memory_limit_lists_its_buffers() {
         &[
             "not enough GPU memory for scene 'bunny-high'",
             "triangles ",
-            "blas nodes ",
+            "bvh nodes ",
             "upload staging ",
             "on top of the 0 B fovea already holds",
             "caps fovea at 64.00 KiB (65536 bytes)",

@@ -7,7 +7,7 @@ mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::gpu::shared::*;
-use fovea::gpu::{shaders, vk, Buffer, ComputePipeline, PipelineLayout, StorageImage};
+use fovea::gpu::{shaders, vk, Buffer, ComputePipeline, PipelineLayout, StorageImage, TexelView};
 use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
 use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
 use fovea::scene::builtin::builtin;
@@ -29,13 +29,14 @@ fn an_out_of_bounds_read_is_reported() {
             &ctx,
             name,
             16,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             MemoryLocation::CpuToGpu,
         )
         .unwrap()
     };
     let (layers, visibility) = (small("too small for a layer"), small("no mask"));
     let lattice = small("lattice");
+    let lattice_texels = TexelView::new(&lattice, "lattice").unwrap();
     layout.bind(
         &[
             (BINDING_LAYERS, &layers),
@@ -43,6 +44,7 @@ fn an_out_of_bounds_read_is_reported() {
             (BINDING_LATTICE, &lattice),
         ],
         &[(BINDING_OUTPUT, &frame)],
+        &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
     );
     let push = PushConstants {
         width: SIZE,

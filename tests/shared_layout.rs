@@ -108,7 +108,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             emitter_count,
             object_count,
             tlas_node_count,
-            pad0
+            tlas_root
         }
     );
     check!(

@@ -8,6 +8,7 @@ mod common;
 use fovea::gpu::shared::*;
 use fovea::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, StorageImage,
+    TexelView,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -51,10 +52,14 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
         ctx,
         "lattice",
         staging.size,
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
     )
     .unwrap();
+    // Resolve reads the values through a texel view of the same buffer.
+    let lattice_texels = TexelView::new(&lattice, "lattice").unwrap();
     // One layer without limits: every pixel is its lattice point, row-major from (0, 0).
     let layer = GpuLayer {
         gaze: [0.0, 0.0, 1.0, 0.0],
@@ -78,6 +83,7 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
             (BINDING_LATTICE, &lattice),
         ],
         &[(BINDING_OUTPUT, &frame)],
+        &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
     );
     let push = PushConstants {
         width: SIZE,

@@ -294,6 +294,7 @@ mod tests {
             api_version: "1.4".into(),
             timestamp_period_ns: 1.0,
             max_storage_buffer_range: 0,
+            max_texel_buffer_elements: 0,
             subgroup_size: 8,
         };
         let s = summarize_run(&plan, &device, &["fovea bench"], &rows, &[]);

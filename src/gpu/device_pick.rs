@@ -14,6 +14,8 @@ pub struct DeviceInfo {
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f64,
     pub max_storage_buffer_range: u64,
+    /// The most texels one texel-buffer view may span.
+    pub max_texel_buffer_elements: u64,
     /// Invocations per subgroup (SIMD width on lavapipe, warp or wave size on a GPU).
     pub subgroup_size: u32,
 }
@@ -183,6 +185,7 @@ pub(super) fn pick_device(
             ),
             timestamp_period_ns: props.limits.timestamp_period as f64,
             max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+            max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
             subgroup_size: subgroups.subgroup_size,
         };
         candidates.push((

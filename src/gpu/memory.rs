@@ -90,7 +90,10 @@ impl Buffer {
 
     /// A device-local storage buffer holding `data`, uploaded once through a staging buffer.
     pub fn with_data(ctx: &Arc<GpuContext>, name: &str, data: &[u8]) -> Result<Self, GpuError> {
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        // Also a texel buffer: the BVH nodes and triangles are read through TexelView.
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST;
         let buffer = Self::new(ctx, name, data.len() as u64, usage, MemoryLocation::GpuOnly)?;
         if data.is_empty() {
             return Ok(buffer);
@@ -155,6 +158,48 @@ impl Buffer {
                 .device
                 .cmd_copy_buffer(cmd, self.buffer, to.buffer, &region)
         };
+    }
+}
+
+/// The whole of a [`Buffer::with_data`] buffer seen as a uniform texel buffer of RGBA32UI
+/// texels (`usamplerBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
+/// vector load, where it splits a storage-buffer `uvec4` load into four bounds-checked scalar
+/// loads per lane: the BVH nodes and triangles, read on every traversal step, go this way.
+pub struct TexelView {
+    ctx: Arc<GpuContext>,
+    pub(crate) view: vk::BufferView,
+}
+
+impl TexelView {
+    pub fn new(buffer: &Buffer, what: &str) -> Result<Self, GpuError> {
+        let ctx = &buffer.ctx;
+        let texels = buffer.size / 16;
+        let limit = ctx.info.max_texel_buffer_elements;
+        if texels > limit {
+            return Err(GpuError::Limit(format!(
+                "{what}: {texels} 16-byte texels, more than this device's \
+                 maxTexelBufferElements ({limit}); simplify the scene (fewer or smaller meshes)"
+            )));
+        }
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(buffer.buffer)
+            .format(vk::Format::R32G32B32A32_UINT)
+            .range(texels * 16);
+        // SAFETY: the buffer was created with UNIFORM_TEXEL_BUFFER usage, R32G32B32A32_UINT
+        // supports it on every Vulkan device, and the range lies inside the buffer.
+        let view =
+            unsafe { ctx.device.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            view,
+        })
+    }
+}
+
+impl Drop for TexelView {
+    fn drop(&mut self) {
+        // SAFETY: users wait for the GPU before dropping the resources they used.
+        unsafe { self.ctx.device.destroy_buffer_view(self.view, None) };
     }
 }
 

@@ -22,7 +22,7 @@ pub use ash::vk;
 pub use context::{ContextNeeds, GpuContext, VulkanCreator};
 pub use device_pick::DeviceInfo;
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
-pub use memory::{Buffer, StorageImage};
+pub use memory::{Buffer, StorageImage, TexelView};
 pub use memory_budget::PlannedAllocation;
 pub use options::{GpuOptions, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
 pub use pipeline::{ComputePipeline, PipelineLayout};

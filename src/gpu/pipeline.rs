@@ -4,16 +4,31 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::memory::{Buffer, StorageImage};
+use super::memory::{Buffer, StorageImage, TexelView};
 use super::shared::*;
 use ash::vk;
 use std::sync::Arc;
 
-/// The bindings that are storage images; all others are storage buffers.
+/// The bindings that are storage images and those that are uniform texel buffers (see
+/// TexelView); all others are storage buffers.
 const IMAGE_BINDINGS: [u32; 2] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES];
+const TEXEL_BINDINGS: [u32; 6] = [
+    BINDING_NODES,
+    BINDING_TRIANGLES,
+    BINDING_OBJECTS,
+    BINDING_MATERIALS,
+    BINDING_EMITTERS,
+    BINDING_LATTICE_TEXELS,
+];
 
-fn is_image_binding(binding: u32) -> bool {
-    IMAGE_BINDINGS.contains(&binding)
+fn descriptor_type(binding: u32) -> vk::DescriptorType {
+    if IMAGE_BINDINGS.contains(&binding) {
+        vk::DescriptorType::STORAGE_IMAGE
+    } else if TEXEL_BINDINGS.contains(&binding) {
+        vk::DescriptorType::UNIFORM_TEXEL_BUFFER
+    } else {
+        vk::DescriptorType::STORAGE_BUFFER
+    }
 }
 
 pub struct PipelineLayout {
@@ -29,14 +44,9 @@ impl PipelineLayout {
         let device = &ctx.device;
         let bindings: Vec<_> = (0..BINDING_COUNT)
             .map(|b| {
-                let ty = if is_image_binding(b) {
-                    vk::DescriptorType::STORAGE_IMAGE
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                };
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(b)
-                    .descriptor_type(ty)
+                    .descriptor_type(descriptor_type(b))
                     .descriptor_count(1)
                     .stage_flags(vk::ShaderStageFlags::COMPUTE)
             })
@@ -71,6 +81,10 @@ impl PipelineLayout {
                 ty: vk::DescriptorType::STORAGE_IMAGE,
                 descriptor_count: IMAGE_BINDINGS.len() as u32,
             },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+                descriptor_count: TEXEL_BINDINGS.len() as u32,
+            },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
@@ -87,8 +101,13 @@ impl PipelineLayout {
         Ok(this)
     }
 
-    /// Points each listed buffer and image binding at its resource.
-    pub fn bind(&self, buffers: &[(u32, &Buffer)], images: &[(u32, &StorageImage)]) {
+    /// Points each listed buffer, image and texel-buffer binding at its resource.
+    pub fn bind(
+        &self,
+        buffers: &[(u32, &Buffer)],
+        images: &[(u32, &StorageImage)],
+        texels: &[(u32, &TexelView)],
+    ) {
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
             .map(|(_, b)| {
@@ -122,6 +141,14 @@ impl PipelineLayout {
                 .dst_binding(*binding)
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .image_info(info)
+        }));
+        let views: Vec<[vk::BufferView; 1]> = texels.iter().map(|(_, t)| [t.view]).collect();
+        writes.extend(texels.iter().zip(&views).map(|((binding, _), view)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(*binding)
+                .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .texel_buffer_view(view)
         }));
         // SAFETY: the set is not in use by a pending command buffer (callers wait per frame).
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };

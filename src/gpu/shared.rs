@@ -73,7 +73,7 @@ pub struct GpuSceneInfo {
     pub emitter_count: u32,
     pub object_count: u32,
     pub tlas_node_count: u32,
-    pub pad0: u32,
+    pub tlas_root: u32,
 }
 
 #[repr(C)]
@@ -144,3 +144,10 @@ pub struct GpuProbeHit {
 
 /// shared.h's `ACCUM_HEAT_LOG2_MIN` (negative, so build.rs does not generate it).
 pub const ACCUM_HEAT_LOG2_MIN: i32 = -6;
+
+// glsl/bindings.glsl's load_* functions read the scene's arrays as RGBA32UI texels (see
+// TexelView): each struct is a whole number of 16-byte texels, this many per element.
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 3 * 16);
+const _: () = assert!(std::mem::size_of::<GpuObject>() == 10 * 16);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 3 * 16);
+const _: () = assert!(std::mem::size_of::<GpuEmitter>() == 5 * 16);

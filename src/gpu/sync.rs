@@ -23,13 +23,20 @@ impl Scope {
     /// Compute shaders writing storage buffers or images (atomics included).
     pub const COMPUTE_WRITE: Scope =
         Scope::new(Stage::COMPUTE_SHADER, Access::SHADER_STORAGE_WRITE);
-    /// Compute shaders reading storage buffers or images.
-    pub const COMPUTE_READ: Scope = Scope::new(Stage::COMPUTE_SHADER, Access::SHADER_STORAGE_READ);
+    /// Compute shaders reading storage buffers or images, or fetching from texel buffers.
+    pub const COMPUTE_READ: Scope = Scope::new(
+        Stage::COMPUTE_SHADER,
+        Access::from_raw(
+            Access::SHADER_STORAGE_READ.as_raw() | Access::SHADER_SAMPLED_READ.as_raw(),
+        ),
+    );
     /// Compute shaders reading and writing (a pass that accumulates into what it reads).
     pub const COMPUTE_READ_WRITE: Scope = Scope::new(
         Stage::COMPUTE_SHADER,
         Access::from_raw(
-            Access::SHADER_STORAGE_READ.as_raw() | Access::SHADER_STORAGE_WRITE.as_raw(),
+            Access::SHADER_STORAGE_READ.as_raw()
+                | Access::SHADER_SAMPLED_READ.as_raw()
+                | Access::SHADER_STORAGE_WRITE.as_raw(),
         ),
     );
     /// Every command recorded before, to its end, with no memory made visible: for work that

@@ -177,6 +177,7 @@ impl Accumulator {
                 (BINDING_OUTPUT, request.frame),
                 (BINDING_LAYER_IMAGES, means),
             ],
+            &[],
         );
         let index = request.into.layer();
         let pushes: Vec<PushConstants> = request

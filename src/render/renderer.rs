@@ -15,7 +15,7 @@ use crate::foveation::{FoveationConfig, Gaze, VisibilityMask};
 use crate::gpu::shared::*;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation, Scope,
-    StorageImage, TimestampPool,
+    StorageImage, TexelView, TimestampPool,
 };
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
@@ -26,12 +26,14 @@ use std::time::Instant;
 
 /// Static scene data on the GPU, one buffer per binding.
 struct SceneBuffers {
-    blas_nodes: Buffer,
-    tlas_nodes: Buffer,
-    triangles: Buffer,
-    objects: Buffer,
-    materials: Buffer,
-    emitters: Buffer,
+    // The scene's arrays are read through texel views of their buffers (see TexelView).
+    /// Every BLAS's nodes, then the TLAS's (GpuSceneInfo::tlas_root).
+    nodes: TexelView,
+    triangles: TexelView,
+    objects: TexelView,
+    materials: TexelView,
+    emitters: TexelView,
+    _storage: [Buffer; 5],
     info: Buffer,
 }
 
@@ -91,13 +93,18 @@ impl Renderer {
             "simplify the scene (fewer or smaller meshes)",
         )?;
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
+        let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
+        let triangles = upload("triangles", bytemuck::cast_slice(&gpu.triangles))?;
+        let objects = upload("objects", bytemuck::cast_slice(&gpu.objects))?;
+        let materials = upload("materials", bytemuck::cast_slice(&gpu.materials))?;
+        let emitters = upload("emitters", bytemuck::cast_slice(&gpu.emitters))?;
         let buffers = SceneBuffers {
-            blas_nodes: upload("blas nodes", bytemuck::cast_slice(&gpu.blas_nodes))?,
-            tlas_nodes: upload("tlas nodes", bytemuck::cast_slice(&gpu.tlas_nodes))?,
-            triangles: upload("triangles", bytemuck::cast_slice(&gpu.triangles))?,
-            objects: upload("objects", bytemuck::cast_slice(&gpu.objects))?,
-            materials: upload("materials", bytemuck::cast_slice(&gpu.materials))?,
-            emitters: upload("emitters", bytemuck::cast_slice(&gpu.emitters))?,
+            nodes: TexelView::new(&nodes, "bvh nodes")?,
+            triangles: TexelView::new(&triangles, "triangles")?,
+            objects: TexelView::new(&objects, "objects")?,
+            materials: TexelView::new(&materials, "materials")?,
+            emitters: TexelView::new(&emitters, "emitters")?,
+            _storage: [nodes, triangles, objects, materials, emitters],
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
         };
         Ok(Self {
@@ -243,12 +250,6 @@ impl Renderer {
             .as_ref()
             .expect("targets are ensured before binding");
         let mut list: Vec<(u32, &Buffer)> = vec![
-            (BINDING_BLAS_NODES, &b.blas_nodes),
-            (BINDING_TLAS_NODES, &b.tlas_nodes),
-            (BINDING_TRIANGLES, &b.triangles),
-            (BINDING_OBJECTS, &b.objects),
-            (BINDING_MATERIALS, &b.materials),
-            (BINDING_EMITTERS, &b.emitters),
             (BINDING_SCENE_INFO, &b.info),
             (BINDING_STATS, &self.counters.device),
             (BINDING_LATTICE, &t.lattice),
@@ -268,7 +269,16 @@ impl Renderer {
             ]),
         }
         // LAYER_IMAGES is accumulate.comp's alone: no frame pass uses it.
-        self.layout.bind(&list, &[(BINDING_OUTPUT, &t.output)]);
+        let texels = [
+            (BINDING_NODES, &b.nodes),
+            (BINDING_TRIANGLES, &b.triangles),
+            (BINDING_OBJECTS, &b.objects),
+            (BINDING_MATERIALS, &b.materials),
+            (BINDING_EMITTERS, &b.emitters),
+            (BINDING_LATTICE_TEXELS, &t.lattice_texels),
+        ];
+        self.layout
+            .bind(&list, &[(BINDING_OUTPUT, &t.output)], &texels);
     }
 
     fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
@@ -362,7 +372,8 @@ impl Renderer {
         let targets = self.targets.as_mut().expect("prepared");
         targets.write_layers(&layers)?;
         if let Some(value) = given {
-            targets.lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
+            let lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
+            targets.replace_lattice(lattice)?;
         }
         self.bind();
 
@@ -548,8 +559,10 @@ fn scene_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
     // Buffer::new gives an empty array one 16-byte element.
     let bytes = |b: usize| (b as u64).max(16);
     let buffers = [
-        ("blas nodes", bytes(size_of_val(gpu.blas_nodes.as_slice()))),
-        ("tlas nodes", bytes(size_of_val(gpu.tlas_nodes.as_slice()))),
+        (
+            "bvh nodes",
+            bytes(size_of_val(gpu.blas_nodes.as_slice()) + size_of_val(gpu.tlas_nodes.as_slice())),
+        ),
         ("triangles", bytes(size_of_val(gpu.triangles.as_slice()))),
         ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
         ("materials", bytes(size_of_val(gpu.materials.as_slice()))),

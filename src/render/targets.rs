@@ -6,7 +6,7 @@
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::shared::{GpuLayer, WORK_LAYER_SHIFT};
-use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage};
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -25,6 +25,8 @@ pub struct FrameTargets {
     pub images: Vec<ImageGeometry>,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
+    /// The same values as texels, which is how resolve reads them (BINDING_LATTICE_TEXELS).
+    pub lattice_texels: TexelView,
     /// The plan pass's work lists, eye after eye (BINDING_WORK).
     pub work: Buffer,
     pub output: StorageImage,
@@ -120,7 +122,16 @@ impl FrameTargets {
                 MemoryLocation::GpuOnly,
             )
         };
-        let lattice = device_buffer("lattice values", entries * 16)?;
+        let lattice = Buffer::new(
+            ctx,
+            "lattice values",
+            entries * 16,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let lattice_texels = TexelView::new(&lattice, "lattice values")?;
         let work = device_buffer("work lists", entries * 4)?;
         let output = StorageImage::new(ctx, "frame", key.width * eyes as u32, key.height)?;
         let layers = host_buffer(
@@ -133,10 +144,19 @@ impl FrameTargets {
             buffer,
             images,
             lattice,
+            lattice_texels,
             work,
             output,
             layers,
         })
+    }
+
+    /// Puts `lattice` (made with UNIFORM_TEXEL_BUFFER usage) in place of the lattice values,
+    /// and its texel view in place of theirs.
+    pub fn replace_lattice(&mut self, lattice: Buffer) -> Result<(), RenderError> {
+        self.lattice_texels = TexelView::new(&lattice, "lattice values")?;
+        self.lattice = lattice;
+        Ok(())
     }
 
     /// Writes this frame's layer parameters (every eye's, eye after eye).

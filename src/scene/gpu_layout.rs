@@ -233,7 +233,8 @@ impl GpuScene {
             emitter_count: emitters.len() as u32,
             object_count: objects.len() as u32,
             tlas_node_count: tlas_nodes.len() as u32,
-            pad0: 0,
+            // The renderer uploads the BLAS nodes and then the TLAS's into one buffer.
+            tlas_root: blas_nodes.len() as u32,
         };
         let mut features = SceneFeatures::of(scene);
         features.emitters = !emitters.is_empty();
@@ -247,6 +248,12 @@ impl GpuScene {
             info,
             features,
         })
+    }
+
+    /// Every BLAS's nodes, then the TLAS's: the GPU's one node array (the TLAS's root at
+    /// `info.tlas_root`).
+    pub fn nodes(&self) -> Vec<GpuNode> {
+        [self.blas_nodes.as_slice(), self.tlas_nodes.as_slice()].concat()
     }
 
     /// Bytes the scene occupies on the GPU.
