@@ -5,8 +5,8 @@
 #   scene, GPU ms, Msamples/s and Mrays/s from `fovea render --bench` (medians of
 #   --bench-frames frames after a warm-up frame: lavapipe compiles a pipeline's code on its
 #   first dispatch), rays per path, then per ray what the BVH traversal did (TLAS/BLAS nodes
-#   intersected, triangle and box/sphere tests, TLAS/BLAS loop steps) and each loop's SIMD
-#   occupancy (busy lanes per subgroup step), from one more frame rendered with
+#   intersected, triangle and box/sphere tests, traversal steps at the TLAS/BLAS level) and the
+#   SIMD occupancy at each level (busy lanes per subgroup step), from one more frame rendered with
 #   --profile-traversal (the same image; counting makes it slower, so it is not timed).
 #
 # Usage: tools/profile-trace.sh [OUT.csv] [extra fovea render args, e.g. --integrator seed]
@@ -38,7 +38,7 @@ for scene in $scenes; do
   rays_per_path=$(awk -v r="$rays" -v p=$((512 * 512 * 16)) 'BEGIN { printf "%.3f", r / p }')
   per_ray=$(grep '^traversal per ray:' <<< "$profiled" | grep -oE '[0-9]+\.[0-9]+' | paste -sd, -)
   occupancy=$(grep '^traversal SIMD occupancy' <<< "$profiled" \
-    | sed -E 's/.*TLAS loop ([^,]+), BLAS loop (.*)$/\1,\2/; s/%//g')
+    | sed -E 's/.*TLAS level ([^,]+), BLAS level (.*)$/\1,\2/; s/%//g')
   echo "$scene,$timing,$rays_per_path,$per_ray,$occupancy" | tee -a "$out"
 done
 echo "wrote $out"

@@ -87,8 +87,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE", requires = "bench")]
     pub json: Option<PathBuf>,
     /// Count the trace's BVH traversal work (nodes, triangle and primitive tests, SIMD
-    /// occupancy of the traversal loops) and print it per ray; the image is unchanged, the
-    /// frame is slower. See tools/profile-trace.sh.
+    /// occupancy of the traversal loop per BVH level) and print it per ray; the image is
+    /// unchanged, the frame is slower. See tools/profile-trace.sh.
     #[arg(long, conflicts_with = "bench")]
     pub profile_traversal: bool,
     #[command(flatten)]
@@ -333,7 +333,7 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings, su
     }
 }
 
-/// The traversal profile per ray, and the traversal loops' SIMD occupancy.
+/// The traversal profile per ray, and the traversal loop's SIMD occupancy at each BVH level.
 fn report_traversal(t: &TraversalCounts, rays: u64, subgroup_size: u32) {
     let per_ray = |n: u64| n as f64 / rays.max(1) as f64;
     println!(
@@ -350,7 +350,7 @@ fn report_traversal(t: &TraversalCounts, rays: u64, subgroup_size: u32) {
             .map_or("-".to_string(), |o| format!("{:.1}%", 100.0 * o))
     };
     println!(
-        "traversal SIMD occupancy ({subgroup_size} lanes): TLAS loop {}, BLAS loop {}",
+        "traversal SIMD occupancy ({subgroup_size} lanes): TLAS level {}, BLAS level {}",
         occupancy(t.tlas_lane_steps, t.tlas_group_steps),
         occupancy(t.blas_lane_steps, t.blas_group_steps),
     );

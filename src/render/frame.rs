@@ -50,7 +50,8 @@ pub struct TraversalCounts {
     pub triangles: u64,
     /// Ray-box and ray-sphere tests.
     pub primitives: u64,
-    /// Iterations of the TLAS and BLAS loops summed over invocations (lane) and counted once
+    /// Iterations of the traversal loop at the TLAS and at the BLAS level (counted at the level
+    /// of the node a step may visit), summed over invocations (lane) and counted once
     /// per subgroup step (group).
     pub tlas_lane_steps: u64,
     pub tlas_group_steps: u64,
