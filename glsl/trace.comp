@@ -56,7 +56,9 @@ void main() {
     Rng rng = rng_init(pixel_index, pc.sample_offset, seed);
     Path path = path_start(pc.cam_position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
     bool overflow = false;
-    for (;;) {
+    // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer): the loop
+    // must not depend on a path ending to end.
+    while (s < spp) {
         if (INTEGRATOR == INTEGRATOR_SEED) {
             seed_step(path, rng, rays, overflow);
         } else {
