@@ -30,7 +30,7 @@ vec4 fetch_vec4(utextureBuffer b, int texel) {
 }
 
 GpuTriangle load_triangle(uint index) {
-    int t = int(index) * 3;
+    int t = int(index * TEXELS_PER_TRIANGLE);
     GpuTriangle T;
     T.v0 = fetch_vec4(triangle_texels, t);
     T.v1 = fetch_vec4(triangle_texels, t + 1);
@@ -38,8 +38,14 @@ GpuTriangle load_triangle(uint index) {
     return T;
 }
 
+// An object's kind, material, blas_root and triangle_base: the texel the traversal reads for
+// every object it meets.
+uvec4 load_object_ids(uint index) {
+    return texelFetch(object_texels, int(index * TEXELS_PER_OBJECT) + 8);
+}
+
 GpuObject load_object(uint index) {
-    int t = int(index) * 10;
+    int t = int(index * TEXELS_PER_OBJECT);
     GpuObject o;
     o.world_to_object0 = fetch_vec4(object_texels, t);
     o.world_to_object1 = fetch_vec4(object_texels, t + 1);
@@ -49,7 +55,7 @@ GpuObject load_object(uint index) {
     o.object_to_world2 = fetch_vec4(object_texels, t + 5);
     o.a = fetch_vec4(object_texels, t + 6);
     o.b = fetch_vec4(object_texels, t + 7);
-    uvec4 ids = texelFetch(object_texels, t + 8);
+    uvec4 ids = load_object_ids(index);
     o.kind = ids.x;
     o.material = ids.y;
     o.blas_root = ids.z;
@@ -63,11 +69,11 @@ GpuObject load_object(uint index) {
 }
 
 uint load_object_kind(uint index) {
-    return texelFetch(object_texels, int(index) * 10 + 8).x;
+    return load_object_ids(index).x;
 }
 
 GpuMaterial load_material(uint index) {
-    int t = int(index) * 3;
+    int t = int(index * TEXELS_PER_MATERIAL);
     GpuMaterial m;
     m.kd = fetch_vec4(material_texels, t);
     m.ks = fetch_vec4(material_texels, t + 1);
@@ -76,7 +82,7 @@ GpuMaterial load_material(uint index) {
 }
 
 GpuEmitter load_emitter(uint index) {
-    int t = int(index) * 5;
+    int t = int(index * TEXELS_PER_EMITTER);
     GpuEmitter e;
     e.p0 = fetch_vec4(emitter_texels, t);
     e.p1 = fetch_vec4(emitter_texels, t + 1);

@@ -168,16 +168,17 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
                     if (any_hit) return hit;
                 }
             } else {
-                uint kind = load_object_kind(index);
+                uvec4 ids = load_object_ids(index);
+                uint kind = ids.x;
                 if (HAS_TRIANGLES && kind == KIND_INSTANCE) {
-                    GpuObject ob = load_object(index);
+                    GpuObject ob = load_object(index); // only its world_to_object rows
                     tlas_cur = cur;
                     tlas_prim = prim;
                     blas_sp = sp;
                     in_blas = true;
                     object = index;
-                    tri_base = ob.triangle_base;
-                    root = ob.blas_root;
+                    root = ids.z;     // blas_root
+                    tri_base = ids.w; // triangle_base
                     ray = level_ray(affine(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, world.o),
                                     linear(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, world.d));
                     w = watertight_setup(ray.d);
@@ -223,7 +224,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
             }
             uint slot = (child_offset - 24u) ^ (ray.oct & 0xffu);
             uint rel = uint(bitCount(hits_imask & ~(0xffffffffu << slot)));
-            int at = int((root + cur.x + rel) * 5u);
+            int at = int((root + cur.x + rel) * TEXELS_PER_NODE);
             profile_count(in_blas ? PROFILE_BLAS_NODES : PROFILE_TLAS_NODES, 1u);
             uvec4 n0 = texelFetch(bvh_nodes, at);
             uvec4 n1 = texelFetch(bvh_nodes, at + 1);

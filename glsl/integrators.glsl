@@ -73,6 +73,21 @@ Path path_start(vec3 o, vec3 d) {
     return p;
 }
 
+// Traces the path's next ray: on a miss adds the sky and ends the path (false), on a hit
+// gives the hit and its surface (true). Both integrators start a bounce with it.
+bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, inout bool overflow) {
+    h = trace_scene(p.o, p.d, 0.0, INF, false);
+    rays++;
+    overflow = overflow || h.overflow;
+    if (h.t == INF) {
+        p.L += p.throughput * environment(p.d);
+        p.done = true;
+        return false;
+    }
+    s = surface(h, p.o, p.d);
+    return true;
+}
+
 // ---- seed: the thesis' estimator (eqs. 3.4-3.16) -------------------------------------------
 // Uniform hemisphere sampling (p = 1/2pi, eq. 3.5); the BRDF picked by comparing R with p_S
 // (eq. 3.11); the weight 2*k_d*cos (Lambert) or k_s(alpha+2)cos^alpha theta_r*cos (Phong) of eq. 3.13, divided
@@ -81,15 +96,9 @@ Path path_start(vec3 o, vec3 d) {
 // eq. 3.15's clamp f_c(n*w_i)^((alpha+2)/(alpha+1)) belongs to lobe-sampled directions; with the uniform
 // directions eq. 3.5 states it would bias the image, so the eq. 3.13 weight is used instead.
 void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
-    Hit h = trace_scene(p.o, p.d, 0.0, INF, false);
-    rays++;
-    overflow = overflow || h.overflow;
-    if (h.t == INF) {
-        p.L += p.throughput * environment(p.d);
-        p.done = true;
-        return;
-    }
-    SurfaceHit s = surface(h, p.o, p.d);
+    Hit h;
+    SurfaceHit s;
+    if (!next_vertex(p, h, s, rays, overflow)) return;
     p.L += p.throughput * emitted(s, h);
     if (p.bounce == MAX_BOUNCES) {
         p.done = true;
@@ -138,15 +147,9 @@ float brdf_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
 }
 
 void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
-    Hit h = trace_scene(p.o, p.d, 0.0, INF, false);
-    rays++;
-    overflow = overflow || h.overflow;
-    if (h.t == INF) {
-        p.L += p.throughput * environment(p.d);
-        p.done = true;
-        return;
-    }
-    SurfaceHit s = surface(h, p.o, p.d);
+    Hit h;
+    SurfaceHit s;
+    if (!next_vertex(p, h, s, rays, overflow)) return;
     vec3 le = emitted(s, h);
     if (HAS_EMITTERS && any(greaterThan(le, vec3(0.0)))) {
         float w = 1.0;

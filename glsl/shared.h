@@ -33,6 +33,14 @@
 #define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
 #define BINDING_COUNT 16
 
+// 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
+// src/gpu/shared.rs checks them against the structs' sizes).
+#define TEXELS_PER_NODE 5
+#define TEXELS_PER_TRIANGLE 3
+#define TEXELS_PER_OBJECT 10
+#define TEXELS_PER_MATERIAL 3
+#define TEXELS_PER_EMITTER 5
+
 // ---- specialization constants: what a scene does not need is compiled away ------------------
 #define SPEC_HAS_TRIANGLES 0
 #define SPEC_HAS_BOXES 1

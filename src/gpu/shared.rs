@@ -146,8 +146,11 @@ pub struct GpuProbeHit {
 pub const ACCUM_HEAT_LOG2_MIN: i32 = -6;
 
 // glsl/bindings.glsl's load_* functions read the scene's arrays as RGBA32UI texels (see
-// TexelView): each struct is a whole number of 16-byte texels, this many per element.
-const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 3 * 16);
-const _: () = assert!(std::mem::size_of::<GpuObject>() == 10 * 16);
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 3 * 16);
-const _: () = assert!(std::mem::size_of::<GpuEmitter>() == 5 * 16);
+// TexelView): each struct is a whole number of 16-byte texels, shared.h's TEXELS_PER_*.
+const _: () = assert!(
+    std::mem::size_of::<crate::scene::gpu_layout::GpuNode>() == TEXELS_PER_NODE as usize * 16
+);
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == TEXELS_PER_TRIANGLE as usize * 16);
+const _: () = assert!(std::mem::size_of::<GpuObject>() == TEXELS_PER_OBJECT as usize * 16);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == TEXELS_PER_MATERIAL as usize * 16);
+const _: () = assert!(std::mem::size_of::<GpuEmitter>() == TEXELS_PER_EMITTER as usize * 16);
