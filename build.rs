@@ -23,31 +23,47 @@ fn main() {
     entries.sort();
     for path in entries {
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
-        let spv = out.join(format!("{stem}.spv"));
-        // Vulkan 1.2 / SPIR-V 1.5, optimized for performance (spirv-opt -O), with debug
-        // information (names and lines for profilers and GPU-assisted validation reports).
-        let run = Command::new(&glslc)
-            .args(["-fshader-stage=compute", "--target-env=vulkan1.2"])
-            .args(["--target-spv=spv1.5", "-O", "-g", "-I"])
-            .arg(glsl)
-            .arg(&path)
-            .arg("-o")
-            .arg(&spv)
-            .output()
-            .unwrap_or_else(|e| {
-                panic!(
-                    "cannot run the shader compiler `{glslc}` ({e}): run tools/setup.sh, which \
-                     installs Debian's glslc, or set GLSLC to a glslc"
-                )
-            });
-        if !run.status.success() {
-            panic!(
-                "shader {} failed to compile:\n{}{}",
-                path.display(),
-                String::from_utf8_lossy(&run.stdout),
-                String::from_utf8_lossy(&run.stderr)
-            );
+        compile(&glslc, glsl, &path, &out.join(format!("{stem}.spv")), &[]);
+        // The shaders that trace rays again, with VK_KHR_ray_query in place of the software
+        // traversal (glsl/ray_query.glsl): SPIR-V that declares the RayQueryKHR capability
+        // cannot even be loaded on a device without it, so it is a second module, not a
+        // specialization constant.
+        if RAY_QUERY_SHADERS.contains(&stem.as_str()) {
+            let spv = out.join(format!("{stem}_rq.spv"));
+            compile(&glslc, glsl, &path, &spv, &["-DRAY_QUERY"]);
         }
+    }
+}
+
+/// The shaders that call trace_scene (glsl/bvh.glsl).
+const RAY_QUERY_SHADERS: [&str; 2] = ["trace", "raycast"];
+
+fn compile(glslc: &str, glsl: &Path, path: &Path, spv: &Path, defines: &[&str]) {
+    // Vulkan 1.2 / SPIR-V 1.5, optimized for performance (spirv-opt -O), with debug
+    // information (names and lines for profilers and GPU-assisted validation reports).
+    let run = Command::new(glslc)
+        .args(["-fshader-stage=compute", "--target-env=vulkan1.2"])
+        .args(["--target-spv=spv1.5", "-O", "-g"])
+        .args(defines)
+        .arg("-I")
+        .arg(glsl)
+        .arg(path)
+        .arg("-o")
+        .arg(spv)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot run the shader compiler `{glslc}` ({e}): run tools/setup.sh, which \
+                 installs Debian's glslc, or set GLSLC to a glslc"
+            )
+        });
+    if !run.status.success() {
+        panic!(
+            "shader {} failed to compile:\n{}{}",
+            path.display(),
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr)
+        );
     }
 }
 

@@ -1,8 +1,11 @@
-// Two-level CWBVH traversal (Ylitie, Karras, Laine 2017, "Efficient incoherent ray traversal
-// on GPUs through compressed wide BVHs"), over obvhs' node layout: a TLAS over objects
-// (mesh instances, boxes, spheres) and one BLAS per mesh, walked by one loop (trace_scene)
-// with one short stack for both levels; an overflow is counted (STAT_STACK_OVERFLOW via
-// Hit.overflow), never silently ignored.
+// The scene's ray queries: trace_scene (closest or any hit), unoccluded, hit_normal.
+//
+// The software traversal: two-level CWBVH traversal (Ylitie, Karras, Laine 2017, "Efficient
+// incoherent ray traversal on GPUs through compressed wide BVHs"), over obvhs' node layout: a
+// TLAS over objects (mesh instances, boxes, spheres) and one BLAS per mesh, walked by one loop
+// (trace_scene) with one short stack for both levels; an overflow is counted
+// (STAT_STACK_OVERFLOW via Hit.overflow), never silently ignored. Compiled with RAY_QUERY
+// (build.rs's *_rq shaders), trace_scene is the driver's instead (ray_query.glsl).
 #ifndef FOVEA_BVH_GLSL
 #define FOVEA_BVH_GLSL
 #include "bindings.glsl"
@@ -40,6 +43,17 @@ struct Hit {
     bool overflow;
 };
 
+vec3 affine(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+    return vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);
+}
+
+vec3 linear(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
+    return vec3(dot(r0.xyz, v), dot(r1.xyz, v), dot(r2.xyz, v));
+}
+
+#ifdef RAY_QUERY
+#include "ray_query.glsl"
+#else
 // Intersects the 8 quantized children of a node (80 bytes = uvec4[5] at node_index * 5).
 // Returns the hit mask: bits 24..31 internal children (in traversal-priority order),
 // bits 0..23 leaf triangle slots relative to the node's primitive base.
@@ -84,14 +98,6 @@ uint intersect_node(uvec4 n0, uvec4 n1, uvec4 n2, uvec4 n3, uvec4 n4,
 
 uint octant_inv4(vec3 d) {
     return (d.x < 0.0 ? 0u : 0x04040404u) | (d.y < 0.0 ? 0u : 0x02020202u) | (d.z < 0.0 ? 0u : 0x01010101u);
-}
-
-vec3 affine(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
-    return vec3(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);
-}
-
-vec3 linear(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
-    return vec3(dot(r0.xyz, v), dot(r1.xyz, v), dot(r2.xyz, v));
 }
 
 // The ray as the current level sees it: the world ray in the TLAS, the object-space ray in an
@@ -200,6 +206,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
                     t_max = t;
                     hit.t = t;
                     hit.object = index;
+                    hit.primitive = NO_EMITTER; // not a triangle (one hit before may have been)
                     if (any_hit) return hit;
                 }
             }
@@ -253,6 +260,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     }
     return hit;
 }
+#endif
 
 // True when nothing blocks the segment o + t*d, t in (0, t_max) - for shadow rays.
 bool unoccluded(vec3 o, vec3 d, float t_max, inout bool overflow) {

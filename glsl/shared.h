@@ -32,6 +32,9 @@
                                // needed (the shown ones dilated by the layer's Catmull-Rom reach)
 #define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
 #define BINDING_COUNT 16
+// Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
+// the ray-query shaders (ray_query.glsl) trace.
+#define BINDING_TLAS 16
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/gpu/shared.rs checks them against the structs' sizes).

@@ -6,13 +6,13 @@
 mod common;
 
 use fovea::check::{materials, scale, watertight};
-use fovea::render::Integrator;
+use fovea::render::{Integrator, Traversal};
 use fovea::scene::builtin::builtin;
 
 #[test]
 fn a_million_rays_from_inside_closed_meshes_never_escape() {
     let ctx = common::context();
-    let results = watertight::run(&ctx, 1_000_000, 1).unwrap();
+    let results = watertight::run(&ctx, 1_000_000, 1, Traversal::Software).unwrap();
     common::assert_no_validation_messages(&ctx);
     let total: u64 = results.iter().map(|r| r.rays).sum();
     assert!(total >= 1_000_000, "only {total} rays");

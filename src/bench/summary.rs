@@ -296,6 +296,7 @@ mod tests {
             max_storage_buffer_range: 0,
             max_texel_buffer_elements: 0,
             subgroup_size: 8,
+            ray_query: None,
         };
         let s = summarize_run(&plan, &device, &["fovea bench"], &rows, &[]);
         assert!(!s.complete, "corner is missing");

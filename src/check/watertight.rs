@@ -6,7 +6,7 @@ use super::closed_meshes::{closed_bunny, icosphere, subdivided_cube, winding_num
 use super::rng::Rng;
 use crate::gpu::shared::GpuProbeRay;
 use crate::gpu::GpuContext;
-use crate::render::{RenderError, Renderer};
+use crate::render::{RenderError, Renderer, Traversal};
 use crate::scene::{Camera, Environment, Instance, Material, Mesh, Scene};
 use glam::{DMat4, DVec3, Mat4, Quat, Vec3};
 use std::sync::Arc;
@@ -73,16 +73,19 @@ fn meshes() -> Result<Vec<Placed>, RenderError> {
 }
 
 /// Casts `rays_total` rays, split evenly over the closed meshes, and counts what leaks.
+/// `traversal` is the one that casts them.
 pub fn run(
     ctx: &Arc<GpuContext>,
     rays_total: u64,
     seed: u64,
+    traversal: Traversal,
 ) -> Result<Vec<MeshWatertightness>, RenderError> {
     let placed = meshes()?;
     let per_mesh = rays_total.div_ceil(placed.len() as u64);
     let mut out = Vec::new();
     for (k, p) in placed.into_iter().enumerate() {
-        out.push(check_mesh(ctx, p, per_mesh, seed.wrapping_add(k as u64))?);
+        let seed = seed.wrapping_add(k as u64);
+        out.push(check_mesh(ctx, p, per_mesh, seed, traversal)?);
     }
     Ok(out)
 }
@@ -92,6 +95,7 @@ fn check_mesh(
     placed: Placed,
     rays: u64,
     seed: u64,
+    traversal: Traversal,
 ) -> Result<MeshWatertightness, RenderError> {
     let to_world = placed.transform.as_dmat4();
     let world: Vec<DVec3> = placed
@@ -104,6 +108,7 @@ fn check_mesh(
     let origins = inside_points(&placed.mesh, to_world, &mut rng);
     let scene = single_mesh_scene(&placed);
     let mut renderer = Renderer::new(ctx, &scene)?;
+    renderer.set_traversal(traversal)?;
     let mut result = MeshWatertightness {
         mesh: placed.mesh.name.clone(),
         triangles: placed.mesh.indices.len(),

@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 use fovea::check::convergence::{self, ConvergenceOptions};
 use fovea::check::report::CheckReport;
 use fovea::check::{materials, scale, watertight};
-use fovea::render::RenderSettings;
+use fovea::render::{RenderSettings, Traversal};
 use fovea::scene::{self, builtin::builtin};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -98,7 +98,7 @@ pub fn run(args: &CheckArgs) -> Result<()> {
             "watertight: {} rays from inside closed meshes...",
             args.rays
         );
-        report.watertight = watertight::run(&ctx, args.rays, 1)?;
+        report.watertight = watertight::run(&ctx, args.rays, 1, Traversal::preferred(&ctx))?;
         section("watertight", &report, t)?;
     }
     if wanted(Section::Scale) {

@@ -10,7 +10,8 @@ pub mod xr;
 
 use anyhow::{bail, Result};
 use clap::Args;
-use fovea::gpu::{GpuContext, GpuOptions};
+use fovea::gpu::{GpuContext, GpuOptions, RayQueries};
+use fovea::render::TraversalChoice;
 use std::sync::Arc;
 
 #[derive(Args)]
@@ -21,15 +22,33 @@ pub struct GpuArgs {
     /// Enable the Vulkan validation layer; any message it reports makes the command fail.
     #[arg(long)]
     pub validate: bool,
+    /// How rays find what they hit: `software` (fovea's own BVH traversal, any device),
+    /// `rayquery` (VK_KHR_ray_query: the GPU's ray-tracing hardware) or `auto` (ray queries
+    /// where the device has them, else software).
+    #[arg(long, value_enum, default_value_t = TraversalChoice::Auto)]
+    pub traversal: TraversalChoice,
+}
+
+impl GpuArgs {
+    /// The device options these flags ask for, over the environment's (GpuOptions::from_env).
+    pub fn options(&self) -> GpuOptions {
+        let mut options = GpuOptions::from_env();
+        if self.device.is_some() {
+            options.device = self.device.clone();
+        }
+        options.validation |= self.validate;
+        // The renderer traces with ray queries whenever its context has them enabled.
+        options.ray_queries = match self.traversal {
+            TraversalChoice::Software => RayQueries::Off,
+            TraversalChoice::Rayquery => RayQueries::Required,
+            TraversalChoice::Auto => RayQueries::IfAvailable,
+        };
+        options
+    }
 }
 
 pub fn gpu_context(args: &GpuArgs) -> Result<Arc<GpuContext>> {
-    let mut options = GpuOptions::from_env();
-    if args.device.is_some() {
-        options.device = args.device.clone();
-    }
-    options.validation |= args.validate;
-    Ok(Arc::new(GpuContext::new(&options)?))
+    Ok(Arc::new(GpuContext::new(&args.options())?))
 }
 
 pub fn check_validation(ctx: &GpuContext) -> Result<()> {

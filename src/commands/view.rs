@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use fovea::foveation::gaze_trace::GazeTrace;
 use fovea::foveation::{FoveationConfig, GazeChoice};
-use fovea::gpu::{GpuOptions, PresentPreference};
+use fovea::gpu::PresentPreference;
 use fovea::render::{FovChoice, Integrator, RenderSettings, MAX_SIDE};
 use fovea::viewer::{self, DebugMode, GazeInput, Refine, Script, ViewerOptions, KEY_HELP};
 use std::path::PathBuf;
@@ -138,11 +138,7 @@ impl ViewArgs {
             Some(path) => Script::load(path).map_err(anyhow::Error::msg)?,
             None => Script::default(),
         };
-        let mut gpu = GpuOptions::from_env();
-        if self.gpu.device.is_some() {
-            gpu.device = self.gpu.device.clone();
-        }
-        gpu.validation |= self.gpu.validate;
+        let gpu = self.gpu.options();
         Ok(ViewerOptions {
             scene: self.scene.clone(),
             window_size: [self.width, self.height],

@@ -7,7 +7,6 @@ use anyhow::{bail, Result};
 use clap::Args;
 use fovea::foveation::gaze_filter::DEFAULT_HOLD_S;
 use fovea::foveation::FoveationConfig;
-use fovea::gpu::GpuOptions;
 use fovea::render::{DebugView, Integrator, RenderSettings};
 use fovea::scene;
 use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions};
@@ -117,8 +116,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
     }
     let aspect = args.size.map_or(0.9, |s| s[0] as f32 / s[1] as f32);
     let scene = scene::load(&args.scene, aspect)?;
-    let mut gpu = GpuOptions::from_env();
-    gpu.validation |= args.gpu.validate;
+    let gpu = args.gpu.options();
     if args.gpu.device.is_some() {
         bail!("--device cannot be used with xr: the OpenXR runtime picks the GPU that drives the headset");
     }

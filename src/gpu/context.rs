@@ -2,10 +2,12 @@
 //! command pool: everything else in gpu/ borrows from a `GpuContext`.
 
 use super::crash_markers::{create_marker_buffer, Markers};
-use super::device_pick::{driver_env, pick_device, DeviceInfo, DeviceWanted, Picked};
+use super::device_pick::{
+    driver_env, pick_device, DeviceInfo, DeviceWanted, Picked, RAY_QUERY_EXTENSIONS,
+};
 use super::error::{human_bytes, GpuError, VkContext};
 use super::memory_budget::{memory_facts, MemoryFacts};
-use super::options::GpuOptions;
+use super::options::{GpuOptions, RayQueries};
 use super::sync::Scope;
 use super::validation::{debug_callback, ValidationLog};
 use ash::vk;
@@ -34,6 +36,8 @@ pub struct GpuContext {
     pub(super) allocated: [AtomicU64; 2],
     pub(super) inject_device_lost: Option<String>,
     pub info: DeviceInfo,
+    /// Whether the renderer traces with ray queries unless told otherwise.
+    prefers_ray_queries: bool,
     physical_device: vk::PhysicalDevice,
     queue_family: u32,
 }
@@ -246,10 +250,26 @@ impl GpuContext {
         let Picked {
             physical_device,
             family: queue_family,
-            info,
+            mut info,
             budget,
             amd_marker,
         } = picked;
+        match options.ray_queries {
+            RayQueries::Off => info.ray_query = None,
+            RayQueries::Required if info.ray_query.is_none() => {
+                let e = GpuError::NoRayQueries {
+                    device: info.name.clone(),
+                };
+                return Err(Box::new((e, instance, debug)));
+            }
+            _ => {}
+        }
+        let ray_query = info.ray_query.is_some();
+        // On a CPU driver ray queries run the driver's traversal on the same cores as ours,
+        // and lavapipe's measured 2.2-3.2x slower than fovea's (README, "Ray queries"): there
+        // `auto` keeps the software traversal (both stay available, e.g. to render --bench).
+        let prefers_ray_queries =
+            ray_query && (options.ray_queries == RayQueries::Required || info.kind != "CPU");
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
@@ -262,15 +282,28 @@ impl GpuContext {
             device_extensions.push(ash::amd::buffer_marker::NAME.as_ptr());
         }
         device_extensions.push(ash::khr::synchronization2::NAME.as_ptr());
+        if ray_query {
+            device_extensions.extend(RAY_QUERY_EXTENSIONS.iter().map(|e| e.as_ptr()));
+        }
         device_extensions.extend(needs.device_extensions.iter().map(|e| e.as_ptr()));
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
+        let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
+            .host_query_reset(true)
+            .buffer_device_address(ray_query);
         let mut sync2 =
             vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
-        let device_info = vk::DeviceCreateInfo::default()
+        let mut accel_features = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut query_features = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        let mut device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&device_extensions)
             .push_next(&mut features12)
             .push_next(&mut sync2);
+        if ray_query {
+            device_info = device_info
+                .push_next(&mut accel_features)
+                .push_next(&mut query_features);
+        }
         let created = match needs.creator {
             Some(creator) => creator
                 .create_device(&entry, physical_device, &device_info)
@@ -318,7 +351,8 @@ impl GpuContext {
             physical_device,
 
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            // Acceleration-structure build inputs and instances are given by device address.
+            buffer_device_address: ray_query,
             allocation_sizes: Default::default(),
         }) {
             Ok(a) => a,
@@ -380,9 +414,16 @@ impl GpuContext {
             allocated: [AtomicU64::new(0), AtomicU64::new(0)],
             inject_device_lost: options.inject_device_lost.clone(),
             info,
+            prefers_ray_queries,
             physical_device,
             queue_family,
         })
+    }
+
+    /// Whether frames trace with ray queries by default: they are enabled, and either asked
+    /// for (`--traversal rayquery`) or the device is a GPU (`auto`).
+    pub fn prefers_ray_queries(&self) -> bool {
+        self.prefers_ray_queries
     }
 
     pub(crate) fn entry(&self) -> &ash::Entry {

@@ -18,7 +18,28 @@ pub struct DeviceInfo {
     pub max_texel_buffer_elements: u64,
     /// Invocations per subgroup (SIMD width on lavapipe, warp or wave size on a GPU).
     pub subgroup_size: u32,
+    /// Ray queries (VK_KHR_ray_query with VK_KHR_acceleration_structure): their limits when
+    /// the context enabled them, None when the device lacks them or they were not wanted.
+    pub ray_query: Option<RayQueryLimits>,
 }
+
+/// What VK_KHR_acceleration_structure allows on a device (src/gpu/accel.rs checks a scene
+/// against them before building).
+#[derive(Clone, Copy, Debug)]
+pub struct RayQueryLimits {
+    pub max_instances: u64,
+    pub max_primitives: u64,
+    pub max_geometries: u64,
+    /// Alignment of each build's scratch memory.
+    pub scratch_alignment: u64,
+}
+
+/// The device extensions ray queries need.
+pub(super) const RAY_QUERY_EXTENSIONS: [&CStr; 3] = [
+    ash::khr::acceleration_structure::NAME,
+    ash::khr::ray_query::NAME,
+    ash::khr::deferred_host_operations::NAME,
+];
 
 /// The chosen device, its compute queue family and what it offers.
 pub(super) struct Picked {
@@ -79,6 +100,34 @@ pub(super) struct DeviceWanted<'a> {
     /// The queue must support graphics as well as compute.
     pub(super) graphics: bool,
     pub(super) extensions: &'a [&'static CStr],
+}
+
+/// The limits of a device that has the ray-query extensions, if it also has the features ray
+/// queries use: acceleration structures, ray queries in shaders, and buffer device addresses
+/// (build inputs and instances are given by address).
+fn ray_query_limits(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<RayQueryLimits> {
+    let mut accel = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut query = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut accel)
+        .push_next(&mut query)
+        .push_next(&mut v12);
+    // SAFETY: pd was enumerated from this instance, a Vulkan 1.2 one (features2 is core).
+    unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    let usable = accel.acceleration_structure == vk::TRUE
+        && query.ray_query == vk::TRUE
+        && v12.buffer_device_address == vk::TRUE;
+    let mut limits = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+    let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
+    // SAFETY: as above; the device has VK_KHR_acceleration_structure, whose properties these are.
+    unsafe { instance.get_physical_device_properties2(pd, &mut props) };
+    usable.then_some(RayQueryLimits {
+        max_instances: limits.max_instance_count,
+        max_primitives: limits.max_primitive_count,
+        max_geometries: limits.max_geometry_count,
+        scratch_alignment: limits.min_acceleration_structure_scratch_offset_alignment as u64,
+    })
 }
 
 pub(super) fn pick_device(
@@ -169,6 +218,10 @@ pub(super) fn pick_device(
             unusable.push(format!("{name} (no {})", missing.to_string_lossy()));
             continue;
         }
+        let ray_query = match RAY_QUERY_EXTENSIONS.iter().all(|e| has(e)) {
+            true => ray_query_limits(instance, pd),
+            false => None,
+        };
         let info = DeviceInfo {
             name,
             kind: format!("{:?}", props.device_type),
@@ -187,6 +240,7 @@ pub(super) fn pick_device(
             max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
             max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
             subgroup_size: subgroups.subgroup_size,
+            ray_query,
         };
         candidates.push((
             device_rank(props.device_type),

@@ -13,6 +13,8 @@ pub enum GpuError {
     NoValidationLayer,
     #[error("the validation layer does not offer VK_EXT_validation_features, which fovea needs to turn on its synchronization checks: install a newer vulkan-validationlayers (`sudo apt-get install -t bookworm-backports vulkan-validationlayers`), or set FOVEA_VALIDATION=core for the core checks only")]
     NoValidationFeatures,
+    #[error("--traversal rayquery needs ray queries, and the Vulkan device '{device}' does not offer them (VK_KHR_ray_query and VK_KHR_acceleration_structure with their features): use --traversal software, or --traversal auto to use them where they exist")]
+    NoRayQueries { device: String },
     /// An environment variable fovea reads has a value it cannot use.
     #[error("{var}='{value}' {problem}")]
     BadEnvironment {

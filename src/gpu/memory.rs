@@ -117,6 +117,15 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// The buffer's GPU address (it needs SHADER_DEVICE_ADDRESS usage, and the context ray
+    /// queries, which enable buffer device addresses).
+    pub(crate) fn device_address(&self) -> vk::DeviceAddress {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(self.buffer);
+        // SAFETY: the buffer is alive, created with SHADER_DEVICE_ADDRESS usage by its caller,
+        // and bound to memory allocated with the device-address flag (see GpuContext).
+        unsafe { self.ctx.device.get_buffer_device_address(&info) }
+    }
+
     /// Host-visible buffers only: copies `data` at `offset`.
     pub fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), GpuError> {
         let slice = self

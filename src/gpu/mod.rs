@@ -1,6 +1,7 @@
 //! The only module that calls Vulkan (ash). Everything above it speaks in scenes, frames and
 //! passes; everything here owns raw handles and destroys them on drop.
 
+mod accel;
 mod context;
 mod crash_markers;
 mod device_pick;
@@ -18,13 +19,16 @@ mod timestamps;
 mod validation;
 pub use validation::ValidationLog;
 
+pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
 pub use context::{ContextNeeds, GpuContext, VulkanCreator};
-pub use device_pick::DeviceInfo;
+pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage, TexelView};
 pub use memory_budget::PlannedAllocation;
-pub use options::{GpuOptions, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR};
+pub use options::{
+    GpuOptions, RayQueries, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR,
+};
 pub use pipeline::{ComputePipeline, PipelineLayout};
 pub use present::{ExternalImage, SourceRect};
 pub use swapchain::{

@@ -29,9 +29,24 @@ pub struct GpuOptions {
     /// device. A real device loss was not reproduced while writing this. Set by
     /// `FOVEA_INJECT_DEVICE_LOST`.
     pub inject_device_lost: Option<String>,
+    /// Whether to enable ray queries (VK_KHR_ray_query, for `--traversal rayquery|auto`).
+    pub ray_queries: RayQueries,
     /// A bad environment value seen by [`Self::from_env`]: (variable, value, problem).
     /// [`GpuContext::new`](super::GpuContext::new) reports it before touching Vulkan.
     pub(super) env_problem: Option<(&'static str, String, String)>,
+}
+
+/// Whether the context enables ray queries (and acceleration structures) on its device.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RayQueries {
+    /// Not enabled: only the software traversal can run.
+    Off,
+    /// Enabled when the device has them (`--traversal auto`); the renderer traces with them
+    /// by default on a GPU, not on a CPU driver (see GpuContext::prefers_ray_queries).
+    #[default]
+    IfAvailable,
+    /// Enabled, and a device without them is an error that says so (`--traversal rayquery`).
+    Required,
 }
 
 /// The validation layer's optional checks, switched on through VK_EXT_validation_features

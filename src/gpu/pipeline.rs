@@ -1,7 +1,8 @@
-//! The one descriptor-set layout every fovea compute shader uses (all of shared.h's bindings),
-//! its pipeline layout with the push constants, and compute pipelines with specialization
-//! constants.
+//! The one descriptor-set layout every fovea compute shader uses (all of shared.h's bindings,
+//! and BINDING_TLAS where the context has ray queries), its pipeline layout with the push
+//! constants, and compute pipelines with specialization constants.
 
+use super::accel::AccelStructures;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::memory::{Buffer, StorageImage, TexelView};
@@ -42,15 +43,24 @@ pub struct PipelineLayout {
 impl PipelineLayout {
     pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, GpuError> {
         let device = &ctx.device;
-        let bindings: Vec<_> = (0..BINDING_COUNT)
-            .map(|b| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(b)
-                    .descriptor_type(descriptor_type(b))
-                    .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            })
+        let binding = |b, kind| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(b)
+                .descriptor_type(kind)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+        };
+        let mut bindings: Vec<_> = (0..BINDING_COUNT)
+            .map(|b| binding(b, descriptor_type(b)))
             .collect();
+        // A device without ray queries knows no such descriptor type.
+        let ray_query = ctx.info.ray_query.is_some();
+        if ray_query {
+            bindings.push(binding(
+                BINDING_TLAS,
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+            ));
+        }
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid device and create info.
         let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
@@ -72,7 +82,7 @@ impl PipelineLayout {
         // SAFETY: the set layout is alive.
         this.layout =
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
-        let sizes = [
+        let mut sizes = vec![
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
                 descriptor_count: BINDING_COUNT,
@@ -86,6 +96,12 @@ impl PipelineLayout {
                 descriptor_count: TEXEL_BINDINGS.len() as u32,
             },
         ];
+        if ray_query {
+            sizes.push(vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                descriptor_count: 1,
+            });
+        }
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -152,6 +168,23 @@ impl PipelineLayout {
         }));
         // SAFETY: the set is not in use by a pending command buffer (callers wait per frame).
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Points BINDING_TLAS at `accel`'s TLAS (the layout has it: the context has ray queries,
+    /// which is what built `accel`).
+    pub fn bind_tlas(&self, accel: &AccelStructures) {
+        let structures = [accel.tlas];
+        let mut tlas = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&structures);
+        let mut write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(BINDING_TLAS)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .push_next(&mut tlas);
+        // The count is the chained structure's; the builder leaves it at 0.
+        write.descriptor_count = 1;
+        // SAFETY: as in bind; the TLAS is alive and built.
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 }
 

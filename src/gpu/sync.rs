@@ -55,6 +55,25 @@ impl Scope {
     /// An indirect dispatch reading its workgroup counts.
     pub const INDIRECT_READ: Scope =
         Scope::new(Stage::DRAW_INDIRECT, Access::INDIRECT_COMMAND_READ);
+    /// Acceleration-structure builds writing their structures (and scratch).
+    pub const AS_BUILD_WRITE: Scope = Scope::new(
+        Stage::ACCELERATION_STRUCTURE_BUILD_KHR,
+        Access::ACCELERATION_STRUCTURE_WRITE_KHR,
+    );
+    /// Acceleration-structure builds reading built structures (a TLAS build its BLASes) and
+    /// reusing scratch.
+    pub const AS_BUILD_READ_WRITE: Scope = Scope::new(
+        Stage::ACCELERATION_STRUCTURE_BUILD_KHR,
+        Access::from_raw(
+            Access::ACCELERATION_STRUCTURE_READ_KHR.as_raw()
+                | Access::ACCELERATION_STRUCTURE_WRITE_KHR.as_raw(),
+        ),
+    );
+    /// Compute shaders tracing ray queries through acceleration structures.
+    pub const COMPUTE_AS_READ: Scope = Scope::new(
+        Stage::COMPUTE_SHADER,
+        Access::ACCELERATION_STRUCTURE_READ_KHR,
+    );
     /// The host reading mapped memory after the submission's fence.
     pub const HOST_READ: Scope = Scope::new(Stage::HOST, Access::HOST_READ);
     /// An image handed to someone else (a compositor, a presentation engine), who orders its

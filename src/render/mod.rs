@@ -14,7 +14,7 @@ mod targets;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use renderer::{LatticePoint, Renderer};
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
-pub use settings::{Integrator, RenderSettings, MAX_SIDE};
+pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
 
 use crate::gpu::GpuError;
 use crate::scene::SceneError;

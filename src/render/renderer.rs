@@ -8,11 +8,12 @@ use super::eye_params::{eye_params, EyeParams};
 use super::frame::{Frame, FrameStats, TraversalCounts};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
-use super::settings::RenderSettings;
+use super::settings::{RenderSettings, Traversal};
 use super::targets::{FrameTargets, TargetKey};
 use super::RenderError;
 use crate::foveation::{FoveationConfig, Gaze, VisibilityMask};
 use crate::gpu::shared::*;
+use crate::gpu::AccelStructures;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation, Scope,
     StorageImage, TexelView, TimestampPool,
@@ -35,6 +36,8 @@ struct SceneBuffers {
     emitters: TexelView,
     _storage: [Buffer; 5],
     info: Buffer,
+    /// The same scene for ray queries, where the context has them.
+    accel: Option<AccelStructures>,
 }
 
 /// A lattice point whose value [`Renderer::compose`] asks for: eye, layer (innermost first)
@@ -49,14 +52,15 @@ pub struct LatticePoint {
 
 pub struct Renderer {
     // Field order is drop order: every resource before the context it borrows.
-    /// Trace pipelines by (integrator, max bounces, profiling).
-    trace: HashMap<(u32, u32, bool), ComputePipeline>,
+    /// Trace pipelines by (integrator, max bounces, profiling, traversal).
+    trace: HashMap<TraceKey, ComputePipeline>,
     /// Whether the trace counts its traversal work (FrameStats::traversal).
     profile_traversal: bool,
+    traversal: Traversal,
     plan: Option<ComputePipeline>,
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
-    raycast: Option<ComputePipeline>,
+    raycast: HashMap<Traversal, ComputePipeline>,
     timestamps: TimestampPool,
     targets: Option<FrameTargets>,
     /// The targets used before the current ones, kept so that alternating between two
@@ -78,6 +82,8 @@ pub struct Renderer {
     features: SceneFeatures,
     ctx: Arc<GpuContext>,
 }
+
+type TraceKey = (u32, u32, bool, Traversal);
 
 /// Timed passes per frame: plan, trace and resolve for each of two eyes and the dispatch
 /// sizes, with room to spare.
@@ -106,14 +112,27 @@ impl Renderer {
             emitters: TexelView::new(&emitters, "emitters")?,
             _storage: [nodes, triangles, objects, materials, emitters],
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
+            accel: match ctx.info.ray_query {
+                Some(_) => Some(AccelStructures::build(
+                    ctx,
+                    &gpu.triangles,
+                    &gpu.accel_objects(),
+                )?),
+                None => None,
+            },
         };
+        let layout = PipelineLayout::new(ctx)?;
+        if let Some(accel) = &buffers.accel {
+            layout.bind_tlas(accel);
+        }
         Ok(Self {
             trace: HashMap::new(),
             profile_traversal: false,
+            traversal: Traversal::preferred(ctx),
             plan: None,
             plan_args: None,
             resolve: None,
-            raycast: None,
+            raycast: HashMap::new(),
             timestamps: TimestampPool::new(ctx, TIMED_PASSES)?,
             targets: None,
             spare_targets: None,
@@ -124,7 +143,7 @@ impl Renderer {
             visibility_stale: false,
             counters: FrameCounters::new(ctx)?,
             buffers,
-            layout: PipelineLayout::new(ctx)?,
+            layout,
             features: gpu.features,
             ctx: ctx.clone(),
         })
@@ -198,6 +217,38 @@ impl Renderer {
         self.profile_traversal = on;
     }
 
+    /// The traversal the next frames (and ray casts) use. Ray queries need a context that
+    /// enabled them (GpuOptions::ray_queries) on a device that has them.
+    pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), RenderError> {
+        if traversal == Traversal::RayQuery && self.buffers.accel.is_none() {
+            return Err(RenderError::Settings(format!(
+                "the ray-query traversal needs ray queries, which the device '{}' does not \
+                 offer (or --traversal software turned off): use the software traversal",
+                self.ctx.info.name
+            )));
+        }
+        self.traversal = traversal;
+        Ok(())
+    }
+
+    pub fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    /// The traversals this renderer can run: software, and ray queries where enabled.
+    pub fn traversals(&self) -> Vec<Traversal> {
+        let mut all = vec![Traversal::Software];
+        if self.buffers.accel.is_some() {
+            all.push(Traversal::RayQuery);
+        }
+        all
+    }
+
+    /// Bytes of the ray-query acceleration structures (0 without them).
+    pub fn accel_bytes(&self) -> u64 {
+        self.buffers.accel.as_ref().map_or(0, |a| a.bytes())
+    }
+
     fn specialization(&self, integrator: u32, max_bounces: u32) -> Vec<(u32, u32)> {
         let f = self.features;
         vec![
@@ -211,17 +262,33 @@ impl Renderer {
         ]
     }
 
-    fn trace_key(&self, settings: &RenderSettings) -> (u32, u32, bool) {
+    fn trace_key(&self, settings: &RenderSettings) -> TraceKey {
         let s = settings;
-        (s.integrator.id(), s.max_bounces, self.profile_traversal)
+        (
+            s.integrator.id(),
+            s.max_bounces,
+            self.profile_traversal,
+            self.traversal,
+        )
     }
 
     fn ensure_pipelines(&mut self, settings: &RenderSettings) -> Result<(), RenderError> {
         let key = self.trace_key(settings);
+        if key.2 && key.3 == Traversal::RayQuery {
+            return Err(RenderError::Settings(
+                "the traversal profile counts the software traversal's work (the driver's \
+                 ray queries have no counters of ours): use --traversal software with it"
+                    .into(),
+            ));
+        }
         if !self.trace.contains_key(&key) {
             let mut spec = self.specialization(key.0, key.1);
             spec.push((SPEC_PROFILE, key.2 as u32));
-            let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", shaders::TRACE, &spec)?;
+            let spirv = match key.3 {
+                Traversal::Software => shaders::TRACE,
+                Traversal::RayQuery => shaders::TRACE_RQ,
+            };
+            let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", spirv, &spec)?;
             self.trace.insert(key, p);
         }
         for (slot, name, spirv) in [
@@ -494,15 +561,14 @@ impl Renderer {
         &mut self,
         rays: &[GpuProbeRay],
     ) -> Result<(Vec<GpuProbeHit>, u64), RenderError> {
-        if self.raycast.is_none() {
+        if !self.raycast.contains_key(&self.traversal) {
             let spec = self.specialization(INTEGRATOR_PT, 0);
-            self.raycast = Some(ComputePipeline::new(
-                &self.ctx,
-                &self.layout,
-                "raycast",
-                shaders::RAYCAST,
-                &spec,
-            )?);
+            let spirv = match self.traversal {
+                Traversal::Software => shaders::RAYCAST,
+                Traversal::RayQuery => shaders::RAYCAST_RQ,
+            };
+            let pipeline = ComputePipeline::new(&self.ctx, &self.layout, "raycast", spirv, &spec)?;
+            self.raycast.insert(self.traversal, pipeline);
         }
         let hit_bytes = std::mem::size_of_val(rays) as u64 / 2;
         self.probe = None;
@@ -535,7 +601,7 @@ impl Renderer {
             ..Default::default()
         };
         let groups = [(rays.len() as u32).div_ceil(PROBE_WORKGROUP_SIZE), 1, 1];
-        let pipeline = self.raycast.as_ref().expect("created above");
+        let pipeline = &self.raycast[&self.traversal];
         let layout = &self.layout;
         let ctx = &self.ctx;
         let counters = &self.counters;

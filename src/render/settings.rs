@@ -23,6 +23,46 @@ impl Integrator {
     }
 }
 
+/// How the trace finds what a ray hits: the same scene, the same shaders, two traversals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Traversal {
+    /// fovea's own two-level CWBVH traversal (glsl/bvh.glsl): runs on every device.
+    Software,
+    /// VK_KHR_ray_query through the driver's acceleration structures (glsl/ray_query.glsl):
+    /// the GPU's ray-tracing hardware where it has some.
+    RayQuery,
+}
+
+impl Traversal {
+    /// The traversal a renderer on `ctx` starts with: ray queries where the context prefers
+    /// them (GpuContext::prefers_ray_queries), else software.
+    pub fn preferred(ctx: &crate::gpu::GpuContext) -> Traversal {
+        match ctx.prefers_ray_queries() {
+            true => Traversal::RayQuery,
+            false => Traversal::Software,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::Software => "software",
+            Traversal::RayQuery => "rayquery",
+        }
+    }
+}
+
+/// `--traversal`: one of the traversals, or the best the device has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum TraversalChoice {
+    Software,
+    Rayquery,
+    /// Ray queries on a GPU that has them; software elsewhere (on a CPU driver such as
+    /// lavapipe the driver's ray queries are slower than fovea's own traversal).
+    #[default]
+    Auto,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     pub width: u32,

@@ -4,6 +4,7 @@
 
 use super::{Mesh, Scene, SceneError, SceneFeatures};
 use crate::gpu::shared::*;
+use crate::gpu::AccelObject;
 use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
@@ -256,6 +257,30 @@ impl GpuScene {
         [self.blas_nodes.as_slice(), self.tlas_nodes.as_slice()].concat()
     }
 
+    /// The objects as the ray-query traversal's acceleration structures hold them (in
+    /// OBJECTS' order: an instance's custom index is its object index).
+    pub fn accel_objects(&self) -> Vec<AccelObject> {
+        self.objects
+            .iter()
+            .map(|ob| match ob.kind {
+                KIND_INSTANCE => AccelObject::Mesh {
+                    first: ob.triangle_base,
+                    count: ob.triangle_count,
+                    to_world: [
+                        ob.object_to_world0,
+                        ob.object_to_world1,
+                        ob.object_to_world2,
+                    ],
+                },
+                KIND_BOX => padded_bounds([ob.a[0], ob.a[1], ob.a[2]], [ob.b[0], ob.b[1], ob.b[2]]),
+                _ => {
+                    let (c, r) = ([ob.a[0], ob.a[1], ob.a[2]], ob.a[3]);
+                    padded_bounds(c.map(|x| x - r), c.map(|x| x + r))
+                }
+            })
+            .collect()
+    }
+
     /// Bytes the scene occupies on the GPU.
     pub fn byte_size(&self) -> u64 {
         (std::mem::size_of_val(self.blas_nodes.as_slice())
@@ -264,6 +289,18 @@ impl GpuScene {
             + std::mem::size_of_val(self.objects.as_slice())
             + std::mem::size_of_val(self.materials.as_slice())
             + std::mem::size_of_val(self.emitters.as_slice())) as u64
+    }
+}
+
+/// A box or sphere's bounds for the ray-query traversal, grown by a little more than float
+/// rounding (of c - r, and of the driver's slab test on a flat box), so the driver reports
+/// every ray that the shader's exact test would hit; a few more candidates cost nothing.
+fn padded_bounds(min: [f32; 3], max: [f32; 3]) -> AccelObject {
+    let scale = min.iter().chain(&max).fold(1.0f32, |m, x| m.max(x.abs()));
+    let pad = scale * 1e-5;
+    AccelObject::Bounds {
+        min: min.map(|x| x - pad),
+        max: max.map(|x| x + pad),
     }
 }
 

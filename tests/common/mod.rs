@@ -3,6 +3,8 @@
 
 #![allow(dead_code)]
 
+pub mod rays;
+
 use fovea::gpu::{GpuContext, GpuOptions};
 use fovea::render::{Frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::Scene;

@@ -1,0 +1,68 @@
+// trace_scene through VK_KHR_ray_query: the driver's (or the GPU's ray-tracing hardware's)
+// traversal of the acceleration structures src/gpu/accel.rs builds from the same scene
+// arrays. Included by bvh.glsl when compiled with RAY_QUERY (build.rs's *_rq shaders), in
+// place of the software traversal; everything else in the shaders is the same.
+//
+// The TLAS has one instance per object, its custom index the object's index in OBJECTS, so a
+// hit names the same object as the software traversal's:
+// - a mesh instance's BLAS is its mesh's triangles, in TRIANGLES' leaf order, with the
+//   instance's object-to-world transform: TRIANGLES index = triangle_base + primitive index;
+// - a box or a sphere is a BLAS of one AABB (its world bounds, identity transform), whose
+//   candidates this shader tests with the software traversal's intersect_box/_sphere.
+#ifndef FOVEA_RAY_QUERY_GLSL
+#define FOVEA_RAY_QUERY_GLSL
+#extension GL_EXT_ray_query : require
+
+layout(set = 0, binding = BINDING_TLAS) uniform accelerationStructureEXT tlas;
+
+// The largest finite float: a ray query's t_max must be a number (INF is how the integrators
+// say "no limit").
+const float RAY_QUERY_T_LIMIT = 3.4028235e38;
+
+Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
+    Hit hit;
+    hit.t = INF;
+    hit.object = NO_EMITTER;
+    hit.primitive = NO_EMITTER;
+    hit.overflow = false; // the driver's traversal has no stack of ours to overflow
+    if (!(HAS_TRIANGLES || HAS_BOXES || HAS_SPHERES) || scene_info.object_count == 0u) return hit;
+    vec3 sd = safe_direction(d);
+    vec3 inv_d = 1.0 / sd;
+    // Triangles are opaque: the driver commits the closest one itself, and only box and
+    // sphere candidates come back to the loop below. A shadow ray stops at its first hit.
+    uint flags = gl_RayFlagsOpaqueEXT | (any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
+    rayQueryEXT q;
+    rayQueryInitializeEXT(q, tlas, flags, 0xffu, o, t_min, d, min(t_max, RAY_QUERY_T_LIMIT));
+    while (rayQueryProceedEXT(q)) {
+        if (rayQueryGetIntersectionTypeEXT(q, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
+        uint index = rayQueryGetIntersectionInstanceCustomIndexEXT(q, false);
+        // The closest hit so far bounds the candidate, as t_max does in the software loop.
+        float bound = rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT
+                          ? t_max : rayQueryGetIntersectionTEXT(q, true);
+        uint kind = load_object_kind(index);
+        GpuObject ob = load_object(index);
+        float t = INF;
+        if (HAS_BOXES && kind == KIND_BOX) {
+            t = intersect_box(o, inv_d, ob.a.xyz, ob.b.xyz, t_min, bound);
+        } else if (HAS_SPHERES && kind == KIND_SPHERE) {
+            t = intersect_sphere(o, sd, ob.a.xyz, ob.a.w, t_min, bound);
+        }
+        if (t < bound) {
+            rayQueryGenerateIntersectionEXT(q, t);
+            if (any_hit) {
+                rayQueryTerminateEXT(q);
+                break;
+            }
+        }
+    }
+    uint committed = rayQueryGetIntersectionTypeEXT(q, true);
+    if (committed == gl_RayQueryCommittedIntersectionNoneEXT) return hit;
+    hit.t = rayQueryGetIntersectionTEXT(q, true);
+    hit.object = rayQueryGetIntersectionInstanceCustomIndexEXT(q, true);
+    if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
+        hit.primitive = load_object_ids(hit.object).w + rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
+    }
+    return hit;
+}
+
+#endif
