@@ -190,9 +190,10 @@ fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
     assert!(identical > 0.5 && identical < 100.0, "{text}");
 }
 
-/// `render --bench --json` writes what the table shows: a record per built-in scene and mode
-/// with the medians, the same GPU ms the table prints (to its 0.1 ms), the regular frame's
-/// samples equal to its pixels × spp, and the trace part of each frame's time.
+/// `render --bench --json` writes what the table shows: a record per built-in scene, mode and
+/// traversal (`--traversal auto` measures both where the device has ray queries, as lavapipe
+/// does) with the medians, the same GPU ms the table prints (to its 0.1 ms), the regular
+/// frame's samples equal to its pixels × spp, and the trace part of each frame's time.
 #[test]
 fn render_bench_json_holds_the_table() {
     let dir = std::env::temp_dir().join(format!("fovea-cli-json-{}", std::process::id()));
@@ -219,23 +220,27 @@ fn render_bench_json_holds_the_table() {
         serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
     let records = json["records"].as_array().unwrap();
     let scenes = fovea::scene::builtin::BUILTIN_SCENES;
-    assert_eq!(records.len(), scenes.len() * 3, "{json:#}");
-    for (name, _) in scenes {
-        // The table's row: scene, then regular, forward and corner GPU ms.
+    let traversals = ["software", "rayquery"];
+    assert_eq!(
+        records.len(),
+        scenes.len() * 3 * traversals.len(),
+        "{json:#}"
+    );
+    for ((name, _), traversal) in scenes.iter().flat_map(|s| traversals.map(|t| (s, t))) {
+        // The table's row: scene, traversal, then regular, forward and corner GPU ms.
         let row: Vec<&str> = text
             .lines()
-            .find(|l| l.split_whitespace().next() == Some(name))
-            .unwrap_or_else(|| panic!("no table row for {name}:\n{text}"))
-            .split_whitespace()
-            .collect();
+            .map(|l| l.split_whitespace().collect::<Vec<_>>())
+            .find(|w| w.len() > 2 && w[0] == *name && w[1] == traversal)
+            .unwrap_or_else(|| panic!("no table row for {name} {traversal}:\n{text}"));
         for (column, mode) in ["regular", "forward", "corner"].iter().enumerate() {
             let r = records
                 .iter()
-                .find(|r| r["scene"] == *name && r["mode"] == *mode)
-                .unwrap_or_else(|| panic!("no record for {name} {mode}: {json:#}"));
+                .find(|r| r["scene"] == *name && r["mode"] == *mode && r["traversal"] == traversal)
+                .unwrap_or_else(|| panic!("no record for {name} {mode} {traversal}: {json:#}"));
             let gpu_ms = r["gpu_ms"].as_f64().unwrap();
             let trace_ms = r["trace_ms"].as_f64().unwrap();
-            let printed: f64 = row[1 + column].parse().unwrap();
+            let printed: f64 = row[2 + column].parse().unwrap();
             assert!(
                 (gpu_ms - printed).abs() <= 0.05 + 1e-9,
                 "{name} {mode}: {gpu_ms} vs {printed}"
@@ -248,5 +253,42 @@ fn render_bench_json_holds_the_table() {
     }
     assert_eq!(json["width"], 16);
     assert_eq!(json["spp"], 2);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--traversal` picks what traces the frame, and says so; the traversal profile counts the
+/// software traversal's work, so asking it of ray queries is refused with a message.
+#[test]
+fn traversal_flag_picks_the_traversal_and_the_profile_needs_software() {
+    let dir = std::env::temp_dir().join(format!("fovea-cli-traversal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("t.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "cubes-441",
+            "--width",
+            "16",
+            "--height",
+            "16",
+        ];
+        args.extend(["--spp", "1", "--out", out.to_str().unwrap()]);
+        args.extend(extra);
+        fovea(&args)
+    };
+    for (flag, printed) in [
+        ("software", "software traversal"),
+        ("rayquery", "rayquery traversal"),
+        // lavapipe is a CPU driver: auto keeps the software traversal there.
+        ("auto", "software traversal"),
+    ] {
+        let (ok, text) = render(&["--traversal", flag]);
+        assert!(ok && text.contains(printed), "--traversal {flag}: {text}");
+    }
+    let (ok, text) = render(&["--traversal", "rayquery", "--profile-traversal"]);
+    assert!(!ok && text.contains("use --traversal software"), "{text}");
+    let (ok, text) = render(&["--traversal", "sideways"]);
+    assert!(!ok && text.contains("software"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }

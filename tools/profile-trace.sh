@@ -26,14 +26,15 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 echo "scene,gpu_ms,msamples_per_s,mrays_per_s,rays_per_path,tlas_nodes,blas_nodes,triangles,primitives,tlas_steps,blas_steps,tlas_occupancy,blas_occupancy" > "$out"
-size=(--width 512 --height 512 --spp 16 --max-bounces 8)
-# "scene  gpu ms  Msamples/s  Mrays/s" rows, one per built-in scene.
+# The counters are the software traversal's (ray queries are the driver's, uncounted).
+size=(--width 512 --height 512 --spp 16 --max-bounces 8 --traversal software)
+# "scene  traversal  gpu ms  Msamples/s  Mrays/s" rows, one per built-in scene.
 "$fovea" render --bench "${size[@]}" --bench-frames 3 "$@" | tee "$work/bench.txt"
 scenes=$("$fovea" scenes | awk 'NR > 1 { print $1 }')
 for scene in $scenes; do
-  timing=$(awk -v s="$scene" '$1 == s && NF == 4 { print $2 "," $3 "," $4 }' "$work/bench.txt")
+  timing=$(awk -v s="$scene" '$1 == s && NF == 5 { print $3 "," $4 "," $5 }' "$work/bench.txt")
   profiled=$("$fovea" render --scene "$scene" "${size[@]}" "$@" --out "$work/profiled.png" --profile-traversal)
-  # "512x512 Pt: 123.45 ms GPU, 1.23 Msamples/s, N rays (...)"
+  # "512x512 Pt, software traversal: 123.45 ms GPU, 1.23 Msamples/s, N rays (...)"
   rays=$(grep -E '^[0-9]+x[0-9]+ .* ms GPU' <<< "$profiled" | sed -E 's/.* ([0-9]+) rays .*/\1/')
   rays_per_path=$(awk -v r="$rays" -v p=$((512 * 512 * 16)) 'BEGIN { printf "%.3f", r / p }')
   per_ray=$(grep '^traversal per ray:' <<< "$profiled" | grep -oE '[0-9]+\.[0-9]+' | paste -sd, -)

@@ -315,10 +315,11 @@ fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings, su
         println!("gpu pass {pass}: {ms:.2} ms");
     }
     println!(
-        "{}x{} {:?}: {:.2} ms GPU, {:.2} Msamples/s, {} rays ({:.2} Mrays/s)",
+        "{}x{} {:?}, {} traversal: {:.2} ms GPU, {:.2} Msamples/s, {} rays ({:.2} Mrays/s)",
         frame.width,
         frame.height,
         settings.integrator,
+        s.traced_with.name(),
         s.gpu_ms(),
         s.msamples_per_s(),
         s.rays,

@@ -2,7 +2,9 @@
 //! when a foveation config is given — foveated with forward and corner gaze, measured in one
 //! run with the modes interleaved frame by frame (this machine's speed drifts). Reports the
 //! ray-count ratio (the ideal speed-up) beside the measured GPU-time ratio. With
-//! `--gaze-trace`, a fourth mode follows the trace: measured frame k takes row k.
+//! `--gaze-trace`, a fourth mode follows the trace: measured frame k takes row k. With
+//! `--traversal auto` every traversal the device has is measured (software, and ray queries
+//! where enabled), interleaved like the modes; a named traversal measures only that one.
 
 use super::check_validation;
 use super::render::{render_named, with_source_gaze, RenderArgs};
@@ -10,7 +12,9 @@ use anyhow::{Context, Result};
 use fovea::bench::stats::median;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
-use fovea::render::{eye_views, DebugView, FrameRequest, RenderSettings, Renderer};
+use fovea::render::{
+    eye_views, DebugView, FrameRequest, RenderSettings, Renderer, Traversal, TraversalChoice,
+};
 use fovea::scene::{self, builtin::BUILTIN_SCENES};
 use std::path::Path;
 use std::sync::Arc;
@@ -18,6 +22,7 @@ use std::sync::Arc;
 /// One way of rendering a scene, and what its frames cost.
 struct Mode {
     name: &'static str,
+    traversal: Traversal,
     config: FoveationConfig,
     /// `None`: the gaze trace's row of the frame.
     gaze: Option<Gaze>,
@@ -25,17 +30,26 @@ struct Mode {
     trace_ms: Vec<f64>,
     /// Camera paths per measured frame.
     samples: Vec<u64>,
+    /// Rays (camera, bounce and shadow) of the last measured frame.
+    rays: u64,
 }
 
 impl Mode {
-    fn new(name: &'static str, config: FoveationConfig, gaze: Option<Gaze>) -> Self {
+    fn new(
+        name: &'static str,
+        traversal: Traversal,
+        config: FoveationConfig,
+        gaze: Option<Gaze>,
+    ) -> Self {
         Self {
             name,
+            traversal,
             config,
             gaze,
             gpu_ms: Vec::new(),
             trace_ms: Vec::new(),
             samples: Vec::new(),
+            rays: 0,
         }
     }
 
@@ -45,6 +59,7 @@ impl Mode {
         serde_json::json!({
             "scene": scene,
             "mode": self.name,
+            "traversal": self.traversal.name(),
             "gpu_ms": median(&self.gpu_ms),
             "trace_ms": median(&self.trace_ms),
             "samples": median(&samples),
@@ -85,8 +100,9 @@ pub fn run(
     );
     if foveated {
         println!(
-            "{:<12} {:>10} {:>10} {:>10} | {:>8} {:>8} {:>5} | {:>8} {:>8} {:>5}",
+            "{:<12} {:<9} {:>10} {:>10} {:>10} | {:>8} {:>8} {:>5} | {:>8} {:>8} {:>5}",
             "scene",
+            "traversal",
             "regular",
             "forward",
             "corner",
@@ -99,8 +115,8 @@ pub fn run(
         );
     } else {
         println!(
-            "{:<12} {:>10} {:>10} {:>12}",
-            "scene", "gpu ms", "Msamples/s", "Mrays/s"
+            "{:<12} {:<9} {:>10} {:>10} {:>12}",
+            "scene", "traversal", "gpu ms", "Msamples/s", "Mrays/s"
         );
     }
     let aspect = settings.width as f32 / settings.height as f32;
@@ -108,31 +124,41 @@ pub fn run(
     for (name, _) in BUILTIN_SCENES {
         let scene = scene::builtin::builtin(name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene)?;
-        let mut modes = vec![Mode::new(
-            "regular",
-            FoveationConfig::regular(settings.spp),
-            Some(Gaze::Forward),
-        )];
-        if foveated {
-            for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
-                modes.push(Mode::new(name, config.clone(), Some(gaze)));
+        let traversals = match args.gpu.traversal {
+            TraversalChoice::Auto => renderer.traversals(),
+            _ => vec![renderer.traversal()],
+        };
+        // Every scene replays the trace from its first row (per traversal).
+        let mut replays = Vec::new();
+        let mut modes = Vec::new();
+        for &traversal in &traversals {
+            modes.push(Mode::new(
+                "regular",
+                traversal,
+                FoveationConfig::regular(settings.spp),
+                Some(Gaze::Forward),
+            ));
+            if foveated {
+                for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
+                    modes.push(Mode::new(name, traversal, config.clone(), Some(gaze)));
+                }
+            }
+            if let Some(trace) = &trace {
+                modes.push(Mode::new("trace", traversal, config.clone(), None));
+                replays.push(TraceReplay::new(trace.clone()));
             }
         }
-        // Every scene replays the trace from its first row.
-        let mut replay = trace.clone().map(TraceReplay::new);
-        if replay.is_some() {
-            modes.push(Mode::new("trace", config.clone(), None));
-        }
-        let mut rays = 0;
         // Frame 0 of each mode is a warm-up (pipeline compilation, first-touch memory).
         for frame_index in 0..=args.bench_frames {
+            let mut next_replay = replays.iter_mut();
             for mode in &mut modes {
+                renderer.set_traversal(mode.traversal)?;
                 let gaze = GazeChoice {
                     left: mode.gaze.unwrap_or(Gaze::Forward),
                     right: mode.gaze.unwrap_or(Gaze::Forward),
                 };
                 let mut eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, gaze);
-                if let (None, Some(replay)) = (mode.gaze, &mut replay) {
+                if let (None, Some(replay)) = (mode.gaze, next_replay.next()) {
                     // The warm-up frame uses row 0 too.
                     let row = frame_index.saturating_sub(1) as u64;
                     eyes = with_source_gaze(&eyes, replay, row, settings);
@@ -157,66 +183,76 @@ pub fn run(
                         .sum(),
                 );
                 mode.samples.push(s.paths);
-                if mode.name == "regular" {
-                    rays = s.rays;
-                }
+                mode.rays = s.rays;
             }
         }
         if let Some(path) = &args.json {
             records.extend(modes.iter().map(|m| m.record(name)));
             write_json(path, ctx, args, settings, &records)?;
         }
-        let ms: Vec<f64> = modes.iter().map(|m| median(&m.gpu_ms)).collect();
-        if foveated {
-            let ratio = |m: &Mode| modes[0].mean_samples() / m.mean_samples().max(1.0);
-            let (fwd, cor) = (&modes[1], &modes[2]);
-            println!(
-                "{:<12} {:>10.1} {:>10.1} {:>10.1} | {:>8.2} {:>8.2} {:>4.0}% | {:>8.2} {:>8.2} {:>4.0}%",
-                name,
-                ms[0],
-                ms[1],
-                ms[2],
-                ratio(fwd),
-                ms[0] / ms[1],
-                100.0 * ms[0] / ms[1] / ratio(fwd),
-                ratio(cor),
-                ms[0] / ms[2],
-                100.0 * ms[0] / ms[2] / ratio(cor),
-            );
-            for m in &modes[1..] {
-                println!(
-                    "{:<12}   {:<8} samples {:>10.0} (regular {:.0}), trace {:.1} ms, plan+resolve {:.1} ms",
-                    "",
-                    m.name,
-                    m.mean_samples(),
-                    modes[0].mean_samples(),
-                    median(&m.trace_ms),
-                    median(&m.gpu_ms) - median(&m.trace_ms)
-                );
-            }
-            if let Some(m) = modes.get(3) {
-                println!(
-                    "{:<12}   {:<8} {:.1} ms, ideal {:.2}, measured {:.2}, eff {:.0}%",
-                    "",
-                    m.name,
-                    ms[3],
-                    ratio(m),
-                    ms[0] / ms[3],
-                    100.0 * ms[0] / ms[3] / ratio(m)
-                );
-            }
-        } else {
-            let m = &modes[0];
-            println!(
-                "{:<12} {:>10.1} {:>10.2} {:>12.2}",
-                name,
-                ms[0],
-                m.mean_samples() / (ms[0] * 1e3).max(1e-9),
-                rays as f64 / (ms[0] * 1e3).max(1e-9)
-            );
+        for traversal in traversals {
+            let of_traversal: Vec<&Mode> =
+                modes.iter().filter(|m| m.traversal == traversal).collect();
+            print_scene(name, traversal, &of_traversal, foveated);
         }
     }
     check_validation(ctx)
+}
+
+/// Prints one scene's row for one traversal: its modes' median GPU times and ratios.
+fn print_scene(name: &str, traversal: Traversal, modes: &[&Mode], foveated: bool) {
+    let ms: Vec<f64> = modes.iter().map(|m| median(&m.gpu_ms)).collect();
+    let traversal = traversal.name();
+    if foveated {
+        let ratio = |m: &Mode| modes[0].mean_samples() / m.mean_samples().max(1.0);
+        let (fwd, cor) = (modes[1], modes[2]);
+        println!(
+            "{:<12} {:<9} {:>10.1} {:>10.1} {:>10.1} | {:>8.2} {:>8.2} {:>4.0}% | {:>8.2} {:>8.2} {:>4.0}%",
+            name,
+            traversal,
+            ms[0],
+            ms[1],
+            ms[2],
+            ratio(fwd),
+            ms[0] / ms[1],
+            100.0 * ms[0] / ms[1] / ratio(fwd),
+            ratio(cor),
+            ms[0] / ms[2],
+            100.0 * ms[0] / ms[2] / ratio(cor),
+        );
+        for m in &modes[1..] {
+            println!(
+                "{:<12}   {:<8} samples {:>10.0} (regular {:.0}), trace {:.1} ms, plan+resolve {:.1} ms",
+                "",
+                m.name,
+                m.mean_samples(),
+                modes[0].mean_samples(),
+                median(&m.trace_ms),
+                median(&m.gpu_ms) - median(&m.trace_ms)
+            );
+        }
+        if let Some(m) = modes.get(3) {
+            println!(
+                "{:<12}   {:<8} {:.1} ms, ideal {:.2}, measured {:.2}, eff {:.0}%",
+                "",
+                m.name,
+                ms[3],
+                ratio(m),
+                ms[0] / ms[3],
+                100.0 * ms[0] / ms[3] / ratio(m)
+            );
+        }
+    } else {
+        let m = modes[0];
+        println!(
+            "{:<12} {:<9} {:>10.1} {:>10.2} {:>12.2}",
+            name,
+            traversal,
+            ms[0],
+            m.mean_samples() / (ms[0] * 1e3).max(1e-9),
+            m.rays as f64 / (ms[0] * 1e3).max(1e-9)
+        );
+    }
 }
 
 /// Writes the records measured so far, with the device and settings they were measured at.

@@ -1,5 +1,7 @@
 //! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
 
+use super::settings::Traversal;
+
 use crate::gpu::shared::{
     PROFILE_BLAS_GROUP_STEPS, PROFILE_BLAS_LANE_STEPS, PROFILE_BLAS_NODES, PROFILE_PRIMITIVES,
     PROFILE_TLAS_GROUP_STEPS, PROFILE_TLAS_LANE_STEPS, PROFILE_TLAS_NODES, PROFILE_TRIANGLES,
@@ -40,6 +42,8 @@ pub struct FrameStats {
     /// The traversal's work, summed over the eyes, when the renderer profiles
     /// (`Renderer::set_traversal_profile`).
     pub traversal: Option<TraversalCounts>,
+    /// The traversal that traced the frame.
+    pub traced_with: Traversal,
 }
 
 /// What the trace's BVH traversals did in one frame (shared.h's PROFILE_* counters).

@@ -551,6 +551,7 @@ impl Renderer {
                         .iter()
                         .fold(TraversalCounts::default(), |a, &b| a + b)
                 }),
+                traced_with: self.traversal,
             },
         })
     }

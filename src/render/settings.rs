@@ -24,10 +24,13 @@ impl Integrator {
 }
 
 /// How the trace finds what a ray hits: the same scene, the same shaders, two traversals.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Traversal {
     /// fovea's own two-level CWBVH traversal (glsl/bvh.glsl): runs on every device.
+    #[default]
     Software,
     /// VK_KHR_ray_query through the driver's acceleration structures (glsl/ray_query.glsl):
     /// the GPU's ray-tracing hardware where it has some.
