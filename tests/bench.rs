@@ -135,8 +135,15 @@ fn a_quick_run_writes_every_file_and_they_parse() {
             .len(),
         4
     );
+    // lavapipe is a CPU driver: `--traversal auto` measured the software traversal.
+    assert_eq!(summary["parameters"]["traversal"], "software");
     for scene in summary["scenes"].as_array().unwrap() {
         let modes = scene["modes"].as_array().unwrap();
+        // Throughput: paths of a frame over its median GPU time.
+        let paths = modes[0]["paths_per_frame"].as_f64().unwrap();
+        let median_ms = modes[0]["rates"]["ms"]["median"].as_f64().unwrap();
+        let msamples = modes[0]["msamples_per_s"].as_f64().unwrap();
+        assert!((msamples - paths / (median_ms * 1e3)).abs() < 1e-9 * msamples.max(1.0));
         assert_eq!(modes[0]["frames"], FRAMES);
         assert_eq!(modes[1]["frames"], 2 * FRAMES);
         assert!(modes[1]["impact"]["factor"].as_f64().unwrap() > 0.0);
@@ -166,6 +173,7 @@ fn a_quick_run_writes_every_file_and_they_parse() {
         assert!(info.width >= 5 * 40, "five panels side by side");
     }
     assert!(!report.contains("Incomplete run"));
+    assert!(report.contains("software traversal") && report.contains("Msamples/s"));
     // The references were cached: a second run renders none and measures the same errors.
     assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 2);
 }
@@ -264,4 +272,34 @@ fn bad_bench_input_gets_a_clear_error() {
         assert!(text.contains(expected), "{args:?}: {text}");
         assert!(!Path::new(d).exists(), "{args:?} left {d} behind");
     }
+}
+
+/// `--traversal rayquery` measures the run through ray queries and says so in plan.json and
+/// the report; resuming takes the traversal from the plan, so naming one again is refused.
+#[test]
+fn a_ray_query_run_records_its_traversal() {
+    let dir = temp_dir("rayquery");
+    let run = dir.join("run");
+    let (run_s, cache) = (run.to_str().unwrap(), dir.join("references"));
+    let mut args = vec!["bench", "--quick", "--scenes", "cubes-441", "--frames", "1"];
+    args.extend(["--repeats", "1", "--width", "16", "--height", "16"]);
+    args.extend([
+        "--reference-spp",
+        "4",
+        "--sweep-spp",
+        "1",
+        "--sweep-frames",
+        "1",
+    ]);
+    args.extend(["--dir", run_s, "--reference-cache", cache.to_str().unwrap()]);
+    args.extend(["--traversal", "rayquery"]);
+    let (ok, text) = fovea(&args);
+    assert!(ok && text.contains("(rayquery traversal)"), "{text}");
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("plan.json")).unwrap()).unwrap();
+    assert_eq!(plan["traversal"], "rayquery");
+    let report = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(report.contains("rayquery traversal"), "{report}");
+    let (ok, text) = fovea(&["bench", "--resume", run_s, "--traversal", "software"]);
+    assert!(!ok && text.contains("drop --traversal"), "{text}");
 }

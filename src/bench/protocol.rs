@@ -3,7 +3,7 @@
 //! plan is written to `plan.json` first, so `--resume` repeats it exactly.
 
 use crate::foveation::FoveationConfig;
-use crate::render::{FovChoice, Integrator};
+use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
 
 /// The thesis' five scenes (§3.1.1–3.1.4), in its order.
@@ -85,6 +85,10 @@ pub struct BenchPlan {
     /// plan.json without one, so earlier plans still read and compare equal.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gaze_trace: Option<std::path::PathBuf>,
+    /// The traversal that traces every frame (`--traversal`, resolved on the device the run
+    /// started on). Plans written before it existed were software.
+    #[serde(default)]
+    pub traversal: Traversal,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -131,6 +135,7 @@ impl BenchPlan {
             sweep_spp: vec![1, 2, 4, 8, 16],
             sweep_frames: 3,
             gaze_trace: None,
+            traversal: Traversal::Software,
         }
     }
 

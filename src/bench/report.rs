@@ -174,7 +174,7 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
     let _ = writeln!(
         md,
         "Protocol (thesis §3.1): {} frames × {} repeats foveated, {} regular, both eyes at {}×{} per eye, \
-         field of view {}, {} spp, integrator {}, {} bounces, layers {}, occlusion mask {}. Modes of a repeat run interleaved \
+         field of view {}, {} spp, integrator {}, {} bounces, layers {}, occlusion mask {}, {} traversal. Modes of a repeat run interleaved \
          frame by frame after one warm-up frame each. fps per frame = 1000 / GPU time of both eyes' passes \
          (timestamp queries); the thesis' impact factor = mean foveated fps / mean regular fps, its range \
          (μf − σf)/(μr + σr) … (μf + σf)/(μr − σr).\n",
@@ -198,7 +198,8 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
             .join(", "),
         p.foveation
             .occlusion_deg
-            .map_or("none".to_string(), |d| format!("{d}° (error is measured inside it only)"))
+            .map_or("none".to_string(), |d| format!("{d}° (error is measured inside it only)")),
+        p.traversal.name()
     );
 
     let _ = writeln!(md, "## Impact factors beside the thesis'\n");
@@ -257,17 +258,21 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
     let _ = writeln!(md, "## {name}\n");
     let _ = writeln!(
         md,
-        "| mode | frames | fps mean ± std | median ms | p99 ms | plan / trace / resolve ms per eye | CPU ms | paths per frame | impact (range) |"
+        "| mode | frames | fps mean ± std | median ms | p99 ms | plan / trace / resolve ms per eye | CPU ms | paths per frame | Msamples/s | impact (range) |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
     for m in &scene.modes {
         let Some(r) = m.rates else {
-            let _ = writeln!(md, "| {} | 0 | – | – | – | – | – | – | – |", m.mode.name());
+            let _ = writeln!(
+                md,
+                "| {} | 0 | – | – | – | – | – | – | – | – |",
+                m.mode.name()
+            );
             continue;
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} ± {:.2} | {:.2} | {:.2} | {} / {} / {} | {} | {:.0} | {} |",
+            "| {} | {} | {:.2} ± {:.2} | {:.2} | {:.2} | {} / {} / {} | {} | {:.0} | {:.2} | {} |",
             m.mode.name(),
             m.frames,
             r.fps.mean,
@@ -279,6 +284,7 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
             ms(m.resolve_ms),
             ms(m.cpu_ms),
             m.paths_per_frame,
+            m.msamples_per_s.unwrap_or(0.0),
             fmt_impact(m)
         );
     }

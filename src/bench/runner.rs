@@ -215,6 +215,9 @@ pub fn run(
         bar.set_message(format!("{scene_name}: loading"));
         let scene = scene::load(scene_name, aspect)?;
         let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(scene_name))?;
+        renderer
+            .set_traversal(plan.traversal)
+            .map_err(BenchError::render(scene_name))?;
         // The trace mode's entry is its first row's eyes: its warm-up and quality frames.
         let eyes: BTreeMap<Mode, Vec<EyeView>> = plan
             .modes()

@@ -54,6 +54,8 @@ pub struct ModeSummary {
     /// Mean over frames of both eyes' camera paths and rays.
     pub paths_per_frame: f64,
     pub rays_per_frame: f64,
+    /// Throughput: camera paths per second of median frame GPU time, in millions.
+    pub msamples_per_s: Option<f64>,
     /// Foveated fps over regular fps (None for regular).
     pub impact: Option<Impact>,
     pub nonfinite_samples: u64,
@@ -105,6 +107,8 @@ pub fn mode_summary(mode: Mode, rows: &[&FrameRow]) -> ModeSummary {
         resolve_ms: per_eye(|r| r.resolve_ms),
         paths_per_frame: per_frame(|r| r.paths),
         rays_per_frame: per_frame(|r| r.rays),
+        msamples_per_s: frame_rates(&frame_ms)
+            .map(|r| per_frame(|r| r.paths) / (r.ms.median * 1e3).max(1e-9)),
         impact: None,
         nonfinite_samples: rows.iter().map(|r| r.nonfinite).sum(),
         stack_overflows: rows.iter().map(|r| r.overflows).sum(),

@@ -7,11 +7,11 @@ use clap::Args;
 use fovea::bench::summary::utc_stamp;
 use fovea::bench::{self, BenchPlan, RunOptions};
 use fovea::foveation::{FoveationConfig, GazeTrace};
-use fovea::render::{FovChoice, Integrator};
+use fovea::render::{FovChoice, Integrator, Traversal};
 use std::path::PathBuf;
 
 /// Flags that set the plan; none may be given with --resume.
-const PLAN_FLAGS: [&str; 17] = [
+const PLAN_FLAGS: [&str; 18] = [
     "quick",
     "scenes",
     "frames",
@@ -29,6 +29,7 @@ const PLAN_FLAGS: [&str; 17] = [
     "sweep_spp",
     "sweep_frames",
     "gaze_trace",
+    "traversal",
 ];
 
 #[derive(Args)]
@@ -140,7 +141,7 @@ impl BenchArgs {
 }
 
 pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
-    let (plan, dir) = match &args.resume {
+    let (mut plan, dir) = match &args.resume {
         Some(dir) => {
             let given: Vec<String> = PLAN_FLAGS
                 .iter()
@@ -165,12 +166,16 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
         }
     };
     let ctx = gpu_context(&args.gpu)?;
+    if args.resume.is_none() {
+        plan.traversal = Traversal::preferred(&ctx);
+    }
     println!(
-        "fovea bench: {} scene(s), {} frame rows and {} sweep points on {} into {}",
+        "fovea bench: {} scene(s), {} frame rows and {} sweep points on {} ({} traversal) into {}",
         plan.scenes.len(),
         plan.expected_frame_rows(),
         plan.scenes.len() * plan.sweep().len() * 3,
         ctx.info.name,
+        plan.traversal.name(),
         dir.display()
     );
     let options = RunOptions {

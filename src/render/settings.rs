@@ -33,7 +33,8 @@ pub enum Traversal {
     #[default]
     Software,
     /// VK_KHR_ray_query through the driver's acceleration structures (glsl/ray_query.glsl):
-    /// the GPU's ray-tracing hardware where it has some.
+    /// the GPU's ray-tracing hardware where it has some. Written as `--traversal` names it.
+    #[serde(rename = "rayquery")]
     RayQuery,
 }
 
