@@ -3,12 +3,13 @@
 // arrays. Included by bvh.glsl when compiled with RAY_QUERY (build.rs's *_rq shaders), in
 // place of the software traversal; everything else in the shaders is the same.
 //
-// The TLAS has one instance per object, its custom index the object's index in OBJECTS, so a
-// hit names the same object as the software traversal's:
-// - a mesh instance's BLAS is its mesh's triangles, in TRIANGLES' leaf order, with the
-//   instance's object-to-world transform: TRIANGLES index = triangle_base + primitive index;
-// - a box or a sphere is a BLAS of one AABB (its world bounds, identity transform), whose
-//   candidates this shader tests with the software traversal's intersect_box/_sphere.
+// Hits name the same object as the software traversal's:
+// - a mesh instance is a TLAS instance whose custom index is its index in OBJECTS, of its
+//   mesh's BLAS (triangles in TRIANGLES' leaf order): TRIANGLES index = triangle_base +
+//   primitive index;
+// - the boxes and spheres are one instance (identity transform) of one BLAS of an AABB per
+//   object (a point for a mesh instance): the primitive index is the object's index. Its
+//   candidates are tested here with the software traversal's intersect_box/_sphere.
 #ifndef FOVEA_RAY_QUERY_GLSL
 #define FOVEA_RAY_QUERY_GLSL
 #extension GL_EXT_ray_query : require
@@ -35,7 +36,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     rayQueryInitializeEXT(q, tlas, flags, 0xffu, o, t_min, d, min(t_max, RAY_QUERY_T_LIMIT));
     while (rayQueryProceedEXT(q)) {
         if (rayQueryGetIntersectionTypeEXT(q, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
-        uint index = rayQueryGetIntersectionInstanceCustomIndexEXT(q, false);
+        uint index = rayQueryGetIntersectionPrimitiveIndexEXT(q, false);
         // The closest hit so far bounds the candidate, as t_max does in the software loop.
         float bound = rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT
                           ? t_max : rayQueryGetIntersectionTEXT(q, true);
@@ -58,9 +59,11 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     uint committed = rayQueryGetIntersectionTypeEXT(q, true);
     if (committed == gl_RayQueryCommittedIntersectionNoneEXT) return hit;
     hit.t = rayQueryGetIntersectionTEXT(q, true);
-    hit.object = rayQueryGetIntersectionInstanceCustomIndexEXT(q, true);
     if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
+        hit.object = rayQueryGetIntersectionInstanceCustomIndexEXT(q, true);
         hit.primitive = load_object_ids(hit.object).w + rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
+    } else {
+        hit.object = rayQueryGetIntersectionPrimitiveIndexEXT(q, true); // a box or sphere
     }
     return hit;
 }
