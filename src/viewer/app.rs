@@ -45,7 +45,13 @@ pub fn run(options: ViewerOptions) -> Result<ViewSummary, ViewError> {
     let eyes = if options.stereo { 2 } else { 1 };
     let aspect = options.window_size[0] as f32 / eyes as f32 / options.window_size[1] as f32;
     let session = Session::new(&ctx, &options.scene, aspect)?;
-    let device = format!("{} ({}; {})", ctx.info.name, ctx.info.kind, ctx.info.driver);
+    let device = format!(
+        "{} ({}; {}; {} traversal)",
+        ctx.info.name,
+        ctx.info.kind,
+        ctx.info.driver,
+        crate::render::Traversal::preferred(&ctx).name()
+    );
     drop(ctx);
     let mut app = App::new(options, session);
     event_loop.set_control_flow(ControlFlow::Poll);

@@ -134,7 +134,12 @@ pub fn run(
     )?);
     let validation_log = ctx.validation_log();
     let result = run_with_context(&xr_instance, &ctx, &options, &mut record);
-    let device = ctx.info.name.clone();
+    // The traversal too: it decides a headset frame's cost (ray queries on a GPU with them).
+    let device = format!(
+        "{} ({} traversal)",
+        ctx.info.name,
+        crate::render::Traversal::preferred(&ctx).name()
+    );
     // The session and everything in it are gone (run_with_context returned); the Vulkan
     // device goes next, then the instance (dropped last, at the end of this function).
     drop(ctx);
