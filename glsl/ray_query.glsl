@@ -40,12 +40,11 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
         // The closest hit so far bounds the candidate, as t_max does in the software loop.
         float bound = rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT
                           ? t_max : rayQueryGetIntersectionTEXT(q, true);
-        uint kind = load_object_kind(index);
         GpuObject ob = load_object(index);
         float t = INF;
-        if (HAS_BOXES && kind == KIND_BOX) {
+        if (HAS_BOXES && ob.kind == KIND_BOX) {
             t = intersect_box(o, inv_d, ob.a.xyz, ob.b.xyz, t_min, bound);
-        } else if (HAS_SPHERES && kind == KIND_SPHERE) {
+        } else if (HAS_SPHERES && ob.kind == KIND_SPHERE) {
             t = intersect_sphere(o, sd, ob.a.xyz, ob.a.w, t_min, bound);
         }
         if (t < bound) {

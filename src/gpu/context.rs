@@ -266,7 +266,7 @@ impl GpuContext {
         }
         let ray_query = info.ray_query.is_some();
         // On a CPU driver ray queries run the driver's traversal on the same cores as ours,
-        // and lavapipe's measured 2.2-3.2x slower than fovea's (README, "Ray queries"): there
+        // and lavapipe's measured 2.3-5.9x slower than fovea's (README, "Ray queries"): there
         // `auto` keeps the software traversal (both stay available, e.g. to render --bench).
         let prefers_ray_queries =
             ray_query && (options.ray_queries == RayQueries::Required || info.kind != "CPU");

@@ -29,7 +29,6 @@ pub struct DeviceInfo {
 pub struct RayQueryLimits {
     pub max_instances: u64,
     pub max_primitives: u64,
-    pub max_geometries: u64,
     /// Alignment of each build's scratch memory.
     pub scratch_alignment: u64,
 }
@@ -125,7 +124,6 @@ fn ray_query_limits(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<
     usable.then_some(RayQueryLimits {
         max_instances: limits.max_instance_count,
         max_primitives: limits.max_primitive_count,
-        max_geometries: limits.max_geometry_count,
         scratch_alignment: limits.min_acceleration_structure_scratch_offset_alignment as u64,
     })
 }

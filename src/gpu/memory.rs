@@ -90,7 +90,7 @@ impl Buffer {
 
     /// A device-local storage buffer holding `data`, uploaded once through a staging buffer.
     pub fn with_data(ctx: &Arc<GpuContext>, name: &str, data: &[u8]) -> Result<Self, GpuError> {
-        // Also a texel buffer: the BVH nodes and triangles are read through TexelView.
+        // Also a texel buffer: the scene's arrays are read through TexelView.
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST;
@@ -171,9 +171,9 @@ impl Buffer {
 }
 
 /// The whole of a [`Buffer::with_data`] buffer seen as a uniform texel buffer of RGBA32UI
-/// texels (`usamplerBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
+/// texels (`utextureBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
 /// vector load, where it splits a storage-buffer `uvec4` load into four bounds-checked scalar
-/// loads per lane: the BVH nodes and triangles, read on every traversal step, go this way.
+/// loads per lane: the scene's arrays and the lattice values go this way.
 pub struct TexelView {
     ctx: Arc<GpuContext>,
     pub(crate) view: vk::BufferView,

@@ -244,11 +244,6 @@ impl Renderer {
         all
     }
 
-    /// Bytes of the ray-query acceleration structures (0 without them).
-    pub fn accel_bytes(&self) -> u64 {
-        self.buffers.accel.as_ref().map_or(0, |a| a.bytes())
-    }
-
     fn specialization(&self, integrator: u32, max_bounces: u32) -> Vec<(u32, u32)> {
         let f = self.features;
         vec![
