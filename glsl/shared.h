@@ -17,7 +17,7 @@
 #define BINDING_EMITTERS 4     // GpuEmitter[]
 #define BINDING_SCENE_INFO 5   // GpuSceneInfo
 #define BINDING_STATS 6        // uint counters, STAT_*
-#define BINDING_OUTPUT 7       // rgba32f storage image: the merged frame, eyes side by side
+#define BINDING_OUTPUT 7       // rgba32f storage image: the frame, eyes side by side (PIXELS copied)
 #define BINDING_PROBE_RAYS 8   // GpuProbeRay[] (raycast.comp only)
 #define BINDING_PROBE_HITS 9   // GpuProbeHit[] (raycast.comp only)
 #define BINDING_LAYER_IMAGES 10 // rgba32f 2D array image (accumulate.comp's running means)
@@ -31,10 +31,12 @@
                                // the lens shows, then per layer the pixels whose lattice points are
                                // needed (the shown ones dilated by the layer's Catmull-Rom reach)
 #define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
-#define BINDING_COUNT 16
+#define BINDING_PIXELS 16      // vec4[]: the resolved frame, eye after eye, rows of pc.width; copied
+                               // into OUTPUT only for what needs an image (presenting, accumulating)
+#define BINDING_COUNT 17
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 16
+#define BINDING_TLAS 17
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/gpu/shared.rs checks them against the structs' sizes).

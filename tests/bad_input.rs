@@ -85,7 +85,7 @@ fn a_driver_without_its_hardware_is_no_device() {
 
 #[test]
 fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
-    // 1024x1024 mono with the thesis' 4 layers: the frame image and its read-back (16 MiB
+    // 1024x1024 mono with the thesis' 4 layers: the frame's pixels and their read-back (16 MiB
     // each) fit a 40 MiB limit, the layers' lattice values (7 MiB) and work lists beside them
     // do not.
     let text = fails_with(
@@ -105,7 +105,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
         &[("FOVEA_GPU_MEMORY_LIMIT", "40M")],
         &[
             "not enough GPU memory for the frame targets of a 1024x1024 mono frame with 4 layers",
-            "frame image 16.00 MiB",
+            "frame pixels 16.00 MiB",
             "frame read-back 16.00 MiB",
             "lattice values 7.06 MiB",
             "work lists 1.76 MiB",
@@ -116,7 +116,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
     );
     assert!(!text.contains("gpu pass"), "no frame may run:\n{text}");
 
-    // A 16384x16384 stereo thesis frame needs 16 GiB for its image and read-back alone. With
+    // A 16384x16384 stereo thesis frame needs 16 GiB for its pixels and their read-back alone. With
     // a limit the case does not depend on the device's memory.
     let started = std::time::Instant::now();
     fails_with(
@@ -136,7 +136,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
         &[
             "16384x16384 stereo frame with 4 layers",
             "it needs 16.00 GiB, 17179870208 bytes",
-            "frame image 8.00 GiB",
+            "frame pixels 8.00 GiB",
             "frame read-back 8.00 GiB",
             "caps fovea at 8.00 GiB (8589934592 bytes)",
         ],

@@ -74,6 +74,8 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
     let ctx = common::gpu_assisted_context();
     let scene = builtin("cornell", 1.0).unwrap();
     let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    // The accumulator reads the frames from the output image.
+    renderer.set_output_image(true);
     let thesis = FoveationConfig::thesis();
     let gaze = GazeChoice {
         left: Gaze::Corner,
@@ -98,6 +100,7 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
         "right trace",
         "left resolve",
         "right resolve",
+        "output image",
     ] {
         assert!(passes.contains(&pass), "{pass} did not run: {passes:?}");
     }

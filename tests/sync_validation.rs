@@ -7,8 +7,7 @@ mod common;
 
 use fovea::gpu::shared::*;
 use fovea::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, StorageImage,
-    TexelView,
+    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, TexelView,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -26,10 +25,14 @@ fn lattice_value(i: usize) -> f32 {
 fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<f32>) {
     let layout = PipelineLayout::new(ctx).unwrap();
     let resolve = ComputePipeline::new(ctx, &layout, "resolve", shaders::RESOLVE, &[]).unwrap();
-    let frame = StorageImage::new(ctx, "frame", SIZE, SIZE).unwrap();
-    frame
-        .upload(&vec![0.0; (SIZE * SIZE * 4) as usize])
-        .unwrap();
+    let frame = Buffer::new(
+        ctx,
+        "frame pixels",
+        (SIZE * SIZE * 16) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
     let host = |name, bytes: &[u8], usage| {
         let mut b = Buffer::new(
             ctx,
@@ -81,8 +84,9 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
             (BINDING_LAYERS, &layers),
             (BINDING_VISIBILITY, &visibility),
             (BINDING_LATTICE, &lattice),
+            (BINDING_PIXELS, &frame),
         ],
-        &[(BINDING_OUTPUT, &frame)],
+        &[],
         &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
     );
     let push = PushConstants {
@@ -107,7 +111,8 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
     })
     .unwrap();
     let messages = ctx.take_validation_messages();
-    (messages, frame.read_back().unwrap())
+    let pixels = bytemuck::pod_collect_to_vec(&frame.read_back().unwrap());
+    (messages, pixels)
 }
 
 #[test]

@@ -486,6 +486,8 @@ fn heat_map_and_difference_view_show_what_they_say() {
     let ctx = common::context();
     let scene = fovea::scene::builtin::builtin("cornell", 1.0).unwrap();
     let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    // The accumulator reads the frames from the output image.
+    renderer.set_output_image(true);
     let mut means = Accumulator::new(&ctx).unwrap();
     let thesis = FoveationConfig::thesis();
     let regular = FoveationConfig::regular(4);

@@ -158,6 +158,26 @@ impl Buffer {
         };
     }
 
+    /// Copies the whole buffer (made with TRANSFER_SRC usage, last written by compute shaders)
+    /// to the host, through a staging buffer.
+    pub fn read_back(&self) -> Result<Vec<u8>, GpuError> {
+        let staging = Buffer::new(
+            &self.ctx,
+            "buffer read-back",
+            self.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.submit_and_wait("buffer read-back", |cmd| {
+            self.ctx
+                .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
+            self.cmd_copy_to(cmd, &staging, self.size);
+            self.ctx
+                .cmd_barrier(cmd, Scope::COPY_WRITE, Scope::HOST_READ);
+        })?;
+        Ok(staging.read()?.to_vec())
+    }
+
     /// Records copying the first `bytes` bytes into `to` (TRANSFER_SRC here, TRANSFER_DST there).
     pub fn cmd_copy_to(&self, cmd: vk::CommandBuffer, to: &Buffer, bytes: u64) {
         let region = [vk::BufferCopy::default().size(bytes)];
@@ -353,6 +373,47 @@ impl StorageImage {
         self.cmd_transition(cmd, (EARLIER_USES, UNDEFINED), COMPUTE_WRITING);
     }
 
+    /// Records replacing the image (one layer) with `tiles` equal parts side by side, which
+    /// `src` holds one after another, each as rows of `width / tiles` RGBA f32 pixels (a
+    /// frame's eyes as resolve writes them). `src` must be complete (its writers ordered before
+    /// with a COPY_READ barrier). Leaves the image in GENERAL layout, its pixels visible to
+    /// every later compute pass, copy and blit.
+    pub(crate) fn cmd_copy_tiles_from(&self, cmd: vk::CommandBuffer, src: &Buffer, tiles: u32) {
+        let tile_width = self.width / tiles.max(1);
+        let regions: Vec<vk::BufferImageCopy> = (0..tiles)
+            .map(|t| {
+                vk::BufferImageCopy::default()
+                    .buffer_offset(t as u64 * tile_width as u64 * self.height as u64 * 16)
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_offset(vk::Offset3D {
+                        x: (t * tile_width) as i32,
+                        y: 0,
+                        z: 0,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width: tile_width,
+                        height: self.height,
+                        depth: 1,
+                    })
+            })
+            .collect();
+        let copying = (Scope::COPY_WRITE, GENERAL);
+        self.cmd_transition(cmd, (EARLIER_USES, UNDEFINED), copying);
+        // SAFETY: cmd is recording; the image (GENERAL layout, which copies may write) and the
+        // buffer live until the submission completes; the regions lie inside both.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_copy_buffer_to_image(cmd, src.buffer, self.image, GENERAL, &regions)
+        };
+        self.cmd_transition(cmd, copying, (LATER_USES, GENERAL));
+    }
+
     /// Records a layout transition of the whole image between two (accesses, layout)s.
     fn cmd_transition(&self, cmd: vk::CommandBuffer, from: Use, to: Use) {
         self.ctx.cmd_image_barriers(
@@ -463,6 +524,11 @@ const COMPUTE_WRITING: Use = (Scope::COMPUTE_WRITE, GENERAL);
 /// a layout transition must follow; reads need only the execution dependency).
 const EARLIER_USES: Scope = Scope::COMPUTE_WRITE
     .and(Scope::COPY_WRITE)
+    .and(Scope::BLIT_READ);
+/// Everything that reads or writes a frame image after it was filled (accumulation, read-
+/// backs, blits into swapchain images).
+const LATER_USES: Scope = Scope::COMPUTE_READ_WRITE
+    .and(Scope::COPY_READ)
     .and(Scope::BLIT_READ);
 const UNDEFINED: vk::ImageLayout = vk::ImageLayout::UNDEFINED;
 const GENERAL: vk::ImageLayout = vk::ImageLayout::GENERAL;

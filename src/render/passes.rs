@@ -1,6 +1,7 @@
 //! The frame's passes, each a short function over typed handles: plan (which lattice points
 //! every layer traces, decided on the GPU, compacted into work lists), trace (the work lists,
-//! through indirect dispatches the GPU sized) and resolve (every pixel once). Each pass
+//! through indirect dispatches the GPU sized), resolve (every pixel once) and, for whoever
+//! presents or accumulates frames, a copy of the pixels into an image. Each pass
 //! records every eye's dispatch before the next pass: the eyes have their own lattice values,
 //! work lists and halves of the output, so nothing orders one eye after the other and a GPU
 //! may run them side by side; the barriers order only the passes.
@@ -40,11 +41,10 @@ impl FramePasses<'_> {
         }
     }
 
-    /// Starts the frame: timings reset, counters zeroed, the output ready for writing.
+    /// Starts the frame: timings reset, counters zeroed.
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
         self.timestamps.cmd_reset(cmd);
         self.counters.cmd_reset(self.ctx, cmd);
-        self.targets.output.cmd_prepare_for_write(cmd);
     }
 
     /// Plan: per eye, one thread per run of lattice points of every layer's box decides which
@@ -109,6 +109,20 @@ impl FramePasses<'_> {
                 p.resolve.cmd_dispatch(cmd, layout, &eye.push, groups)
             });
         }
+    }
+
+    /// Output image (when the targets have one): the eyes' pixels copied side by side into it.
+    /// A copy, not resolve's stores: on lavapipe an imageStore per pixel cost about three
+    /// times a storage-buffer store plus this copy.
+    pub fn output_image(&mut self, cmd: vk::CommandBuffer) {
+        let t = self.targets;
+        let Some(image) = &t.output else { return };
+        self.ctx
+            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
+        let eyes = self.eyes.len() as u32;
+        self.timestamps.cmd_timed(cmd, "output image", || {
+            image.cmd_copy_tiles_from(cmd, &t.pixels, eyes)
+        });
     }
 
     /// Ends the frame: the counters copied where the host reads them after the fence.

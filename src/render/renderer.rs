@@ -57,6 +57,8 @@ pub struct Renderer {
     /// Whether the trace counts its traversal work (FrameStats::traversal).
     profile_traversal: bool,
     traversal: Traversal,
+    /// Whether frames also land in an image (`output_image`).
+    output_image: bool,
     plan: Option<ComputePipeline>,
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
@@ -129,6 +131,7 @@ impl Renderer {
             trace: HashMap::new(),
             profile_traversal: false,
             traversal: Traversal::preferred(ctx),
+            output_image: false,
             plan: None,
             plan_args: None,
             resolve: None,
@@ -204,10 +207,18 @@ impl Renderer {
         Ok(())
     }
 
+    /// From the next frame on, every frame also ends by copying its pixels into an image
+    /// (`output_image`), for whoever presents frames or accumulates them on the GPU. Off by
+    /// default: rendering to files and measuring frames need no image.
+    pub fn set_output_image(&mut self, on: bool) {
+        self.output_image = on;
+    }
+
     /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL
-    /// layout), for passes that follow the frame (accumulation) and for presenting it.
+    /// layout), for passes that follow the frame (accumulation) and for presenting it; None
+    /// before the first frame and unless `set_output_image(true)` came before it.
     pub fn output_image(&self) -> Option<&StorageImage> {
-        self.targets.as_ref().map(|t| &t.output)
+        self.targets.as_ref().and_then(|t| t.output.as_ref())
     }
 
     /// From the next frame on, the trace counts its BVH traversal's work (nodes, triangle and
@@ -316,6 +327,7 @@ impl Renderer {
             (BINDING_STATS, &self.counters.device),
             (BINDING_LATTICE, &t.lattice),
             (BINDING_WORK, &t.work),
+            (BINDING_PIXELS, &t.pixels),
             (BINDING_LAYERS, &t.layers),
             (BINDING_VISIBILITY, &self.visibility),
         ];
@@ -339,8 +351,8 @@ impl Renderer {
             (BINDING_EMITTERS, &b.emitters),
             (BINDING_LATTICE_TEXELS, &t.lattice_texels),
         ];
-        self.layout
-            .bind(&list, &[(BINDING_OUTPUT, &t.output)], &texels);
+        // OUTPUT is written by a copy, not by a frame pass: only accumulate.comp binds it.
+        self.layout.bind(&list, &[], &texels);
     }
 
     fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
@@ -462,6 +474,7 @@ impl Renderer {
                 passes.trace(cmd);
             }
             passes.resolve(cmd);
+            passes.output_image(cmd);
             passes.finish(cmd);
             record_ms = recording.elapsed().as_secs_f64() * 1e3;
         })?;
@@ -488,6 +501,7 @@ impl Renderer {
             width: s.width,
             height: s.height,
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
+            image: self.output_image,
         })?;
         self.ensure_visibility(request.eyes.len(), [s.width, s.height], request.foveation)
     }
@@ -517,12 +531,7 @@ impl Renderer {
             .collect();
         let targets = self.targets.as_ref().expect("prepared");
         let rgb = match read_output {
-            true => targets
-                .output
-                .read_back()?
-                .chunks_exact(4)
-                .flat_map(|p| [p[0], p[1], p[2]])
-                .collect(),
+            true => targets.read_pixels()?,
             false => Vec::new(),
         };
         Ok(Frame {
@@ -589,6 +598,7 @@ impl Renderer {
                     up: 0.5,
                     down: -0.5,
                 }],
+                image: false,
             })?;
         }
         self.bind();

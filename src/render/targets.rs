@@ -1,7 +1,8 @@
 //! GPU resources of one (layer config, resolution, eyes' fields of view): per eye, a lattice
 //! value for every entry of the ray buffer (the layers at lattice resolution) and a work list
-//! as long; the resolved output; and the small host-visible buffer of layer parameters the
-//! CPU rewrites every frame.
+//! as long; the resolved pixels (and, for whoever presents or accumulates frames, an image
+//! they are copied into); and the small host-visible buffer of layer parameters the CPU
+//! rewrites every frame.
 
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
@@ -17,6 +18,8 @@ pub struct TargetKey {
     pub width: u32,
     pub height: u32,
     pub fovs: Vec<EyeFov>,
+    /// Whether frames also land in an image (`FrameTargets::output`).
+    pub image: bool,
 }
 
 pub struct FrameTargets {
@@ -29,7 +32,11 @@ pub struct FrameTargets {
     pub lattice_texels: TexelView,
     /// The plan pass's work lists, eye after eye (BINDING_WORK).
     pub work: Buffer,
-    pub output: StorageImage,
+    /// The resolved frame: RGBA f32, eye after eye, rows of `key.width` (BINDING_PIXELS).
+    pub pixels: Buffer,
+    /// The frame as an image, eyes side by side, when `key.image`: copied from `pixels` at
+    /// the end of every frame.
+    pub output: Option<StorageImage>,
     pub layers: Buffer,
 }
 
@@ -73,15 +80,22 @@ impl TargetKey {
         let eyes = self.fovs.len() as u64;
         let layers = self.config.layers.len() as u64;
         let texel = 16; // RGBA32F, StorageImage::FORMAT
-        vec![
-            PlannedAllocation::image("frame image", w * eyes * h * texel),
+        let mut plan = vec![
+            PlannedAllocation::storage("frame pixels", w * eyes * h * texel),
             PlannedAllocation::host("frame read-back", w * eyes * h * texel, false),
             PlannedAllocation::host(
                 "frame layers",
                 eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
                 true,
             ),
-        ]
+        ];
+        if self.image {
+            plan.push(PlannedAllocation::image(
+                "frame image",
+                w * eyes * h * texel,
+            ));
+        }
+        plan
     }
 
     /// Checks that the targets' images fit the device beside what fovea already holds.
@@ -133,7 +147,22 @@ impl FrameTargets {
         )?;
         let lattice_texels = TexelView::new(&lattice, "lattice values")?;
         let work = device_buffer("work lists", entries * 4)?;
-        let output = StorageImage::new(ctx, "frame", key.width * eyes as u32, key.height)?;
+        let pixels = Buffer::new(
+            ctx,
+            "frame pixels",
+            eyes * key.width as u64 * key.height as u64 * 16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let output = match key.image {
+            true => Some(StorageImage::new(
+                ctx,
+                "frame",
+                key.width * eyes as u32,
+                key.height,
+            )?),
+            false => None,
+        };
         let layers = host_buffer(
             ctx,
             "frame layers",
@@ -146,6 +175,7 @@ impl FrameTargets {
             lattice,
             lattice_texels,
             work,
+            pixels,
             output,
             layers,
         })
@@ -163,6 +193,21 @@ impl FrameTargets {
     pub fn write_layers(&mut self, layers: &[GpuLayer]) -> Result<(), RenderError> {
         self.layers.write(0, bytemuck::cast_slice(layers))?;
         Ok(())
+    }
+
+    /// The resolved frame on the host: linear RGB, eyes side by side, row-major.
+    pub fn read_pixels(&self) -> Result<Vec<f32>, RenderError> {
+        let rgba: Vec<f32> = bytemuck::pod_collect_to_vec(&self.pixels.read_back()?);
+        let (w, h) = (self.key.width as usize, self.key.height as usize);
+        let eyes = self.key.fovs.len();
+        let mut rgb = Vec::with_capacity(w * h * eyes * 3);
+        for y in 0..h {
+            for e in 0..eyes {
+                let row = &rgba[(e * h + y) * w * 4..][..w * 4];
+                rgb.extend(row.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]));
+            }
+        }
+        Ok(rgb)
     }
 
     /// Lattice points per eye (the ray buffer's entries).

@@ -46,11 +46,18 @@ pub struct FrameCost {
     pub stack_overflows: u64,
 }
 
+/// A renderer whose frames land in an image: the accumulator reads it, the window shows it.
+fn presenting_renderer(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Renderer, ViewError> {
+    let mut renderer = Renderer::new(ctx, scene)?;
+    renderer.set_output_image(true);
+    Ok(renderer)
+}
+
 impl Session {
     /// Loads `scene` for eyes of aspect `aspect` and uploads it.
     pub fn new(ctx: &Arc<GpuContext>, scene: &str, aspect: f32) -> Result<Self, ViewError> {
         let scene = crate::scene::load(scene, aspect)?;
-        let renderer = Renderer::new(ctx, &scene)?;
+        let renderer = presenting_renderer(ctx, &scene)?;
         Ok(Self {
             renderer,
             accumulator: Accumulator::new(ctx)?,
@@ -63,7 +70,7 @@ impl Session {
     /// Replaces the scene (the running mean restarts with the next frame).
     pub fn load_scene(&mut self, scene: &str, aspect: f32) -> Result<(), ViewError> {
         let scene = crate::scene::load(scene, aspect)?;
-        self.renderer = Renderer::new(&self.ctx, &scene)?;
+        self.renderer = presenting_renderer(&self.ctx, &scene)?;
         self.raycaster = CpuRaycaster::new(&scene);
         self.scene = scene;
         self.accumulator.reset();

@@ -218,6 +218,8 @@ fn run_with_context(
         EyeSwapchain::new(&session, format, size)?,
     ];
     let mut renderer = Renderer::new(ctx, &options.scene)?;
+    // Frames are copied from the output image into the swapchains.
+    renderer.set_output_image(true);
     let placement = SpacePlacement::at_camera(&options.scene.camera);
     let use_mask = options.visibility_mask && xr_instance.visibility_mask;
     let mut masks_stale = use_mask;
