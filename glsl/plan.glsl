@@ -46,7 +46,7 @@ bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
     k = base;
     ij = ivec2(0);
     n = 0u;
-    if (t >= pc.plan_runs) return false;
+    if (t >= layers[base].plan_runs) return false;
     while (k + 1u < base + pc.layer_count && t >= layers[k + 1u].box_prefix) k++;
     uint cols = layers[k].box_cols;
     uint runs_per_row = (cols + PLAN_RUN - 1u) / PLAN_RUN;

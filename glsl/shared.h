@@ -191,7 +191,7 @@ struct PushConstants {
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
     uint layer; // accumulate.comp: the running mean's layer of LAYER_IMAGES
     uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
-    uint plan_runs; // plan.comp: threads of this eye (its layers' boxes' runs together)
+    uint pad1;
     uint debug; // DEBUG_*
     uint layer_count; // layers per eye; this eye's are LAYERS[eye*layer_count ..]
 };
@@ -221,7 +221,9 @@ struct GpuLayer {
     uint box_prefix; // plan.comp's first thread (run) of this layer's box
     uint mask_plane; // VISIBILITY plane of the points this layer needs (any value without a mask)
     float outer; // radius: shown where angle < outer (NO_LIMIT: background); blends inside it
-    uint pad0;
+    uint plan_runs; // plan.comp's threads for this eye (its layers' boxes' runs together), the
+                    // same in each of its layers: the gaze decides it, so it is written with
+                    // the gaze, right before the frame is submitted (not a push constant)
 };
 
 struct GpuProbeRay {

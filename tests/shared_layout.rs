@@ -128,7 +128,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             eye,
             layer,
             work_stride,
-            plan_runs,
+            pad1,
             debug,
             layer_count
         }
@@ -155,7 +155,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             box_prefix,
             mask_plane,
             outer,
-            pad0
+            plan_runs
         }
     );
     check!(s, GpuProbeRay { origin, direction });

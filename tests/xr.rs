@@ -194,6 +194,27 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
             .unwrap();
     assert_eq!(session["statistics"]["frames"], 10);
+    // Every frame's timing: the gaze latched before the GPU finished, display times one
+    // period apart (the simulated headset's 90 Hz), none missed.
+    let latency = &session["latency"];
+    assert_eq!(latency["frames"], 10, "{latency}");
+    assert_eq!(latency["missed_frames"], 0, "{latency}");
+    let period = latency["frame_period_ms"]["median"].as_f64().unwrap();
+    assert!((period - 1000.0 / 90.0).abs() < 1e-3, "{latency}");
+    let header: Vec<&str> = frames.lines().next().unwrap().split(',').collect();
+    let column = |row: &str, name: &str| -> String {
+        let at = header.iter().position(|h| *h == name).unwrap();
+        row.split(',').nth(at).unwrap().to_string()
+    };
+    for row in frames.lines().skip(1) {
+        let latch: f64 = column(row, "latch_ms").parse().unwrap();
+        let done: f64 = column(row, "gpu_done_ms").parse().unwrap();
+        assert!(latch >= 0.0 && latch < done, "{row}");
+        assert!(column(row, "gaze_to_photon_ms")
+            .parse::<f64>()
+            .unwrap()
+            .is_finite());
+    }
 }
 
 /// Where the projection maths puts the fixation of a gaze `yaw` right and `pitch` up (degrees)

@@ -42,6 +42,48 @@ pub struct FrameRow {
     /// Wall-clock time the frame was submitted, microseconds since the Unix epoch (places
     /// the frame on the trace timeline, across resumed runs too).
     pub wall_us: u64,
+    /// Headset sessions only (empty in bench runs), see [`HeadsetTiming`].
+    #[serde(default)]
+    pub gaze_to_photon_ms: Option<f64>,
+    #[serde(default)]
+    pub latch_ms: Option<f64>,
+    #[serde(default)]
+    pub gpu_done_ms: Option<f64>,
+    #[serde(default)]
+    pub frame_period_ms: Option<f64>,
+    #[serde(default)]
+    pub missed_frames: Option<u32>,
+}
+
+/// When a headset frame's work happened and how old its gaze was when it was shown.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeadsetTiming {
+    /// The frame's predicted display time minus the time the eye tracker took its gaze
+    /// sample (both the runtime's clock): the gaze-to-photon estimate.
+    pub gaze_to_photon_ms: f64,
+    /// CPU ms from the end of xrWaitFrame to the gaze latch (the last thing before the
+    /// frame's submission).
+    pub latch_ms: f64,
+    /// CPU ms from the end of xrWaitFrame to the frame's fence (its GPU work done).
+    pub gpu_done_ms: f64,
+    /// This frame's predicted display time minus the previous frame's (NaN for the first).
+    pub frame_period_ms: f64,
+    /// Display periods between the two with no frame of ours (0: none missed).
+    pub missed_frames: u32,
+}
+
+impl FrameRow {
+    /// The row with a headset frame's timing.
+    pub fn with_timing(self, t: &HeadsetTiming) -> Self {
+        Self {
+            gaze_to_photon_ms: Some(t.gaze_to_photon_ms),
+            latch_ms: Some(t.latch_ms),
+            gpu_done_ms: Some(t.gpu_done_ms),
+            frame_period_ms: t.frame_period_ms.is_finite().then_some(t.frame_period_ms),
+            missed_frames: Some(t.missed_frames),
+            ..self
+        }
+    }
 }
 
 impl FrameRow {
@@ -95,6 +137,11 @@ impl FrameRow {
                     gaze_x: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[0]),
                     gaze_y: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[1]),
                     wall_us,
+                    gaze_to_photon_ms: None,
+                    latch_ms: None,
+                    gpu_done_ms: None,
+                    frame_period_ms: None,
+                    missed_frames: None,
                 }
             })
             .collect()

@@ -272,6 +272,11 @@ mod tests {
             gaze_x: 0.0,
             gaze_y: 0.0,
             wall_us: 0,
+            gaze_to_photon_ms: None,
+            latch_ms: None,
+            gpu_done_ms: None,
+            frame_period_ms: None,
+            missed_frames: None,
         }
     }
 

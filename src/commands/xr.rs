@@ -168,6 +168,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
         };
     }
     let summary = xr::run(options, |record| recorder.frame(record))?;
+    let latency = recorder.latency();
     recorder.finish(&summary)?;
     println!(
         "OpenXR runtime {}; device {}; {}x{} per eye ({}); {} frames; eye gaze: {}; visibility mask: {}",
@@ -192,6 +193,26 @@ pub fn run(args: &XrArgs) -> Result<()> {
             .collect::<Vec<_>>()
             .join(" → ")
     );
+    if latency.frames > 0 {
+        let ms = |p: Option<f64>| p.map_or("-".to_string(), |v| format!("{v:.1}"));
+        let (g, l, d) = (
+            latency.gaze_to_photon_ms,
+            latency.latch_ms,
+            latency.gpu_done_ms,
+        );
+        println!(
+            "gaze to photon: median {} ms, p99 {} ms (the runtime's display time minus the gaze \
+             sample's); after xrWaitFrame: gaze latched at {} / {} ms, GPU done at {} / {} ms \
+             (median / p99); frames missed: {}",
+            ms(g.median),
+            ms(g.p99),
+            ms(l.median),
+            ms(l.p99),
+            ms(d.median),
+            ms(d.p99),
+            latency.missed_frames
+        );
+    }
     if let Some(dir) = &args.session {
         println!("session profile written to {}", dir.display());
     }

@@ -476,6 +476,17 @@ impl GpuContext {
         submission: &str,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<(), GpuError> {
+        self.record(submission, record)?.submit_and_wait()
+    }
+
+    /// Records commands with `record` into a command buffer that is submitted later
+    /// ([`Recorded::submit_and_wait`]): what the host writes in between (into host-visible
+    /// buffers the commands read) is what the GPU sees — a frame's gaze is latched that way.
+    pub fn record(
+        &self,
+        submission: &str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<Recorded<'_>, GpuError> {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -483,18 +494,12 @@ impl GpuContext {
         // SAFETY: the pool belongs to this device and is only used from this thread.
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .vk("vkAllocateCommandBuffers")?[0];
-        let result = self.record_submit_wait(cmd, submission, record);
-        // SAFETY: the submission has completed (or failed) so the buffer is no longer in use.
-        unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
-        result
-    }
-
-    fn record_submit_wait(
-        &self,
-        cmd: vk::CommandBuffer,
-        submission: &str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<(), GpuError> {
+        // Freed on every path from here on, recorded or not.
+        let recorded = Recorded {
+            ctx: self,
+            cmd,
+            submission: submission.to_string(),
+        };
         {
             let mut m = self.markers();
             m.names.clear();
@@ -519,32 +524,60 @@ impl GpuContext {
         }
         // SAFETY: recording was begun above.
         unsafe { self.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        Ok(recorded)
+    }
+}
+
+/// A recorded command buffer, not yet submitted (see [`GpuContext::record`]); freed when
+/// dropped, submitted or not.
+pub struct Recorded<'a> {
+    ctx: &'a GpuContext,
+    cmd: vk::CommandBuffer,
+    submission: String,
+}
+
+impl Recorded<'_> {
+    /// Submits the commands and waits for them to complete.
+    pub fn submit_and_wait(self) -> Result<(), GpuError> {
+        let ctx = self.ctx;
         // SAFETY: fence creation with default info.
         let fence = unsafe {
-            self.device
+            ctx.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
         }
         .vk("vkCreateFence")?;
-        let cmds = [cmd];
+        let cmds = [self.cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: the queue is used only from this thread; cmd and fence are valid.
+        // SAFETY: the queue is used only from this thread; cmd (ended) and fence are valid.
         let waited = unsafe {
-            self.device
-                .queue_submit(self.queue, &submit, fence)
-                .and_then(|_| self.device.wait_for_fences(&[fence], true, u64::MAX))
+            ctx.device
+                .queue_submit(ctx.queue, &submit, fence)
+                .and_then(|_| ctx.device.wait_for_fences(&[fence], true, u64::MAX))
         };
         // SAFETY: the fence is signalled or the submission failed; either way it is unused now.
-        unsafe { self.device.destroy_fence(fence, None) };
-        let injected = self.markers().cut;
+        unsafe { ctx.device.destroy_fence(fence, None) };
+        let injected = ctx.markers().cut;
         let waited = match (waited, injected) {
             // The command buffer ended after the injected pass: fail as a driver would.
             (Ok(()), true) => Err(vk::Result::ERROR_DEVICE_LOST),
             (waited, _) => waited,
         };
         match waited {
-            Err(vk::Result::ERROR_DEVICE_LOST) => Err(self.device_lost(submission, injected)),
+            Err(vk::Result::ERROR_DEVICE_LOST) => Err(ctx.device_lost(&self.submission, injected)),
             other => other.vk("vkQueueSubmit/vkWaitForFences"),
         }
+    }
+}
+
+impl Drop for Recorded<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the buffer was never submitted, or its submission completed or failed
+        // (submit_and_wait waits), so it is no longer in use.
+        unsafe {
+            self.ctx
+                .device
+                .free_command_buffers(self.ctx.command_pool, &[self.cmd])
+        };
     }
 }
 

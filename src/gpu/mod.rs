@@ -21,7 +21,7 @@ pub use validation::ValidationLog;
 
 pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
-pub use context::{ContextNeeds, GpuContext, VulkanCreator};
+pub use context::{ContextNeeds, GpuContext, Recorded, VulkanCreator};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage, TexelView};

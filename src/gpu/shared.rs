@@ -93,7 +93,7 @@ pub struct PushConstants {
     pub eye: u32,
     pub layer: u32,
     pub work_stride: u32,
-    pub plan_runs: u32,
+    pub pad1: u32,
     pub debug: u32,
     pub layer_count: u32,
 }
@@ -120,7 +120,7 @@ pub struct GpuLayer {
     pub box_prefix: u32,
     pub mask_plane: u32,
     pub outer: f32,
-    pub pad0: u32,
+    pub plan_runs: u32,
 }
 
 /// shared.h's `NO_LIMIT` (a float, so build.rs does not generate it).

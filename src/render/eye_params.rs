@@ -1,53 +1,60 @@
-//! The CPU's share of planning a frame: per eye, the O(layers) numbers the GPU plans,
-//! traces and resolves from (one `GpuLayer` per layer: gaze, anchor, limits as cosines, the
-//! lattice box) and the eye's push constants. Which lattice points are traced is decided per
-//! point on the GPU (glsl/plan.comp); nothing here visits a lattice point.
+//! The CPU's share of planning a frame: per eye, the push constants its commands are
+//! recorded with (camera, image: no gaze), and the O(layers) numbers the GPU plans, traces
+//! and resolves from (one `GpuLayer` per layer: gaze, anchor, limits as cosines, the lattice
+//! box), which are written after recording, right before the submission, so that the gaze is
+//! the latest one. Which lattice points are traced is decided per point on the GPU
+//! (glsl/plan.comp); nothing here visits a lattice point.
 
-use super::request::{EyeView, FrameRequest};
+use super::request::FrameRequest;
 use super::settings::RenderSettings;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
+use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
 use crate::gpu::shared::{GpuLayer, PushConstants, NO_LIMIT, PLAN_RUN};
 use crate::scene::Camera;
 
-/// One eye of a planned frame.
-pub struct EyeParams {
-    pub push: PushConstants,
+/// One eye's layers for a frame: what the gaze decides, written into the GPU's layer buffer
+/// right before the frame is submitted (the recorded commands do not depend on it).
+pub struct EyeLayers {
     /// The eye's layers, innermost first (LAYERS[eye * layer_count ..]).
     pub layers: Vec<GpuLayer>,
     /// The gaze pixel used and whether the requested gaze had to be fixed.
     pub gaze: ([f64; 2], GazeFix),
-}
-
-impl EyeParams {
     /// Threads of the eye's plan pass: every row of every layer's lattice box, in runs of
     /// PLAN_RUN points.
-    pub fn plan_runs(&self) -> u32 {
-        self.push.plan_runs
-    }
+    pub plan_runs: u32,
 }
 
-/// Plans eye `e` of `request` on `image`, whose ray buffer is `buffer` (all eyes' lattice
-/// values and work lists are `buffer.offsets.len()` entries apart).
-pub fn eye_params(
+/// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
+/// everything its recorded commands hold. All eyes' lattice values and work lists are
+/// `buffer.offsets.len()` entries apart.
+pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> PushConstants {
+    let mut push = push_constants(&request.eyes[e].camera, &request.settings);
+    push.eye = e as u32;
+    push.layer_count = buffer.layers.len() as u32;
+    push.debug = request.debug.id();
+    push.work_stride = buffer.offsets.len() as u32;
+    push
+}
+
+/// Plans eye `e` of `request` looking at `gaze` on `image`, whose ray buffer is `buffer`.
+pub fn eye_layers(
     request: &FrameRequest,
     e: usize,
+    gaze: Gaze,
     buffer: &RayBuffer,
     image: &ImageGeometry,
-) -> EyeParams {
-    let eye: &EyeView = &request.eyes[e];
-    let (gaze_px, fix) = eye.gaze.resolve(image);
+) -> EyeLayers {
+    let (gaze_px, fix) = gaze.resolve(image);
     match fix {
         GazeFix::None => {}
-        GazeFix::NotFinite => tracing::warn!(
-            "eye {e}: gaze {:?} is not finite; foveating around the view axis",
-            eye.gaze
-        ),
-        GazeFix::Clamped => tracing::info!(
-            "eye {e}: gaze {:?} is off the image; clamped to its border",
-            eye.gaze
-        ),
+        GazeFix::NotFinite => {
+            tracing::warn!("eye {e}: gaze {gaze:?} is not finite; foveating around the view axis")
+        }
+        GazeFix::Clamped => {
+            tracing::info!("eye {e}: gaze {gaze:?} is off the image; clamped to its border")
+        }
     }
     let regions = Regions::new(buffer, image, gaze_px);
     let stride = buffer.offsets.len() as u32;
@@ -55,7 +62,7 @@ pub fn eye_params(
     let blend = (request.foveation.blend_deg as f64).to_radians();
     let g = regions.gaze_dir();
     let mut prefix = 0u32;
-    let layers = buffer
+    let mut layers: Vec<GpuLayer> = buffer
         .layers
         .iter()
         .enumerate()
@@ -95,20 +102,17 @@ pub fn eye_params(
                 // shared.h's VISIBILITY planes: per eye the shown pixels, then one per layer.
                 mask_plane: e as u32 * (layer_count + 1) + 1 + k as u32,
                 outer: l.outer.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32,
-                pad0: 0,
+                plan_runs: 0,
             }
         })
         .collect();
-    let mut push = push_constants(&eye.camera, &request.settings);
-    push.eye = e as u32;
-    push.layer_count = layer_count;
-    push.debug = request.debug.id();
-    push.work_stride = stride;
-    push.plan_runs = prefix;
-    EyeParams {
-        push,
+    for layer in &mut layers {
+        layer.plan_runs = prefix;
+    }
+    EyeLayers {
         layers,
         gaze: (gaze_px, fix),
+        plan_runs: prefix,
     }
 }
 

@@ -7,7 +7,6 @@
 //! may run them side by side; the barriers order only the passes.
 
 use super::counters::FrameCounters;
-use super::eye_params::EyeParams;
 use super::targets::FrameTargets;
 use crate::gpu::shared::*;
 use crate::gpu::{vk, ComputePipeline, GpuContext, PipelineLayout, Scope, TimestampPool};
@@ -28,7 +27,8 @@ pub struct FramePasses<'a> {
     pub timestamps: &'a mut TimestampPool,
     pub counters: &'a FrameCounters,
     pub targets: &'a FrameTargets,
-    pub eyes: &'a [EyeParams],
+    /// Every eye's push constants (camera, image; the gaze is in the targets' layer buffer).
+    pub eyes: &'a [PushConstants],
 }
 
 impl FramePasses<'_> {
@@ -49,20 +49,23 @@ impl FramePasses<'_> {
 
     /// Plan: per eye, one thread per run of lattice points of every layer's box decides which
     /// are traced and appends them to the eye's work list; then one tiny dispatch turns each
-    /// list's length into the trace's workgroup counts.
+    /// list's length into the trace's workgroup counts. The plan's own workgroup counts depend
+    /// on the gaze, so they are read from the buffer the CPU writes with it, at submission.
     pub fn plan(&mut self, cmd: vk::CommandBuffer) {
         let (p, layout) = (&self.pipelines, self.layout);
-        for (e, eye) in self.eyes.iter().enumerate() {
-            let groups = groups_1d(eye.plan_runs() as u64, PLAN_WORKGROUP_SIZE);
+        let args = &self.targets.plan_dispatch;
+        for (e, push) in self.eyes.iter().enumerate() {
             let name = self.name(e, "plan");
+            let offset = e as u64 * PLAN_DISPATCH_BYTES;
             self.timestamps.cmd_timed(cmd, &name, || {
-                p.plan.cmd_dispatch(cmd, layout, &eye.push, groups)
+                p.plan
+                    .cmd_dispatch_indirect(cmd, layout, push, args, offset)
             });
         }
         // The counts are complete only when every plan workgroup has added to them.
         self.ctx
             .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-        let push = self.eyes[0].push;
+        let push = self.eyes[0];
         let eyes = self.eyes.len() as u32;
         self.timestamps.cmd_timed(cmd, "dispatch sizes", || {
             p.plan_args.cmd_dispatch(cmd, layout, &push, [eyes, 1, 1])
@@ -78,13 +81,13 @@ impl FramePasses<'_> {
     /// Trace: per eye, one thread per work-list entry writes the point's lattice value.
     pub fn trace(&mut self, cmd: vk::CommandBuffer) {
         let (p, layout) = (&self.pipelines, self.layout);
-        for (e, eye) in self.eyes.iter().enumerate() {
+        for (e, push) in self.eyes.iter().enumerate() {
             let name = self.name(e, "trace");
             let args = &self.counters.device;
             let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
             self.timestamps.cmd_timed(cmd, &name, || {
                 p.trace
-                    .cmd_dispatch_indirect(cmd, layout, &eye.push, args, offset)
+                    .cmd_dispatch_indirect(cmd, layout, push, args, offset)
             });
         }
         // Resolve reads the lattice values.
@@ -103,10 +106,10 @@ impl FramePasses<'_> {
             t.key.height.div_ceil(WORKGROUP_SIZE_Y),
             1,
         ];
-        for (e, eye) in self.eyes.iter().enumerate() {
+        for (e, push) in self.eyes.iter().enumerate() {
             let name = self.name(e, "resolve");
             self.timestamps.cmd_timed(cmd, &name, || {
-                p.resolve.cmd_dispatch(cmd, layout, &eye.push, groups)
+                p.resolve.cmd_dispatch(cmd, layout, push, groups)
             });
         }
     }
@@ -130,6 +133,10 @@ impl FramePasses<'_> {
         self.counters.cmd_collect(self.ctx, cmd);
     }
 }
+
+/// Bytes of one eye's plan dispatch in `FrameTargets::plan_dispatch` (VkDispatchIndirectCommand
+/// and a pad).
+pub const PLAN_DISPATCH_BYTES: u64 = 16;
 
 /// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
 pub fn groups_1d(threads: u64, workgroup: u32) -> [u32; 3] {

@@ -1,10 +1,12 @@
 //! The per-frame driver. Scene buffers are uploaded once and pipelines specialised per scene
 //! and integrator. Every frame, of every layer config (regular rendering is the one-layer
-//! config), plans each eye on the CPU (O(layers) numbers, `eye_params`) and records the same
-//! passes for both eyes in one submission (`passes`): plan, trace and resolve, each timed.
+//! config), records the same passes for both eyes in one submission (`passes`): plan, trace
+//! and resolve, each timed; then plans each eye for its gaze on the CPU (O(layers) numbers,
+//! `eye_params`), writes them where the commands read them, and submits: the gaze is latched
+//! after recording.
 
 use super::counters::FrameCounters;
-use super::eye_params::{eye_params, EyeParams};
+use super::eye_params::{eye_layers, eye_push, EyeLayers};
 use super::frame::{Frame, FrameStats, TraversalCounts};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
@@ -407,7 +409,7 @@ impl Renderer {
 
     /// Renders one frame, foveated by `request.foveation`, for one or two eyes (side by side).
     pub fn render_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
-        self.run_frame(request, None, true)
+        self.run_frame(request, None, true, None)
     }
 
     /// Renders one frame like [`Self::render_frame`] but leaves the image on the GPU: the
@@ -415,7 +417,20 @@ impl Renderer {
     /// measurements use this so that the read-back, which a headset frame never does, is not
     /// counted.
     pub fn measure_frame(&mut self, request: &FrameRequest) -> Result<Frame, RenderError> {
-        self.run_frame(request, None, false)
+        self.run_frame(request, None, false, None)
+    }
+
+    /// Like [`Self::measure_frame`], but every eye's gaze (the request's are not used) comes
+    /// from `latch`, which is called after the frame's commands are recorded, as the last
+    /// thing before they are submitted: the gaze is the latest the caller can give. Planning
+    /// from it (O(layers) numbers per eye, `FrameStats::plan_ms`) is all that happens on the
+    /// CPU between the two.
+    pub fn measure_frame_latched(
+        &mut self,
+        request: &FrameRequest,
+        latch: &mut dyn FnMut() -> Vec<Gaze>,
+    ) -> Result<Frame, RenderError> {
+        self.run_frame(request, None, false, Some(latch))
     }
 
     /// Runs only the resolve pass of `request`, on lattice values given by the caller
@@ -426,33 +441,46 @@ impl Renderer {
         request: &FrameRequest,
         value: impl Fn(LatticePoint) -> [f32; 4],
     ) -> Result<Frame, RenderError> {
-        self.run_frame(request, Some(&value), true)
+        self.run_frame(request, Some(&value), true, None)
     }
 
+    /// Each eye's layers for `gazes` (one per eye of `request`), and the CPU ms it took.
+    fn plan_eyes(&self, request: &FrameRequest, gazes: &[Gaze]) -> (Vec<EyeLayers>, f64) {
+        let planning = Instant::now();
+        let targets = self.targets.as_ref().expect("prepared");
+        let eyes = (0..request.eyes.len())
+            .map(|e| {
+                let gaze = gazes.get(e).copied().unwrap_or(request.eyes[e].gaze);
+                eye_layers(request, e, gaze, &targets.buffer, &targets.images[e])
+            })
+            .collect();
+        (eyes, planning.elapsed().as_secs_f64() * 1e3)
+    }
+
+    /// The frame: prepare, record (plan → trace → resolve → output image), then latch the
+    /// gaze (the layer buffers), submit and wait.
     fn run_frame(
         &mut self,
         request: &FrameRequest,
         given: Option<&dyn Fn(LatticePoint) -> [f32; 4]>,
         read_output: bool,
+        latch: Option<&mut dyn FnMut() -> Vec<Gaze>>,
     ) -> Result<Frame, RenderError> {
         self.prepare(request)?;
-        let planning = Instant::now();
-        let targets = self.targets.as_ref().expect("prepared");
-        let eyes: Vec<EyeParams> = (0..request.eyes.len())
-            .map(|e| eye_params(request, e, &targets.buffer, &targets.images[e]))
-            .collect();
-        let plan_ms = planning.elapsed().as_secs_f64() * 1e3;
-        let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.iter().copied()).collect();
-        let targets = self.targets.as_mut().expect("prepared");
-        targets.write_layers(&layers)?;
+        let request_gazes: Vec<Gaze> = request.eyes.iter().map(|e| e.gaze).collect();
         if let Some(value) = given {
+            let (eyes, _) = self.plan_eyes(request, &request_gazes);
+            let targets = self.targets.as_mut().expect("prepared");
             let lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
             targets.replace_lattice(lattice)?;
         }
         self.bind();
 
         let recording = Instant::now();
-        let mut record_ms = 0.0;
+        let targets = self.targets.as_ref().expect("prepared");
+        let pushes: Vec<PushConstants> = (0..request.eyes.len())
+            .map(|e| eye_push(request, e, &targets.buffer))
+            .collect();
         let mut passes = FramePasses {
             ctx: &self.ctx,
             layout: &self.layout,
@@ -464,10 +492,10 @@ impl Renderer {
             },
             timestamps: &mut self.timestamps,
             counters: &self.counters,
-            targets: self.targets.as_ref().expect("prepared"),
-            eyes: &eyes,
+            targets,
+            eyes: &pushes,
         };
-        self.ctx.submit_and_wait("frame", |cmd| {
+        let recorded = self.ctx.record("frame", |cmd| {
             passes.begin(cmd);
             if given.is_none() {
                 passes.plan(cmd);
@@ -476,8 +504,20 @@ impl Renderer {
             passes.resolve(cmd);
             passes.output_image(cmd);
             passes.finish(cmd);
-            record_ms = recording.elapsed().as_secs_f64() * 1e3;
         })?;
+        let record_ms = recording.elapsed().as_secs_f64() * 1e3;
+
+        // The latch: the newest gaze, planned and written where the recorded commands read it.
+        let gazes = match latch {
+            Some(latch) => latch(),
+            None => request_gazes,
+        };
+        let (eyes, plan_ms) = self.plan_eyes(request, &gazes);
+        self.targets
+            .as_mut()
+            .expect("prepared")
+            .write_layers(&eyes)?;
+        recorded.submit_and_wait()?;
         self.frame_results(request, &eyes, read_output, plan_ms, record_ms)
     }
 
@@ -510,7 +550,7 @@ impl Renderer {
     fn frame_results(
         &self,
         request: &FrameRequest,
-        eyes: &[EyeParams],
+        eyes: &[EyeLayers],
         read_output: bool,
         plan_ms: f64,
         record_ms: f64,
@@ -657,7 +697,7 @@ fn scene_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
 fn given_lattice(
     ctx: &Arc<GpuContext>,
     targets: &FrameTargets,
-    eyes: &[EyeParams],
+    eyes: &[EyeLayers],
     value: &dyn Fn(LatticePoint) -> [f32; 4],
 ) -> Result<Buffer, RenderError> {
     let mut values = vec![0.0f32; eyes.len() * targets.lattice_len() * 4];

@@ -4,9 +4,11 @@
 //! they are copied into); and the small host-visible buffer of layer parameters the CPU
 //! rewrites every frame.
 
+use super::eye_params::EyeLayers;
+use super::passes::{groups_1d, PLAN_DISPATCH_BYTES};
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
-use crate::gpu::shared::{GpuLayer, WORK_LAYER_SHIFT};
+use crate::gpu::shared::{GpuLayer, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -37,7 +39,10 @@ pub struct FrameTargets {
     /// The frame as an image, eyes side by side, when `key.image`: copied from `pixels` at
     /// the end of every frame.
     pub output: Option<StorageImage>,
+    /// This frame's layers, every eye's (BINDING_LAYERS), and each eye's plan dispatch
+    /// (workgroup counts): host-visible, written with the gaze right before submission.
     pub layers: Buffer,
+    pub plan_dispatch: Buffer,
 }
 
 fn host_buffer(ctx: &Arc<GpuContext>, name: &str, bytes: u64) -> Result<Buffer, RenderError> {
@@ -88,6 +93,7 @@ impl TargetKey {
                 eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
                 true,
             ),
+            PlannedAllocation::host("plan dispatch", eyes * PLAN_DISPATCH_BYTES, false),
         ];
         if self.image {
             plan.push(PlannedAllocation::image(
@@ -168,6 +174,13 @@ impl FrameTargets {
             "frame layers",
             eyes * buffer.layers.len() as u64 * std::mem::size_of::<GpuLayer>() as u64,
         )?;
+        let plan_dispatch = Buffer::new(
+            ctx,
+            "plan dispatch",
+            eyes * PLAN_DISPATCH_BYTES,
+            vk::BufferUsageFlags::INDIRECT_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
         Ok(Self {
             key,
             buffer,
@@ -178,6 +191,7 @@ impl FrameTargets {
             pixels,
             output,
             layers,
+            plan_dispatch,
         })
     }
 
@@ -189,9 +203,20 @@ impl FrameTargets {
         Ok(())
     }
 
-    /// Writes this frame's layer parameters (every eye's, eye after eye).
-    pub fn write_layers(&mut self, layers: &[GpuLayer]) -> Result<(), RenderError> {
-        self.layers.write(0, bytemuck::cast_slice(layers))?;
+    /// Writes this frame's layer parameters (every eye's, eye after eye) and each eye's plan
+    /// dispatch for its `plan_runs` threads.
+    pub fn write_layers(&mut self, eyes: &[EyeLayers]) -> Result<(), RenderError> {
+        let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.iter().copied()).collect();
+        self.layers.write(0, bytemuck::cast_slice(&layers))?;
+        let dispatch: Vec<[u32; 4]> = eyes
+            .iter()
+            .map(|e| {
+                let [x, y, z] = groups_1d(e.plan_runs as u64, PLAN_WORKGROUP_SIZE);
+                [x, y, z, 0]
+            })
+            .collect();
+        self.plan_dispatch
+            .write(0, bytemuck::cast_slice(&dispatch))?;
         Ok(())
     }
 

@@ -8,7 +8,7 @@ use super::error::XrError;
 use super::session::{FrameRecord, XrSummary};
 use crate::bench::csv_log::CsvLog;
 use crate::bench::protocol::{FrameKey, Mode};
-use crate::bench::rows::FrameRow;
+use crate::bench::rows::{FrameRow, HeadsetTiming};
 use crate::bench::summary::mode_summary;
 use crate::foveation::gaze_trace::{TraceRow, TraceStatus, TraceWriter};
 use std::path::{Path, PathBuf};
@@ -19,6 +19,9 @@ pub struct SessionRecorder {
     frames: Option<(PathBuf, CsvLog<FrameRow>)>,
     gaze: Option<TraceWriter>,
     rows: Vec<FrameRow>,
+    timings: Vec<HeadsetTiming>,
+    /// The previous frame's predicted display time, seconds.
+    last_display_s: Option<f64>,
 }
 
 fn output_error(path: &Path, e: impl std::fmt::Display) -> XrError {
@@ -68,10 +71,15 @@ impl SessionRecorder {
             frames,
             gaze,
             rows: Vec::new(),
+            timings: Vec::new(),
+            last_display_s: None,
         })
     }
 
     pub fn frame(&mut self, record: &FrameRecord) -> Result<(), XrError> {
+        let timing = headset_timing(record, self.last_display_s);
+        self.last_display_s = Some(record.display_time_s);
+        self.timings.push(timing);
         if let Some((dir, log)) = &mut self.frames {
             let key = FrameKey {
                 scene: self.scene.clone(),
@@ -83,6 +91,7 @@ impl SessionRecorder {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_micros() as u64);
             for row in FrameRow::from_frame(&key, record.frame, record.cpu_ms, wall_us) {
+                let row = row.with_timing(&timing);
                 log.append(&row)
                     .map_err(|e| output_error(&dir.join("frames.csv"), e))?;
                 self.rows.push(row);
@@ -109,6 +118,28 @@ impl SessionRecorder {
         Ok(())
     }
 
+    /// The session's latency and pacing so far: median and 99th percentile of each frame
+    /// timing, frames missed in all.
+    pub fn latency(&self) -> LatencySummary {
+        let stat = |f: fn(&HeadsetTiming) -> f64| {
+            let values: Vec<f64> = self
+                .timings
+                .iter()
+                .map(f)
+                .filter(|v| v.is_finite())
+                .collect();
+            Percentiles::of(&values)
+        };
+        LatencySummary {
+            frames: self.timings.len(),
+            gaze_to_photon_ms: stat(|t| t.gaze_to_photon_ms),
+            latch_ms: stat(|t| t.latch_ms),
+            gpu_done_ms: stat(|t| t.gpu_done_ms),
+            frame_period_ms: stat(|t| t.frame_period_ms),
+            missed_frames: self.timings.iter().map(|t| t.missed_frames as u64).sum(),
+        }
+    }
+
     /// Writes session.json: the session's facts and the bench's statistics of its frames.
     pub fn finish(self, summary: &XrSummary) -> Result<(), XrError> {
         let Some((dir, _)) = &self.frames else {
@@ -127,9 +158,62 @@ impl SessionRecorder {
             "end": format!("{:?}", summary.end),
             "states": summary.states.iter().map(|s| format!("{s:?}")).collect::<Vec<_>>(),
             "statistics": mode_summary(self.mode, &rows),
+            "latency": self.latency(),
         });
         let path = dir.join("session.json");
         let text = serde_json::to_string_pretty(&json).map_err(|e| output_error(&path, e))?;
         std::fs::write(&path, text).map_err(|e| output_error(&path, e))
     }
+}
+
+/// A frame's timing, from its record and the previous frame's display time.
+fn headset_timing(record: &FrameRecord, last_display_s: Option<f64>) -> HeadsetTiming {
+    let period_s = last_display_s.map_or(f64::NAN, |last| record.display_time_s - last);
+    // A frame displayed n display periods after the previous one left n - 1 periods to
+    // the compositor's reprojection of an older frame.
+    let missed = match period_s.is_finite() && record.display_period_s > 0.0 {
+        true => ((period_s / record.display_period_s).round() as i64 - 1).max(0) as u32,
+        false => 0,
+    };
+    HeadsetTiming {
+        gaze_to_photon_ms: (record.display_time_s - record.gaze_time_s) * 1e3,
+        latch_ms: record.latch_ms,
+        gpu_done_ms: record.gpu_done_ms,
+        frame_period_ms: period_s * 1e3,
+        missed_frames: missed,
+    }
+}
+
+/// The median and the 99th percentile of some values (None without values).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Percentiles {
+    pub median: Option<f64>,
+    pub p99: Option<f64>,
+}
+
+impl Percentiles {
+    /// Nearest-rank percentiles: the p99 of fewer than 100 values is their maximum.
+    pub fn of(values: &[f64]) -> Self {
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let rank = |p: f64| {
+            let n = sorted.len();
+            (n > 0).then(|| sorted[((p * n as f64).ceil() as usize).clamp(1, n) - 1])
+        };
+        Self {
+            median: rank(0.5),
+            p99: rank(0.99),
+        }
+    }
+}
+
+/// session.json's "latency": how old the gaze was when shown and how the frames were paced.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LatencySummary {
+    pub frames: usize,
+    pub gaze_to_photon_ms: Percentiles,
+    pub latch_ms: Percentiles,
+    pub gpu_done_ms: Percentiles,
+    pub frame_period_ms: Percentiles,
+    pub missed_frames: u64,
 }

@@ -61,6 +61,8 @@ pub struct FrameRecord<'a> {
     pub index: u64,
     /// Predicted display time, seconds (the runtime's clock).
     pub display_time_s: f64,
+    /// The runtime's display period, seconds.
+    pub display_period_s: f64,
     /// When the eye tracker took the gaze sample (XrEyeGazeSampleTimeEXT), else the display
     /// time.
     pub gaze_time_s: f64,
@@ -70,6 +72,10 @@ pub struct FrameRecord<'a> {
     pub images: &'a [ImageGeometry],
     /// CPU milliseconds from the end of xrWaitFrame to the end of xrEndFrame.
     pub cpu_ms: f64,
+    /// CPU milliseconds from the end of xrWaitFrame to the gaze latch (right before the
+    /// frame's submission) and to the end of its GPU work (its fence).
+    pub latch_ms: f64,
+    pub gpu_done_ms: f64,
 }
 
 /// How a session ended.
@@ -348,10 +354,10 @@ fn run_with_context(
             masks_stale = false;
         }
         let time_s = time.as_nanos() as f64 * 1e-9;
-        let gaze = headset_gaze.frame(
-            &session, &space, &placement, time, focused, &cameras, &images,
-        )?;
         if probe.is_some() {
+            headset_gaze.frame(
+                &session, &space, &placement, time, focused, &cameras, &images,
+            )?;
             // The probe renders nothing; an empty frame keeps the session running.
             stream
                 .end(time, xr::EnvironmentBlendMode::OPAQUE, &[])
@@ -363,14 +369,6 @@ fn run_with_context(
             }
             continue;
         }
-        let filtered = gaze.filtered;
-        let gaze_time_s = gaze.time_s;
-        let gazes = filtered.gazes(&images);
-        let eyes: Vec<EyeView> = eyes_in_request
-            .iter()
-            .zip(&gazes)
-            .map(|(e, g)| EyeView { gaze: *g, ..*e })
-            .collect();
         let settings = RenderSettings {
             width: size[0],
             height: size[1],
@@ -378,12 +376,31 @@ fn run_with_context(
             seed: options.settings.seed.wrapping_add(summary.frames as u32),
             ..options.settings
         };
-        let frame = renderer.measure_frame(&FrameRequest {
-            settings,
-            foveation: &options.foveation,
-            eyes: &eyes,
-            debug: options.debug,
-        })?;
+        // The gaze is located as the last step before the frame's submission (its commands
+        // are recorded by then): the newest sample the tracker has for this display time.
+        let mut latched = None;
+        let frame = renderer.measure_frame_latched(
+            &FrameRequest {
+                settings,
+                foveation: &options.foveation,
+                eyes: &eyes_in_request,
+                debug: options.debug,
+            },
+            &mut || {
+                let gaze = headset_gaze.frame(
+                    &session, &space, &placement, time, focused, &cameras, &images,
+                );
+                let gazes = match &gaze {
+                    Ok(g) => g.filtered.gazes(&images),
+                    Err(_) => vec![crate::foveation::Gaze::Forward; images.len()],
+                };
+                latched = Some((gaze, started.elapsed()));
+                gazes
+            },
+        )?;
+        let gpu_done = started.elapsed();
+        let (gaze, latch) = latched.expect("the renderer latches the gaze of every frame");
+        let gaze = gaze?;
         let output = renderer.output_image().expect("a frame was just rendered");
         // Both eyes' images in one submission; released whatever happened, so the
         // runtime's image accounting stays right.
@@ -423,11 +440,14 @@ fn run_with_context(
         record(&FrameRecord {
             index: summary.frames,
             display_time_s: time_s,
-            gaze_time_s,
+            display_period_s: state.predicted_display_period.as_nanos() as f64 * 1e-9,
+            gaze_time_s: gaze.time_s,
             frame: &frame,
-            gaze: &filtered,
+            gaze: &gaze.filtered,
             images: &images,
             cpu_ms,
+            latch_ms: latch.as_secs_f64() * 1e3,
+            gpu_done_ms: gpu_done.as_secs_f64() * 1e3,
         })?;
         summary.frames += 1;
         if options.frames.is_some_and(|n| summary.frames >= n) {
