@@ -831,3 +831,86 @@ fn a_termination_signal_ends_the_session_cleanly() {
     assert_eq!(rows, 2 * frames, "{json:#}");
     assert_clean_teardown(&dir);
 }
+
+/// `column` of every left-eye row of a session's frames.csv, by frame.
+fn left_column(dir: &Path, column: &str) -> Vec<String> {
+    let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
+    let header: Vec<&str> = frames.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    frames
+        .lines()
+        .skip(1)
+        .map(|row| row.split(',').collect::<Vec<_>>())
+        .filter(|cells| cells[at("eye")] == "left")
+        .map(|cells| cells[at(column)].to_string())
+        .collect()
+}
+
+#[test]
+fn frames_the_compositor_does_not_want_are_submitted_empty_and_counted_as_missed() {
+    let dir = scratch("no-render");
+    // The session turns visible at frame 1; frames 3 to 6 are not wanted.
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated", "--frames", "6", "--scene", "control"],
+        &[
+            ("SIM_HEADSET_SIZE", "24x24"),
+            ("SIM_HEADSET_NO_RENDER", "3-6"),
+        ],
+    );
+    assert!(ok, "{out}");
+    assert_clean_teardown(&dir);
+    let r = report(&dir);
+    // Six frames rendered and handed over; every unwanted frame still ended, with no layers.
+    assert_eq!(r["frames_with_layers"], 6, "{r:#}");
+    assert!(r["frames_submitted"].as_u64().unwrap() >= 10, "{r:#}");
+    assert_eq!(r["images_saved"], 12, "{r:#}");
+    // Nothing was traced for them: six frames recorded, and the gap of four display periods
+    // shows as four missed frames, at the first frame after it.
+    let missed = left_column(&dir, "missed_frames");
+    assert_eq!(missed, ["0", "0", "4", "0", "0", "0"], "{out}");
+    let session: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
+            .unwrap();
+    assert_eq!(session["latency"]["missed_frames"], 4);
+    assert!(out.contains("frames missed: 4"), "{out}");
+}
+
+#[test]
+fn a_long_session_holds_its_memory_steady() {
+    // 3000 frames at a tiny size, the validation layer's default checks on (a message fails
+    // the command): resident memory and GPU memory after frame 2999 as after frame 299.
+    let dir = scratch("soak");
+    let session = dir.join("session");
+    let (ok, out) = common::fovea_with_env(
+        &[
+            "xr",
+            "--simulated",
+            "--frames",
+            "3000",
+            "--scene",
+            "control",
+            "--foveation",
+            "thesis",
+            "--session",
+            session.to_str().unwrap(),
+        ],
+        &[("SIM_HEADSET_SIZE", "16x16")],
+    );
+    assert!(ok, "{out}");
+    let mib = |column: &str| -> Vec<f64> {
+        left_column(&dir, column)
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let (rss, gpu) = (mib("rss_mib"), mib("gpu_mib"));
+    assert_eq!(rss.len(), 3000);
+    assert_eq!(gpu[299], gpu[2999], "GPU memory grew");
+    assert!(
+        rss[2999] - rss[299] <= 4.0,
+        "resident memory grew from {:.1} MiB after frame 299 to {:.1} MiB after frame 2999",
+        rss[299],
+        rss[2999]
+    );
+}

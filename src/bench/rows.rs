@@ -53,6 +53,12 @@ pub struct FrameRow {
     pub frame_period_ms: Option<f64>,
     #[serde(default)]
     pub missed_frames: Option<u32>,
+    /// Headset sessions only: the process's resident memory (Linux; empty elsewhere) and
+    /// fovea's GPU memory in use, MiB, after the frame.
+    #[serde(default)]
+    pub rss_mib: Option<f64>,
+    #[serde(default)]
+    pub gpu_mib: Option<f64>,
 }
 
 /// When a headset frame's work happened and how old its gaze was when it was shown.
@@ -81,6 +87,15 @@ impl FrameRow {
             gpu_done_ms: Some(t.gpu_done_ms),
             frame_period_ms: t.frame_period_ms.is_finite().then_some(t.frame_period_ms),
             missed_frames: Some(t.missed_frames),
+            ..self
+        }
+    }
+
+    /// The row with the process's memory after the frame.
+    pub fn with_memory(self, rss_mib: Option<f64>, gpu_mib: f64) -> Self {
+        Self {
+            rss_mib,
+            gpu_mib: Some(gpu_mib),
             ..self
         }
     }
@@ -142,6 +157,8 @@ impl FrameRow {
                     gpu_done_ms: None,
                     frame_period_ms: None,
                     missed_frames: None,
+                    rss_mib: None,
+                    gpu_mib: None,
                 }
             })
             .collect()

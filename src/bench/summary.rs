@@ -277,6 +277,8 @@ mod tests {
             gpu_done_ms: None,
             frame_period_ms: None,
             missed_frames: None,
+            rss_mib: None,
+            gpu_mib: None,
         }
     }
 

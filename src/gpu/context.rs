@@ -29,6 +29,10 @@ pub struct GpuContext {
     /// vkCmdPipelineBarrier2 (VK_KHR_synchronization2: every barrier fovea records).
     pub(super) sync2: ash::khr::synchronization2::Device,
     pub(crate) command_pool: vk::CommandPool,
+    /// Command buffers and fences of finished submissions, reused by the next ones: a
+    /// headset session submits every frame, and new handles each time make the validation
+    /// layer's bookkeeping (and some drivers') grow.
+    spare: Mutex<Vec<(vk::CommandBuffer, vk::Fence)>>,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(super) markers: Mutex<Markers>,
     pub(super) memory: MemoryFacts,
@@ -408,6 +412,7 @@ impl GpuContext {
             queue,
             sync2,
             command_pool,
+            spare: Mutex::new(Vec::new()),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             markers: Mutex::new(markers),
             memory,
@@ -487,17 +492,12 @@ impl GpuContext {
         submission: &str,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<Recorded<'_>, GpuError> {
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(self.command_pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool belongs to this device and is only used from this thread.
-        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
-            .vk("vkAllocateCommandBuffers")?[0];
-        // Freed on every path from here on, recorded or not.
+        let (cmd, fence) = self.command_buffer_and_fence()?;
+        // Back to the spares on every path from here on, recorded or not.
         let recorded = Recorded {
             ctx: self,
             cmd,
+            fence,
             submission: submission.to_string(),
         };
         {
@@ -510,7 +510,8 @@ impl GpuContext {
         }
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: cmd is a fresh primary command buffer of this device.
+        // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
+        // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
         unsafe { self.device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         record(cmd);
         if !self.markers().names.is_empty() {
@@ -526,13 +527,44 @@ impl GpuContext {
         unsafe { self.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
         Ok(recorded)
     }
+
+    /// A spare command buffer and fence (unsignalled), or new ones.
+    fn command_buffer_and_fence(&self) -> Result<(vk::CommandBuffer, vk::Fence), GpuError> {
+        if let Some(pair) = self.spare.lock().unwrap_or_else(|e| e.into_inner()).pop() {
+            return Ok(pair);
+        }
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device and is only used from this thread.
+        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
+            .vk("vkAllocateCommandBuffers")?[0];
+        // SAFETY: fence creation with default info.
+        match unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        } {
+            Ok(fence) => Ok((cmd, fence)),
+            Err(e) => {
+                // SAFETY: the buffer was just allocated and never used.
+                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+                Err(e).vk("vkCreateFence")
+            }
+        }
+    }
 }
+
+/// Spare command buffers and fences kept at most (more are freed).
+const MAX_SPARES: usize = 4;
 
 /// A recorded command buffer, not yet submitted (see [`GpuContext::record`]); freed when
 /// dropped, submitted or not.
 pub struct Recorded<'a> {
     ctx: &'a GpuContext,
     cmd: vk::CommandBuffer,
+    /// Unsignalled until the submission completes.
+    fence: vk::Fence,
     submission: String,
 }
 
@@ -540,12 +572,7 @@ impl Recorded<'_> {
     /// Submits the commands and waits for them to complete.
     pub fn submit_and_wait(self) -> Result<(), GpuError> {
         let ctx = self.ctx;
-        // SAFETY: fence creation with default info.
-        let fence = unsafe {
-            ctx.device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-        }
-        .vk("vkCreateFence")?;
+        let fence = self.fence;
         let cmds = [self.cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         // SAFETY: the queue is used only from this thread; cmd (ended) and fence are valid.
@@ -554,8 +581,6 @@ impl Recorded<'_> {
                 .queue_submit(ctx.queue, &submit, fence)
                 .and_then(|_| ctx.device.wait_for_fences(&[fence], true, u64::MAX))
         };
-        // SAFETY: the fence is signalled or the submission failed; either way it is unused now.
-        unsafe { ctx.device.destroy_fence(fence, None) };
         let injected = ctx.markers().cut;
         let waited = match (waited, injected) {
             // The command buffer ended after the injected pass: fail as a driver would.
@@ -571,13 +596,29 @@ impl Recorded<'_> {
 
 impl Drop for Recorded<'_> {
     fn drop(&mut self) {
-        // SAFETY: the buffer was never submitted, or its submission completed or failed
-        // (submit_and_wait waits), so it is no longer in use.
-        unsafe {
-            self.ctx
-                .device
-                .free_command_buffers(self.ctx.command_pool, &[self.cmd])
+        let ctx = self.ctx;
+        // SAFETY: the buffer and fence were never submitted, or their submission completed or
+        // failed (submit_and_wait waits), so neither is in use.
+        // Resetting the buffer too puts it back in the initial state from any state but
+        // pending (a recording cut short included).
+        let reset = unsafe {
+            ctx.device.reset_fences(&[self.fence]).and_then(|()| {
+                ctx.device
+                    .reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
+            })
         };
+        let mut spare = ctx.spare.lock().unwrap_or_else(|e| e.into_inner());
+        if reset.is_ok() && spare.len() < MAX_SPARES {
+            spare.push((self.cmd, self.fence));
+            return;
+        }
+        drop(spare);
+        // SAFETY: as above.
+        unsafe {
+            ctx.device.destroy_fence(self.fence, None);
+            ctx.device
+                .free_command_buffers(ctx.command_pool, &[self.cmd]);
+        }
     }
 }
 
@@ -610,6 +651,15 @@ impl Drop for GpuContext {
             }
             self.device.destroy_buffer(markers.buffer, None);
             ManuallyDrop::drop(&mut self.allocator);
+            for (_, fence) in self
+                .spare
+                .get_mut()
+                .unwrap_or_else(|e| e.into_inner())
+                .drain(..)
+            {
+                self.device.destroy_fence(fence, None);
+            }
+            // Frees the spare command buffers too.
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_device(None);
             if let Some((loader, messenger)) = self.debug.take() {

@@ -18,7 +18,8 @@ pub struct SessionRecorder {
     mode: Mode,
     frames: Option<(PathBuf, CsvLog<FrameRow>)>,
     gaze: Option<TraceWriter>,
-    rows: Vec<FrameRow>,
+    /// Only what the latency summary needs stays in memory; the rows are on disk (a session
+    /// of hours at 90 Hz must not grow by a row per frame).
     timings: Vec<HeadsetTiming>,
     /// The previous frame's predicted display time, seconds.
     last_display_s: Option<f64>,
@@ -70,7 +71,6 @@ impl SessionRecorder {
             },
             frames,
             gaze,
-            rows: Vec::new(),
             timings: Vec::new(),
             last_display_s: None,
         })
@@ -91,10 +91,11 @@ impl SessionRecorder {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_micros() as u64);
             for row in FrameRow::from_frame(&key, record.frame, record.cpu_ms, wall_us) {
-                let row = row.with_timing(&timing);
+                let row = row
+                    .with_timing(&timing)
+                    .with_memory(resident_mib(), record.gpu_bytes as f64 / MIB);
                 log.append(&row)
                     .map_err(|e| output_error(&dir.join("frames.csv"), e))?;
-                self.rows.push(row);
             }
         }
         if let Some(writer) = &mut self.gaze {
@@ -145,7 +146,11 @@ impl SessionRecorder {
         let Some((dir, _)) = &self.frames else {
             return Ok(());
         };
-        let rows: Vec<&FrameRow> = self.rows.iter().collect();
+        // The statistics from the rows written, read back once at the end.
+        let frames_csv = dir.join("frames.csv");
+        let (_, written) =
+            CsvLog::<FrameRow>::open(&frames_csv).map_err(|e| output_error(&frames_csv, e))?;
+        let rows: Vec<&FrameRow> = written.iter().collect();
         let json = serde_json::json!({
             "runtime": summary.runtime,
             "device": summary.device,
@@ -216,4 +221,15 @@ pub struct LatencySummary {
     pub gpu_done_ms: Percentiles,
     pub frame_period_ms: Percentiles,
     pub missed_frames: u64,
+}
+
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// The process's resident memory in MiB (Linux: /proc/self/status's VmRSS), None where the
+/// system does not say.
+pub fn resident_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
 }

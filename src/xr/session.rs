@@ -76,6 +76,8 @@ pub struct FrameRecord<'a> {
     /// frame's submission) and to the end of its GPU work (its fence).
     pub latch_ms: f64,
     pub gpu_done_ms: f64,
+    /// fovea's GPU memory in use after the frame, bytes.
+    pub gpu_bytes: u64,
 }
 
 /// How a session ended.
@@ -448,6 +450,7 @@ fn run_with_context(
             cpu_ms,
             latch_ms: latch.as_secs_f64() * 1e3,
             gpu_done_ms: gpu_done.as_secs_f64() * 1e3,
+            gpu_bytes: ctx.memory_in_use(),
         })?;
         summary.frames += 1;
         if options.frames.is_some_and(|n| summary.frames >= n) {

@@ -43,6 +43,9 @@ pub struct Config {
     pub report_path: Option<PathBuf>,
     /// `SIM_HEADSET_REALTIME=1`: `xrWaitFrame` sleeps to pace frames at 90 Hz.
     pub realtime: bool,
+    /// `SIM_HEADSET_NO_RENDER=FROM-TO`: frames (inclusive) whose `shouldRender` is false, as
+    /// when the compositor shows something else over the app.
+    pub no_render: Option<(u64, u64)>,
 }
 
 /// The Vive Pro Eye's recommended per-eye size, which the simulated headset imitates.
@@ -62,6 +65,7 @@ impl Default for Config {
             loss_at_frame: None,
             report_path: None,
             realtime: false,
+            no_render: None,
         }
     }
 }
@@ -169,6 +173,9 @@ impl Config {
         if let Some(v) = get("SIM_HEADSET_REALTIME") {
             config.realtime = parse_switch("SIM_HEADSET_REALTIME", &v)?;
         }
+        if let Some(v) = get("SIM_HEADSET_NO_RENDER") {
+            config.no_render = Some(parse_frame_range("SIM_HEADSET_NO_RENDER", &v)?);
+        }
         Ok(config)
     }
 }
@@ -189,6 +196,20 @@ fn parse_frame(variable: &'static str, value: &str) -> Result<u64, ConfigError> 
         variable,
         message: format!("{value:?} is not a frame number (a non-negative integer)"),
     })
+}
+
+fn parse_frame_range(variable: &'static str, value: &str) -> Result<(u64, u64), ConfigError> {
+    let fail = || ConfigError {
+        variable,
+        message: format!("{value:?} is not FROM-TO, two frame numbers with FROM <= TO"),
+    };
+    let (from, to) = value.trim().split_once('-').ok_or_else(fail)?;
+    let from: u64 = from.trim().parse().map_err(|_| fail())?;
+    let to: u64 = to.trim().parse().map_err(|_| fail())?;
+    match from <= to {
+        true => Ok((from, to)),
+        false => Err(fail()),
+    }
 }
 
 fn parse_size(value: &str) -> Result<(u32, u32), ConfigError> {
@@ -236,6 +257,7 @@ mod tests {
             ("SIM_HEADSET_LOSS_AT_FRAME", "20"),
             ("SIM_HEADSET_REPORT", "/tmp/r.json"),
             ("SIM_HEADSET_REALTIME", "1"),
+            ("SIM_HEADSET_NO_RENDER", "5-9"),
         ])
         .unwrap();
         assert_eq!(c.gaze.keyframes().len(), 2);
@@ -246,6 +268,7 @@ mod tests {
         assert_eq!(c.exit_at_frame, Some(12));
         assert_eq!(c.loss_at_frame, Some(20));
         assert!(c.realtime);
+        assert_eq!(c.no_render, Some((5, 9)));
     }
 
     #[test]
@@ -259,6 +282,8 @@ mod tests {
             ("SIM_HEADSET_EXIT_AT_FRAME", "-1"),
             ("SIM_HEADSET_LOSS_AT_FRAME", "soon"),
             ("SIM_HEADSET_REALTIME", "fast"),
+            ("SIM_HEADSET_NO_RENDER", "9-5"),
+            ("SIM_HEADSET_NO_RENDER", "7"),
             ("SIM_HEADSET_GAZE", "0 0"),
             ("SIM_HEADSET_GAZE_FILE", "/nonexistent/gaze.txt"),
         ] {

@@ -71,7 +71,11 @@ pub fn wait_frame(
             s.state,
             xr::SessionState::VISIBLE | xr::SessionState::FOCUSED
         );
-        state.should_render = visible.into();
+        let wanted = !inst
+            .config
+            .no_render
+            .is_some_and(|(from, to)| (from..=to).contains(&frame));
+        state.should_render = (visible && wanted).into();
         Ok(xr::Result::SUCCESS)
     })
 }
@@ -250,6 +254,7 @@ pub fn end_frame(rt: &mut Runtime, session: xr::Session, info: &xr::FrameEndInfo
     with_both(rt, session, |inst, s, id| {
         s.frames.frame_begun = false;
         inst.log.frames_submitted += 1;
+        inst.log.frames_with_layers += (info.layer_count > 0) as u64;
         if saved {
             inst.log.images_saved += 2;
         }

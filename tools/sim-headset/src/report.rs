@@ -42,6 +42,7 @@ pub struct ErrorEntry {
 pub struct ReportLog {
     pub frames_waited: u64,
     pub frames_submitted: u64,
+    pub frames_with_layers: u64,
     pub images_saved: u64,
     pub session_states: Vec<String>,
     pub errors: Vec<ErrorEntry>,
@@ -72,6 +73,8 @@ pub struct Report {
     pub runtime: &'static str,
     pub frames_waited: u64,
     pub frames_submitted: u64,
+    /// Submitted frames with at least one composition layer (the others were empty).
+    pub frames_with_layers: u64,
     pub images_saved: u64,
     /// Every state any session of the instance entered, in order (e.g. IDLE, READY, ...).
     pub session_states: Vec<String>,
@@ -97,6 +100,7 @@ impl Report {
             runtime: crate::RUNTIME_NAME,
             frames_waited: log.frames_waited,
             frames_submitted: log.frames_submitted,
+            frames_with_layers: log.frames_with_layers,
             images_saved: log.images_saved,
             session_states: log.session_states,
             alive_at_instance_destroy: alive,
