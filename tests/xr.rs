@@ -393,6 +393,61 @@ fn a_lost_session_tears_down_cleanly_and_keeps_what_it_recorded() {
     let frames = std::fs::read_to_string(dir.join("session/frames.csv")).unwrap();
     let rows = frames.lines().count() - 1;
     assert!((4..50).contains(&rows), "{rows} rows:\n{frames}");
+    // Every session is lost at its frame 4: fovea started new ones, a bounded number of
+    // times, then gave up with the message.
+    assert_eq!(report(&dir)["sessions_lost"], 4, "{out}");
+    assert!(
+        out.contains("(3 of 3)") && out.contains("in 4 session(s)"),
+        "{out}"
+    );
+}
+
+#[test]
+fn after_a_lost_session_a_new_one_renders_the_remaining_frames() {
+    let dir = scratch("recover");
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated", "--frames", "8", "--scene", "control"],
+        &[
+            ("SIM_HEADSET_SIZE", "24x24"),
+            ("SIM_HEADSET_LOSS_AT_FRAME", "4"),
+            ("SIM_HEADSET_LOSSES", "1"),
+        ],
+    );
+    assert!(ok, "{out}");
+    assert!(
+        out.contains("starting a new one in 500 ms (1 of 3)"),
+        "{out}"
+    );
+    assert_clean_teardown(&dir);
+    let r = report(&dir);
+    assert_eq!(r["sessions_lost"], 1, "{r:#}");
+    assert_eq!(r["frames_with_layers"], 8, "{r:#}");
+    // The second session starts over: IDLE, READY ... after the first one's LOSS_PENDING.
+    let states: Vec<&str> = r["session_states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    let lost = states
+        .iter()
+        .position(|s| s.contains("LOSS_PENDING"))
+        .unwrap();
+    assert!(
+        states[lost..].iter().any(|s| s.contains("FOCUSED")),
+        "{states:?}"
+    );
+    // One session profile for both: frames 0..8 in order, session.json complete.
+    let frames = left_column(&dir, "frame");
+    let expected: Vec<String> = (0..8).map(|f| f.to_string()).collect();
+    assert_eq!(frames, expected);
+    let session: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
+            .unwrap();
+    assert_eq!(session["sessions"], 2);
+    assert_eq!(session["statistics"]["frames"], 8);
+    assert_eq!(session["end"], "Requested");
 }
 
 /// The simulated headset built as a shared library by this `cargo test` (as a dependency of

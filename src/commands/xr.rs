@@ -218,7 +218,13 @@ pub fn run(args: &XrArgs) -> Result<()> {
     }
     check_validation_messages(&summary.validation)?;
     match summary.end {
-        SessionEnd::Lost => bail!("the OpenXR session was lost after {} frames; everything rendered until then was recorded", summary.frames),
+        SessionEnd::Lost => bail!(
+            "the OpenXR session was lost after {} frames, in {} session(s): fovea started a new \
+             one after each loss, up to {} times; everything rendered until then was recorded",
+            summary.frames,
+            summary.sessions,
+            xr::SESSION_RETRIES
+        ),
         SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
     }
 }

@@ -17,4 +17,4 @@ pub use error::XrError;
 pub use instance::RuntimeSource;
 pub use probe::{ProbeReport, PROBE_FRAMES};
 pub use recording::SessionRecorder;
-pub use session::{run, FrameRecord, SessionEnd, XrOptions, XrSummary};
+pub use session::{run, FrameRecord, SessionEnd, XrOptions, XrSummary, SESSION_RETRIES};

@@ -158,6 +158,7 @@ impl SessionRecorder {
             "eye_size": summary.eye_size,
             "swapchain_format": summary.swapchain_format,
             "frames": summary.frames,
+            "sessions": summary.sessions,
             "eye_gaze": summary.no_gaze.unwrap_or("tracked by the headset"),
             "visibility_mask": summary.visibility_mask,
             "end": format!("{:?}", summary.end),
@@ -173,7 +174,11 @@ impl SessionRecorder {
 
 /// A frame's timing, from its record and the previous frame's display time.
 fn headset_timing(record: &FrameRecord, last_display_s: Option<f64>) -> HeadsetTiming {
-    let period_s = last_display_s.map_or(f64::NAN, |last| record.display_time_s - last);
+    // A new session after a lost one may start a new timeline: no period across it.
+    let period_s = last_display_s
+        .map(|last| record.display_time_s - last)
+        .filter(|p| *p > 0.0)
+        .unwrap_or(f64::NAN);
     // A frame displayed n display periods after the previous one left n - 1 periods to
     // the compositor's reprojection of an older frame.
     let missed = match period_s.is_finite() && record.display_period_s > 0.0 {

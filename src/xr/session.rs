@@ -94,7 +94,10 @@ pub enum SessionEnd {
 pub struct XrSummary {
     pub runtime: String,
     pub device: String,
+    /// Frames rendered in all sessions.
     pub frames: u64,
+    /// Sessions run: more than one after the runtime lost one and fovea started another.
+    pub sessions: u32,
     pub eye_size: [u32; 2],
     pub swapchain_format: String,
     /// Why there was no eye gaze, if there was none.
@@ -141,7 +144,7 @@ pub fn run(
         },
     )?);
     let validation_log = ctx.validation_log();
-    let result = run_with_context(&xr_instance, &ctx, &options, &mut record);
+    let result = run_sessions(&xr_instance, &ctx, &options, &mut record);
     // The traversal too: it decides a headset frame's cost (ray queries on a GPU with them).
     let device = format!(
         "{} ({} traversal)",
@@ -157,11 +160,71 @@ pub fn run(
     Ok(summary)
 }
 
+/// New sessions fovea creates after the runtime lost one, before it gives up.
+pub const SESSION_RETRIES: u32 = 3;
+/// The wait before the first new session; it doubles for each further one.
+const FIRST_RETRY_WAIT: Duration = Duration::from_millis(500);
+
+/// Runs sessions on `ctx` until one ends other than by loss, or until a lost session has been
+/// followed by SESSION_RETRIES new ones (bounded back-off between them). Frames count on
+/// across the sessions; a new session that cannot be created ends the run as lost, with what
+/// the earlier ones recorded.
+fn run_sessions(
+    xr_instance: &XrInstance,
+    ctx: &Arc<GpuContext>,
+    options: &XrOptions,
+    record: &mut impl FnMut(&FrameRecord) -> Result<(), XrError>,
+) -> Result<XrSummary, XrError> {
+    let mut summary = run_with_context(xr_instance, ctx, options, record, 0)?;
+    for retry in 0..SESSION_RETRIES {
+        let wanted_more = options.frames.is_none_or(|n| summary.frames < n);
+        if summary.end != SessionEnd::Lost
+            || options.probe
+            || !wanted_more
+            || options.stop.load(Ordering::Relaxed)
+        {
+            break;
+        }
+        let wait = FIRST_RETRY_WAIT * 2u32.pow(retry);
+        eprintln!(
+            "fovea xr: the OpenXR session was lost after {} frames; starting a new one in {} ms \
+             ({} of {SESSION_RETRIES})",
+            summary.frames,
+            wait.as_millis(),
+            retry + 1
+        );
+        std::thread::sleep(wait);
+        match run_with_context(xr_instance, ctx, options, record, summary.frames) {
+            Ok(next) => summary = next.after(summary),
+            Err(e) => {
+                eprintln!("fovea xr: no new session: {e}");
+                break;
+            }
+        }
+    }
+    Ok(summary)
+}
+
+impl XrSummary {
+    /// This session's summary continuing `earlier` sessions': their states first.
+    fn after(mut self, earlier: XrSummary) -> XrSummary {
+        let mut states = earlier.states;
+        states.append(&mut self.states);
+        self.states = states;
+        let mut validation = earlier.validation;
+        validation.append(&mut self.validation);
+        self.validation = validation;
+        self.sessions += earlier.sessions;
+        self
+    }
+}
+
 fn run_with_context(
     xr_instance: &XrInstance,
     ctx: &Arc<GpuContext>,
     options: &XrOptions,
     record: &mut impl FnMut(&FrameRecord) -> Result<(), XrError>,
+    frames_before: u64,
 ) -> Result<XrSummary, XrError> {
     let instance = &xr_instance.instance;
     let system = xr_instance.system;
@@ -235,7 +298,8 @@ fn run_with_context(
     let mut summary = XrSummary {
         runtime: xr_instance.runtime.clone(),
         device: String::new(),
-        frames: 0,
+        frames: frames_before,
+        sessions: 1,
         eye_size: size,
         swapchain_format: format!("{format:?}"),
         no_gaze,
@@ -249,214 +313,230 @@ fn run_with_context(
     let mut exit_asked: Option<Instant> = None;
     let mut focused = false;
     let mut events = xr::EventDataBuffer::new();
-    'session: loop {
-        while let Some(event) = instance.poll_event(&mut events).xr("xrPollEvent")? {
-            match event {
-                xr::Event::SessionStateChanged(change) => {
-                    let state = change.state();
-                    summary.states.push(state);
-                    focused = state == xr::SessionState::FOCUSED;
-                    tracing::info!("OpenXR session state: {state:?}");
-                    match state {
-                        xr::SessionState::READY => {
-                            session.begin(VIEW_TYPE).xr("xrBeginSession")?;
-                            running = true;
+    // The frame loop; a session lost in any call ends it as lost (teardown is the same).
+    let looped = (|| -> Result<(), XrError> {
+        'session: loop {
+            while let Some(event) = instance.poll_event(&mut events).xr("xrPollEvent")? {
+                match event {
+                    // Events queue per instance: a lost session's last ones may still be
+                    // there when the next session starts.
+                    xr::Event::SessionStateChanged(change)
+                        if change.session() != session.as_raw() => {}
+                    xr::Event::SessionStateChanged(change) => {
+                        let state = change.state();
+                        summary.states.push(state);
+                        focused = state == xr::SessionState::FOCUSED;
+                        tracing::info!("OpenXR session state: {state:?}");
+                        match state {
+                            xr::SessionState::READY => {
+                                session.begin(VIEW_TYPE).xr("xrBeginSession")?;
+                                running = true;
+                            }
+                            xr::SessionState::STOPPING => {
+                                session.end().xr("xrEndSession")?;
+                                running = false;
+                            }
+                            xr::SessionState::EXITING => {
+                                summary.end = match exit_asked {
+                                    Some(_) => SessionEnd::Requested,
+                                    None => SessionEnd::RuntimeExit,
+                                };
+                                break 'session;
+                            }
+                            xr::SessionState::LOSS_PENDING => {
+                                tracing::warn!("the OpenXR session is being lost; ending it");
+                                summary.end = SessionEnd::Lost;
+                                break 'session;
+                            }
+                            _ => {}
                         }
-                        xr::SessionState::STOPPING => {
-                            session.end().xr("xrEndSession")?;
-                            running = false;
-                        }
-                        xr::SessionState::EXITING => {
-                            summary.end = match exit_asked {
-                                Some(_) => SessionEnd::Requested,
-                                None => SessionEnd::RuntimeExit,
-                            };
-                            break 'session;
-                        }
-                        xr::SessionState::LOSS_PENDING => {
-                            tracing::warn!("the OpenXR session is being lost; ending it");
-                            summary.end = SessionEnd::Lost;
-                            break 'session;
-                        }
-                        _ => {}
                     }
+                    xr::Event::InstanceLossPending(_) => {
+                        tracing::warn!("the OpenXR instance is being lost; ending the session");
+                        summary.end = SessionEnd::Lost;
+                        break 'session;
+                    }
+                    xr::Event::VisibilityMaskChangedKHR(_) => masks_stale = use_mask,
+                    _ => {}
                 }
-                xr::Event::InstanceLossPending(_) => {
-                    tracing::warn!("the OpenXR instance is being lost; ending the session");
+            }
+            if exit_asked.is_none() && options.stop.load(Ordering::Relaxed) {
+                eprintln!("fovea xr: stopping the session (interrupted)");
+                if !running {
+                    summary.end = SessionEnd::Requested;
+                    break;
+                }
+                session.request_exit().xr("xrRequestExitSession")?;
+                exit_asked = Some(Instant::now());
+            }
+            if let Some(asked) = exit_asked {
+                if asked.elapsed() > STOP_TIMEOUT {
+                    tracing::warn!(
+                        "the runtime did not stop the session within {STOP_TIMEOUT:?} of fovea asking; tearing down"
+                    );
+                    summary.end = SessionEnd::Requested;
+                    break;
+                }
+            }
+            if !running || exit_asked.is_some() {
+                std::thread::sleep(IDLE_POLL);
+                continue;
+            }
+            let state = match waiter.wait() {
+                Ok(state) => state,
+                Err(xr::sys::Result::ERROR_SESSION_LOST) => {
                     summary.end = SessionEnd::Lost;
-                    break 'session;
+                    break;
                 }
-                xr::Event::VisibilityMaskChangedKHR(_) => masks_stale = use_mask,
-                _ => {}
+                Err(e) => return Err(e).xr("xrWaitFrame"),
+            };
+            let started = Instant::now();
+            stream.begin().xr("xrBeginFrame")?;
+            if !state.should_render {
+                stream
+                    .end(
+                        state.predicted_display_time,
+                        xr::EnvironmentBlendMode::OPAQUE,
+                        &[],
+                    )
+                    .xr("xrEndFrame")?;
+                continue;
             }
-        }
-        if exit_asked.is_none() && options.stop.load(Ordering::Relaxed) {
-            eprintln!("fovea xr: stopping the session (interrupted)");
-            if !running {
-                summary.end = SessionEnd::Requested;
-                break;
+            let time = state.predicted_display_time;
+            let (_, located) = session
+                .locate_views(VIEW_TYPE, time, &space)
+                .xr("xrLocateViews")?;
+            let cameras: Vec<_> = located
+                .iter()
+                .map(|v| placement.eye_camera(&v.pose, &v.fov))
+                .collect();
+            let eyes_in_request: Vec<EyeView> = cameras
+                .iter()
+                .map(|c| EyeView {
+                    camera: *c,
+                    gaze: crate::foveation::Gaze::Forward,
+                })
+                .collect();
+            let images: Vec<ImageGeometry> = eyes_in_request
+                .iter()
+                .map(|e| e.image(size[0], size[1]))
+                .collect();
+            if masks_stale {
+                renderer.set_visibility_masks(visibility_masks(&session, &images)?);
+                masks_stale = false;
             }
-            session.request_exit().xr("xrRequestExitSession")?;
-            exit_asked = Some(Instant::now());
-        }
-        if let Some(asked) = exit_asked {
-            if asked.elapsed() > STOP_TIMEOUT {
-                tracing::warn!(
-                    "the runtime did not stop the session within {STOP_TIMEOUT:?} of fovea asking; tearing down"
-                );
-                summary.end = SessionEnd::Requested;
-                break;
+            let time_s = time.as_nanos() as f64 * 1e-9;
+            if probe.is_some() {
+                headset_gaze.frame(
+                    &session, &space, &placement, time, focused, &cameras, &images,
+                )?;
+                // The probe renders nothing; an empty frame keeps the session running.
+                stream
+                    .end(time, xr::EnvironmentBlendMode::OPAQUE, &[])
+                    .xr("xrEndFrame")?;
+                summary.frames += 1;
+                if options.frames.is_some_and(|n| summary.frames >= n) {
+                    session.request_exit().xr("xrRequestExitSession")?;
+                    exit_asked = Some(Instant::now());
+                }
+                continue;
             }
-        }
-        if !running || exit_asked.is_some() {
-            std::thread::sleep(IDLE_POLL);
-            continue;
-        }
-        let state = match waiter.wait() {
-            Ok(state) => state,
-            Err(xr::sys::Result::ERROR_SESSION_LOST) => {
-                summary.end = SessionEnd::Lost;
-                break;
+            let settings = RenderSettings {
+                width: size[0],
+                height: size[1],
+                spp: options.foveation.layers[0].spp,
+                seed: options.settings.seed.wrapping_add(summary.frames as u32),
+                ..options.settings
+            };
+            // The gaze is located as the last step before the frame's submission (its commands
+            // are recorded by then): the newest sample the tracker has for this display time.
+            let mut latched = None;
+            let frame = renderer.measure_frame_latched(
+                &FrameRequest {
+                    settings,
+                    foveation: &options.foveation,
+                    eyes: &eyes_in_request,
+                    debug: options.debug,
+                },
+                &mut || {
+                    let gaze = headset_gaze.frame(
+                        &session, &space, &placement, time, focused, &cameras, &images,
+                    );
+                    let gazes = match &gaze {
+                        Ok(g) => g.filtered.gazes(&images),
+                        Err(_) => vec![crate::foveation::Gaze::Forward; images.len()],
+                    };
+                    latched = Some((gaze, started.elapsed()));
+                    gazes
+                },
+            )?;
+            let gpu_done = started.elapsed();
+            let (gaze, latch) = latched.expect("the renderer latches the gaze of every frame");
+            let gaze = gaze?;
+            let output = renderer.output_image().expect("a frame was just rendered");
+            // Both eyes' images in one submission; released whatever happened, so the
+            // runtime's image accounting stays right.
+            let mut copies = Vec::with_capacity(2);
+            for (e, swapchain) in swapchains.iter_mut().enumerate() {
+                let rect = SourceRect {
+                    offset: [e as u32 * size[0], 0],
+                    extent: size,
+                };
+                copies.push((rect, swapchain.acquire()?));
             }
-            Err(e) => return Err(e).xr("xrWaitFrame"),
-        };
-        let started = Instant::now();
-        stream.begin().xr("xrBeginFrame")?;
-        if !state.should_render {
+            let copied = ctx.copy_to_external(output, &copies);
+            for swapchain in &mut swapchains {
+                swapchain.release()?;
+            }
+            copied?;
+            let projection_views: Vec<_> = located
+                .iter()
+                .zip(&swapchains)
+                .map(|(view, swapchain)| {
+                    xr::CompositionLayerProjectionView::new()
+                        .pose(view.pose)
+                        .fov(view.fov)
+                        .sub_image(swapchain.sub_image())
+                })
+                .collect();
             stream
                 .end(
-                    state.predicted_display_time,
+                    time,
                     xr::EnvironmentBlendMode::OPAQUE,
-                    &[],
+                    &[&xr::CompositionLayerProjection::new()
+                        .space(&space)
+                        .views(&projection_views)],
                 )
                 .xr("xrEndFrame")?;
-            continue;
-        }
-        let time = state.predicted_display_time;
-        let (_, located) = session
-            .locate_views(VIEW_TYPE, time, &space)
-            .xr("xrLocateViews")?;
-        let cameras: Vec<_> = located
-            .iter()
-            .map(|v| placement.eye_camera(&v.pose, &v.fov))
-            .collect();
-        let eyes_in_request: Vec<EyeView> = cameras
-            .iter()
-            .map(|c| EyeView {
-                camera: *c,
-                gaze: crate::foveation::Gaze::Forward,
-            })
-            .collect();
-        let images: Vec<ImageGeometry> = eyes_in_request
-            .iter()
-            .map(|e| e.image(size[0], size[1]))
-            .collect();
-        if masks_stale {
-            renderer.set_visibility_masks(visibility_masks(&session, &images)?);
-            masks_stale = false;
-        }
-        let time_s = time.as_nanos() as f64 * 1e-9;
-        if probe.is_some() {
-            headset_gaze.frame(
-                &session, &space, &placement, time, focused, &cameras, &images,
-            )?;
-            // The probe renders nothing; an empty frame keeps the session running.
-            stream
-                .end(time, xr::EnvironmentBlendMode::OPAQUE, &[])
-                .xr("xrEndFrame")?;
+            let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
+            record(&FrameRecord {
+                index: summary.frames,
+                display_time_s: time_s,
+                display_period_s: state.predicted_display_period.as_nanos() as f64 * 1e-9,
+                gaze_time_s: gaze.time_s,
+                frame: &frame,
+                gaze: &gaze.filtered,
+                images: &images,
+                cpu_ms,
+                latch_ms: latch.as_secs_f64() * 1e3,
+                gpu_done_ms: gpu_done.as_secs_f64() * 1e3,
+                gpu_bytes: ctx.memory_in_use(),
+            })?;
             summary.frames += 1;
             if options.frames.is_some_and(|n| summary.frames >= n) {
                 session.request_exit().xr("xrRequestExitSession")?;
                 exit_asked = Some(Instant::now());
             }
-            continue;
         }
-        let settings = RenderSettings {
-            width: size[0],
-            height: size[1],
-            spp: options.foveation.layers[0].spp,
-            seed: options.settings.seed.wrapping_add(summary.frames as u32),
-            ..options.settings
-        };
-        // The gaze is located as the last step before the frame's submission (its commands
-        // are recorded by then): the newest sample the tracker has for this display time.
-        let mut latched = None;
-        let frame = renderer.measure_frame_latched(
-            &FrameRequest {
-                settings,
-                foveation: &options.foveation,
-                eyes: &eyes_in_request,
-                debug: options.debug,
-            },
-            &mut || {
-                let gaze = headset_gaze.frame(
-                    &session, &space, &placement, time, focused, &cameras, &images,
-                );
-                let gazes = match &gaze {
-                    Ok(g) => g.filtered.gazes(&images),
-                    Err(_) => vec![crate::foveation::Gaze::Forward; images.len()],
-                };
-                latched = Some((gaze, started.elapsed()));
-                gazes
-            },
-        )?;
-        let gpu_done = started.elapsed();
-        let (gaze, latch) = latched.expect("the renderer latches the gaze of every frame");
-        let gaze = gaze?;
-        let output = renderer.output_image().expect("a frame was just rendered");
-        // Both eyes' images in one submission; released whatever happened, so the
-        // runtime's image accounting stays right.
-        let mut copies = Vec::with_capacity(2);
-        for (e, swapchain) in swapchains.iter_mut().enumerate() {
-            let rect = SourceRect {
-                offset: [e as u32 * size[0], 0],
-                extent: size,
-            };
-            copies.push((rect, swapchain.acquire()?));
+        Ok(())
+    })();
+    match looped {
+        Ok(()) => {}
+        Err(XrError::SessionLost(call)) => {
+            tracing::warn!("the OpenXR session was lost ({call}); ending it");
+            summary.end = SessionEnd::Lost;
         }
-        let copied = ctx.copy_to_external(output, &copies);
-        for swapchain in &mut swapchains {
-            swapchain.release()?;
-        }
-        copied?;
-        let projection_views: Vec<_> = located
-            .iter()
-            .zip(&swapchains)
-            .map(|(view, swapchain)| {
-                xr::CompositionLayerProjectionView::new()
-                    .pose(view.pose)
-                    .fov(view.fov)
-                    .sub_image(swapchain.sub_image())
-            })
-            .collect();
-        stream
-            .end(
-                time,
-                xr::EnvironmentBlendMode::OPAQUE,
-                &[&xr::CompositionLayerProjection::new()
-                    .space(&space)
-                    .views(&projection_views)],
-            )
-            .xr("xrEndFrame")?;
-        let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
-        record(&FrameRecord {
-            index: summary.frames,
-            display_time_s: time_s,
-            display_period_s: state.predicted_display_period.as_nanos() as f64 * 1e-9,
-            gaze_time_s: gaze.time_s,
-            frame: &frame,
-            gaze: &gaze.filtered,
-            images: &images,
-            cpu_ms,
-            latch_ms: latch.as_secs_f64() * 1e3,
-            gpu_done_ms: gpu_done.as_secs_f64() * 1e3,
-            gpu_bytes: ctx.memory_in_use(),
-        })?;
-        summary.frames += 1;
-        if options.frames.is_some_and(|n| summary.frames >= n) {
-            session.request_exit().xr("xrRequestExitSession")?;
-            exit_asked = Some(Instant::now());
-        }
+        Err(e) => return Err(e),
     }
     summary.probe = probe.map(|report| ProbeReport {
         gaze: headset_gaze.activity(),

@@ -37,8 +37,11 @@ pub struct Config {
     pub save_dir: Option<PathBuf>,
     /// `SIM_HEADSET_EXIT_AT_FRAME`: the "user" quits at this frame (session goes STOPPING).
     pub exit_at_frame: Option<u64>,
-    /// `SIM_HEADSET_LOSS_AT_FRAME`: the session is lost at this frame.
+    /// `SIM_HEADSET_LOSS_AT_FRAME`: the session is lost at this frame (of its own frames).
     pub loss_at_frame: Option<u64>,
+    /// `SIM_HEADSET_LOSSES`: how many of the instance's sessions are lost that way (None:
+    /// every one), so that a session the app creates after a loss can run on.
+    pub losses: Option<u64>,
     /// `SIM_HEADSET_REPORT`: JSON report written at `xrDestroyInstance`.
     pub report_path: Option<PathBuf>,
     /// `SIM_HEADSET_REALTIME=1`: `xrWaitFrame` sleeps to pace frames at 90 Hz.
@@ -63,6 +66,7 @@ impl Default for Config {
             save_dir: None,
             exit_at_frame: None,
             loss_at_frame: None,
+            losses: None,
             report_path: None,
             realtime: false,
             no_render: None,
@@ -169,6 +173,9 @@ impl Config {
         if let Some(v) = get("SIM_HEADSET_LOSS_AT_FRAME") {
             config.loss_at_frame = Some(parse_frame("SIM_HEADSET_LOSS_AT_FRAME", &v)?);
         }
+        if let Some(v) = get("SIM_HEADSET_LOSSES") {
+            config.losses = Some(parse_frame("SIM_HEADSET_LOSSES", &v)?);
+        }
         config.report_path = get("SIM_HEADSET_REPORT").map(PathBuf::from);
         if let Some(v) = get("SIM_HEADSET_REALTIME") {
             config.realtime = parse_switch("SIM_HEADSET_REALTIME", &v)?;
@@ -258,6 +265,7 @@ mod tests {
             ("SIM_HEADSET_REPORT", "/tmp/r.json"),
             ("SIM_HEADSET_REALTIME", "1"),
             ("SIM_HEADSET_NO_RENDER", "5-9"),
+            ("SIM_HEADSET_LOSSES", "1"),
         ])
         .unwrap();
         assert_eq!(c.gaze.keyframes().len(), 2);
@@ -269,6 +277,7 @@ mod tests {
         assert_eq!(c.loss_at_frame, Some(20));
         assert!(c.realtime);
         assert_eq!(c.no_render, Some((5, 9)));
+        assert_eq!(c.losses, Some(1));
     }
 
     #[test]

@@ -56,7 +56,12 @@ pub fn wait_frame(
         inst.log.frames_waited += 1;
         state.predicted_display_time = display_time(frame);
         state.predicted_display_period = xr::Duration::from_nanos(FRAME_PERIOD_NS);
-        if inst.config.loss_at_frame == Some(frame) {
+        let losses_left = inst
+            .config
+            .losses
+            .is_none_or(|n| inst.log.sessions_lost < n);
+        if inst.config.loss_at_frame == Some(frame) && losses_left {
+            inst.log.sessions_lost += 1;
             session::lose(inst, s, id);
             state.should_render = xr::FALSE;
             return Ok(xr::Result::SESSION_LOSS_PENDING);

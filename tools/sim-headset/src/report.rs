@@ -44,6 +44,7 @@ pub struct ReportLog {
     pub frames_submitted: u64,
     pub frames_with_layers: u64,
     pub images_saved: u64,
+    pub sessions_lost: u64,
     pub session_states: Vec<String>,
     pub errors: Vec<ErrorEntry>,
     pub error_count: u64,
@@ -76,6 +77,8 @@ pub struct Report {
     /// Submitted frames with at least one composition layer (the others were empty).
     pub frames_with_layers: u64,
     pub images_saved: u64,
+    /// Sessions lost by the script (SIM_HEADSET_LOSS_AT_FRAME).
+    pub sessions_lost: u64,
     /// Every state any session of the instance entered, in order (e.g. IDLE, READY, ...).
     pub session_states: Vec<String>,
     /// Handles the app had not destroyed when it destroyed the instance (leaks).
@@ -102,6 +105,7 @@ impl Report {
             frames_submitted: log.frames_submitted,
             frames_with_layers: log.frames_with_layers,
             images_saved: log.images_saved,
+            sessions_lost: log.sessions_lost,
             session_states: log.session_states,
             alive_at_instance_destroy: alive,
             vulkan_alive_at_instance_destroy: vulkan,
