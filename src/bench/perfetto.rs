@@ -159,13 +159,7 @@ mod tests {
             gaze_x: 1.0,
             gaze_y: 2.0,
             wall_us: 1_000_000 + frame as u64 * 10_000,
-            gaze_to_photon_ms: None,
-            latch_ms: None,
-            gpu_done_ms: None,
-            frame_period_ms: None,
-            missed_frames: None,
-            rss_mib: None,
-            gpu_mib: None,
+            ..Default::default()
         }
     }
 

@@ -16,10 +16,13 @@ pub const THESIS_SCENES: [&str; 5] = [
 ];
 
 /// How a frame is rendered: the thesis' three test types.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
     /// Every pixel traced (one layer of spacing 1, same spp).
+    #[default]
     Regular,
     /// Foveated, gaze on the view axis.
     Forward,

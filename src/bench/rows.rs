@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 pub const EYE_NAMES: [&str; 2] = ["left", "right"];
 
 /// One eye of one timed frame.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FrameRow {
     pub scene: String,
     pub mode: Mode,
@@ -152,13 +152,8 @@ impl FrameRow {
                     gaze_x: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[0]),
                     gaze_y: frame.gazes.get(e).map_or(f64::NAN, |g| g.0[1]),
                     wall_us,
-                    gaze_to_photon_ms: None,
-                    latch_ms: None,
-                    gpu_done_ms: None,
-                    frame_period_ms: None,
-                    missed_frames: None,
-                    rss_mib: None,
-                    gpu_mib: None,
+                    // The headset's columns stay empty.
+                    ..Default::default()
                 }
             })
             .collect()

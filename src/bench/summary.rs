@@ -272,13 +272,7 @@ mod tests {
             gaze_x: 0.0,
             gaze_y: 0.0,
             wall_us: 0,
-            gaze_to_photon_ms: None,
-            latch_ms: None,
-            gpu_done_ms: None,
-            frame_period_ms: None,
-            missed_frames: None,
-            rss_mib: None,
-            gpu_mib: None,
+            ..Default::default()
         }
     }
 
