@@ -115,8 +115,8 @@ layout(set = 0, binding = BINDING_LATTICE_TEXELS) uniform utextureBuffer lattice
 layout(std430, set = 0, binding = BINDING_WORK) buffer WorkBuf { uint work[]; };
 layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };
-// Only resolve.comp writes the frame's pixels: on lavapipe a storage-buffer store costs about a
-// fifth of an imageStore (which goes through a per-lane image-format routine).
+// Only resolve.comp writes the frame's pixels: on lavapipe a storage-buffer store costs about
+// half an imageStore (which goes through a per-lane image-format routine).
 layout(std430, set = 0, binding = BINDING_PIXELS) writeonly buffer PixelsBuf { vec4 pixels[]; };
 
 layout(push_constant) uniform Push { PushConstants pc; };

@@ -24,7 +24,7 @@
 // layer is read.
 //
 // The pixels go to a storage buffer (PIXELS), not the frame image: on lavapipe an imageStore
-// per pixel cost 32 ms per 1440x1600 eye against about 15 for a buffer store; whoever needs
+// per pixel cost about 31 ms per 1440x1600 eye against about 16 for a buffer store; whoever needs
 // an image gets a copy after the frame (render/passes.rs, output_image).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_vote : require

@@ -5,6 +5,7 @@ use super::check_validation_messages;
 use super::GpuArgs;
 use anyhow::{bail, Result};
 use clap::Args;
+use fovea::bench::stats::Summary;
 use fovea::foveation::gaze_filter::DEFAULT_HOLD_S;
 use fovea::foveation::FoveationConfig;
 use fovea::render::{DebugView, Integrator, RenderSettings};
@@ -194,22 +195,21 @@ pub fn run(args: &XrArgs) -> Result<()> {
             .join(" → ")
     );
     if latency.frames > 0 {
-        let ms = |p: Option<f64>| p.map_or("-".to_string(), |v| format!("{v:.1}"));
-        let (g, l, d) = (
-            latency.gaze_to_photon_ms,
-            latency.latch_ms,
-            latency.gpu_done_ms,
-        );
+        let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+        let quantiles = |s: Option<Summary>| (s.map(|s| s.median), s.map(|s| s.p99));
+        let g = quantiles(latency.gaze_to_photon_ms);
+        let l = quantiles(latency.latch_ms);
+        let d = quantiles(latency.gpu_done_ms);
         println!(
             "gaze to photon: median {} ms, p99 {} ms (the runtime's display time minus the gaze \
              sample's); after xrWaitFrame: gaze latched at {} / {} ms, GPU done at {} / {} ms \
              (median / p99); frames missed: {}",
-            ms(g.median),
-            ms(g.p99),
-            ms(l.median),
-            ms(l.p99),
-            ms(d.median),
-            ms(d.p99),
+            ms(g.0),
+            ms(g.1),
+            ms(l.0),
+            ms(l.1),
+            ms(d.0),
+            ms(d.1),
             latency.missed_frames
         );
     }

@@ -21,9 +21,14 @@ pub struct EyeLayers {
     pub layers: Vec<GpuLayer>,
     /// The gaze pixel used and whether the requested gaze had to be fixed.
     pub gaze: ([f64; 2], GazeFix),
-    /// Threads of the eye's plan pass: every row of every layer's lattice box, in runs of
-    /// PLAN_RUN points.
-    pub plan_runs: u32,
+}
+
+impl EyeLayers {
+    /// Threads of the eye's plan pass (every layer holds the count, GpuLayer::plan_runs):
+    /// every row of every layer's lattice box, in runs of PLAN_RUN points.
+    pub fn plan_runs(&self) -> u32 {
+        self.layers.first().map_or(0, |l| l.plan_runs)
+    }
 }
 
 /// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
@@ -112,7 +117,6 @@ pub fn eye_layers(
     EyeLayers {
         layers,
         gaze: (gaze_px, fix),
-        plan_runs: prefix,
     }
 }
 

@@ -115,8 +115,8 @@ impl FramePasses<'_> {
     }
 
     /// Output image (when the targets have one): the eyes' pixels copied side by side into it.
-    /// A copy, not resolve's stores: on lavapipe an imageStore per pixel cost about three
-    /// times a storage-buffer store plus this copy.
+    /// A copy, not resolve's stores: on lavapipe an imageStore per pixel cost more than a
+    /// storage-buffer store plus this copy (about 31 ms per 1440x1600 eye against 16 + 7).
     pub fn output_image(&mut self, cmd: vk::CommandBuffer) {
         let t = self.targets;
         let Some(image) = &t.output else { return };

@@ -204,14 +204,14 @@ impl FrameTargets {
     }
 
     /// Writes this frame's layer parameters (every eye's, eye after eye) and each eye's plan
-    /// dispatch for its `plan_runs` threads.
+    /// dispatch for its `plan_runs()` threads.
     pub fn write_layers(&mut self, eyes: &[EyeLayers]) -> Result<(), RenderError> {
         let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.iter().copied()).collect();
         self.layers.write(0, bytemuck::cast_slice(&layers))?;
         let dispatch: Vec<[u32; 4]> = eyes
             .iter()
             .map(|e| {
-                let [x, y, z] = groups_1d(e.plan_runs as u64, PLAN_WORKGROUP_SIZE);
+                let [x, y, z] = groups_1d(e.plan_runs() as u64, PLAN_WORKGROUP_SIZE);
                 [x, y, z, 0]
             })
             .collect();

@@ -9,6 +9,7 @@ use super::session::{FrameRecord, XrSummary};
 use crate::bench::csv_log::CsvLog;
 use crate::bench::protocol::{FrameKey, Mode};
 use crate::bench::rows::{FrameRow, HeadsetTiming};
+use crate::bench::stats::{summarize, Summary};
 use crate::bench::summary::mode_summary;
 use crate::foveation::gaze_trace::{TraceRow, TraceStatus, TraceWriter};
 use std::path::{Path, PathBuf};
@@ -119,17 +120,11 @@ impl SessionRecorder {
         Ok(())
     }
 
-    /// The session's latency and pacing so far: median and 99th percentile of each frame
-    /// timing, frames missed in all.
+    /// The session's latency and pacing so far: the bench's statistics (median, p99, ...) of
+    /// each frame timing (summarize skips the first frame's NaN period), frames missed in all.
     pub fn latency(&self) -> LatencySummary {
         let stat = |f: fn(&HeadsetTiming) -> f64| {
-            let values: Vec<f64> = self
-                .timings
-                .iter()
-                .map(f)
-                .filter(|v| v.is_finite())
-                .collect();
-            Percentiles::of(&values)
+            summarize(&self.timings.iter().map(f).collect::<Vec<_>>())
         };
         LatencySummary {
             frames: self.timings.len(),
@@ -194,37 +189,14 @@ fn headset_timing(record: &FrameRecord, last_display_s: Option<f64>) -> HeadsetT
     }
 }
 
-/// The median and the 99th percentile of some values (None without values).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Percentiles {
-    pub median: Option<f64>,
-    pub p99: Option<f64>,
-}
-
-impl Percentiles {
-    /// Nearest-rank percentiles: the p99 of fewer than 100 values is their maximum.
-    pub fn of(values: &[f64]) -> Self {
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        let rank = |p: f64| {
-            let n = sorted.len();
-            (n > 0).then(|| sorted[((p * n as f64).ceil() as usize).clamp(1, n) - 1])
-        };
-        Self {
-            median: rank(0.5),
-            p99: rank(0.99),
-        }
-    }
-}
-
 /// session.json's "latency": how old the gaze was when shown and how the frames were paced.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct LatencySummary {
     pub frames: usize,
-    pub gaze_to_photon_ms: Percentiles,
-    pub latch_ms: Percentiles,
-    pub gpu_done_ms: Percentiles,
-    pub frame_period_ms: Percentiles,
+    pub gaze_to_photon_ms: Option<Summary>,
+    pub latch_ms: Option<Summary>,
+    pub gpu_done_ms: Option<Summary>,
+    pub frame_period_ms: Option<Summary>,
     pub missed_frames: u64,
 }
 

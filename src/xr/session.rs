@@ -382,14 +382,7 @@ fn run_with_context(
                 std::thread::sleep(IDLE_POLL);
                 continue;
             }
-            let state = match waiter.wait() {
-                Ok(state) => state,
-                Err(xr::sys::Result::ERROR_SESSION_LOST) => {
-                    summary.end = SessionEnd::Lost;
-                    break;
-                }
-                Err(e) => return Err(e).xr("xrWaitFrame"),
-            };
+            let state = waiter.wait().xr("xrWaitFrame")?;
             let started = Instant::now();
             stream.begin().xr("xrBeginFrame")?;
             if !state.should_render {
