@@ -31,7 +31,7 @@ vec3 turbo(float x) {
 // pixel of the innermost layer containing it, spp / spacing^2 (a layer traces one target
 // pixel in spacing x spacing), as resolve.comp picks layers. 0 outside the occlusion mask.
 float samples_per_pixel(ivec2 p, float frames) {
-    uint base = pc.eye * pc.layer_count;
+    uint base = eye_layer_base();
     vec3 u = tan_direction(pixel_tan(vec2(p) + 0.5));
     if (!within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)) return 0.0;
     vec3 gaze = layers[base].gaze.xyz;

@@ -121,4 +121,7 @@ layout(std430, set = 0, binding = BINDING_PIXELS) writeonly buffer PixelsBuf { v
 
 layout(push_constant) uniform Push { PushConstants pc; };
 
+// This eye's first layer in LAYERS, in the frame slot's set.
+uint eye_layer_base() { return pc.layer_base + pc.eye * pc.layer_count; }
+
 #endif

@@ -39,7 +39,7 @@ void main() {
     }
     uint count = bitCount(traced);
     if (count == 0u) return;
-    uint layer = k - pc.eye * pc.layer_count;
+    uint layer = k - eye_layer_base();
     uint slot = pc.eye * pc.work_stride
               + atomicAdd(stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT], count);
     atomicAdd(stats[STAT_LAYER_POINTS + pc.eye * MAX_LAYERS + layer], count);

@@ -42,7 +42,7 @@ bool traced_point(uint k, ivec2 p, uint mask_words) {
 // (rows after rows, layer after layer): its layer (an index into LAYERS), first lattice point
 // and length. False past the last run.
 bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
-    uint base = pc.eye * pc.layer_count;
+    uint base = eye_layer_base();
     k = base;
     ij = ivec2(0);
     n = 0u;

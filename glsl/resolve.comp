@@ -211,7 +211,7 @@ uint run_layer(int x0, int x1, int y, vec3 gaze, float band, float cos_occlusion
 }
 
 void main() {
-    uint base = pc.eye * pc.layer_count;
+    uint base = eye_layer_base();
     // Per-eye values, the same for every pixel, read once per run.
     vec3 gaze = layers[base].gaze.xyz;
     float band = layers[base].gaze.w;

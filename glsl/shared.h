@@ -185,7 +185,7 @@ struct PushConstants {
     uint width;
     uint height;
     uint seed;
-    uint pad0;
+    uint layer_base; // the frame slot's first entry of LAYERS (frames in flight: one set each)
     uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
     uint probe_count;
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
@@ -193,7 +193,7 @@ struct PushConstants {
     uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
     uint pad1;
     uint debug; // DEBUG_*
-    uint layer_count; // layers per eye; this eye's are LAYERS[eye*layer_count ..]
+    uint layer_count; // layers per eye; this eye's are LAYERS[layer_base + eye*layer_count ..]
 };
 
 // One layer of one eye for this frame: the O(layers) numbers the CPU writes per frame, from

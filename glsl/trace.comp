@@ -32,7 +32,7 @@ void main() {
     uint block = pc.eye * STAT_COUNT; // each eye counts in its own block
     if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
     uint item = work[pc.eye * pc.work_stride + thread];
-    uint k = pc.eye * pc.layer_count + (item >> WORK_LAYER_SHIFT);
+    uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
     uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u); // the point's LATTICE index
     uint local = entry - layers[k].first;
     uint cols = layers[k].cols;

@@ -122,7 +122,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             width,
             height,
             seed,
-            pad0,
+            layer_base,
             sample_offset,
             probe_count,
             eye,

@@ -53,6 +53,8 @@ pub struct FrameRow {
     pub frame_period_ms: Option<f64>,
     #[serde(default)]
     pub missed_frames: Option<u32>,
+    #[serde(default)]
+    pub busy_at_submit: Option<u32>,
     /// Headset sessions only: the process's resident memory (Linux; empty elsewhere) and
     /// fovea's GPU memory in use, MiB, after the frame.
     #[serde(default)]
@@ -76,6 +78,9 @@ pub struct HeadsetTiming {
     pub frame_period_ms: f64,
     /// Display periods between the two with no frame of ours (0: none missed).
     pub missed_frames: u32,
+    /// Earlier frames still running on the GPU when this one was submitted (frames in
+    /// flight overlapping; always 0 with one frame in flight).
+    pub busy_at_submit: u32,
 }
 
 impl FrameRow {
@@ -87,6 +92,7 @@ impl FrameRow {
             gpu_done_ms: Some(t.gpu_done_ms),
             frame_period_ms: t.frame_period_ms.is_finite().then_some(t.frame_period_ms),
             missed_frames: Some(t.missed_frames),
+            busy_at_submit: Some(t.busy_at_submit),
             ..self
         }
     }

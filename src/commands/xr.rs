@@ -49,6 +49,11 @@ pub struct XrArgs {
     /// Trace every pixel the lens shows, ignoring the runtime's visibility mask.
     #[arg(long)]
     pub no_visibility_mask: bool,
+    /// Frames submitted before the CPU waits for the oldest one's GPU work: 2 lets the CPU
+    /// plan and record a frame while the GPU runs the one before; 1 renders one frame at a
+    /// time (for comparison).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=fovea::render::MAX_FRAMES_IN_FLIGHT as u64))]
+    pub frames_in_flight: u64,
     /// Use the simulated headset linked into fovea instead of the system's OpenXR runtime
     /// (configured by SIM_HEADSET_* variables, see tools/sim-headset/README.md).
     #[arg(long)]
@@ -152,6 +157,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
         visibility_mask: !args.no_visibility_mask,
         probe: args.probe,
         stop,
+        frames_in_flight: args.frames_in_flight as usize,
     };
     if args.probe {
         let options = XrOptions {

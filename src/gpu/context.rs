@@ -14,6 +14,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use std::ffi::{c_char, CStr};
 use std::mem::ManuallyDrop;
+use std::ops::Deref;
 use std::sync::atomic::AtomicU64;
 use std::sync::{Arc, Mutex};
 
@@ -485,47 +486,24 @@ impl GpuContext {
     }
 
     /// Records commands with `record` into a command buffer that is submitted later
-    /// ([`Recorded::submit_and_wait`]): what the host writes in between (into host-visible
-    /// buffers the commands read) is what the GPU sees — a frame's gaze is latched that way.
+    /// ([`Commands::submit`]): what the host writes in between (into host-visible buffers
+    /// the commands read) is what the GPU sees — a frame's gaze is latched that way.
     pub fn record(
         &self,
         submission: &str,
         record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<Recorded<'_>, GpuError> {
-        let (cmd, fence) = self.command_buffer_and_fence()?;
-        // Back to the spares on every path from here on, recorded or not.
-        let recorded = Recorded {
-            ctx: self,
-            cmd,
-            fence,
-            submission: submission.to_string(),
-        };
-        {
-            let mut m = self.markers();
-            m.names.clear();
-            m.cut = false;
-            if let Some(slots) = m.allocation.as_mut().and_then(|a| a.mapped_slice_mut()) {
-                slots.fill(0);
-            }
-        }
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
-        // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
-        unsafe { self.device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
-        record(cmd);
-        if !self.markers().names.is_empty() {
-            // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
-            // before the host reads them after a device loss.
-            self.cmd_barrier(
-                cmd,
-                Scope::ALL_WORK.and(Scope::FILL_WRITE),
-                Scope::HOST_READ,
-            );
-        }
-        // SAFETY: recording was begun above.
-        unsafe { self.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
-        Ok(recorded)
+    ) -> Result<Commands<&GpuContext>, GpuError> {
+        Commands::record(self, submission, record)
+    }
+
+    /// Like [`Self::record`], for commands that outlive the borrow: a frame in flight, kept
+    /// by its renderer until its fence has signalled.
+    pub fn record_owned(
+        self: &Arc<Self>,
+        submission: &str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<Commands<Arc<GpuContext>>, GpuError> {
+        Commands::record(self.clone(), submission, record)
     }
 
     /// A spare command buffer and fence (unsignalled), or new ones.
@@ -553,72 +531,193 @@ impl GpuContext {
             }
         }
     }
-}
 
-/// Spare command buffers and fences kept at most (more are freed).
-const MAX_SPARES: usize = 4;
-
-/// A recorded command buffer, not yet submitted (see [`GpuContext::record`]); freed when
-/// dropped, submitted or not.
-pub struct Recorded<'a> {
-    ctx: &'a GpuContext,
-    cmd: vk::CommandBuffer,
-    /// Unsignalled until the submission completes.
-    fence: vk::Fence,
-    submission: String,
-}
-
-impl Recorded<'_> {
-    /// Submits the commands and waits for them to complete.
-    pub fn submit_and_wait(self) -> Result<(), GpuError> {
-        let ctx = self.ctx;
-        let fence = self.fence;
-        let cmds = [self.cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: the queue is used only from this thread; cmd (ended) and fence are valid.
-        let waited = unsafe {
-            ctx.device
-                .queue_submit(ctx.queue, &submit, fence)
-                .and_then(|_| ctx.device.wait_for_fences(&[fence], true, u64::MAX))
-        };
-        let injected = ctx.markers().cut;
-        let waited = match (waited, injected) {
-            // The command buffer ended after the injected pass: fail as a driver would.
-            (Ok(()), true) => Err(vk::Result::ERROR_DEVICE_LOST),
-            (waited, _) => waited,
-        };
-        match waited {
-            Err(vk::Result::ERROR_DEVICE_LOST) => Err(ctx.device_lost(&self.submission, injected)),
-            other => other.vk("vkQueueSubmit/vkWaitForFences"),
-        }
-    }
-}
-
-impl Drop for Recorded<'_> {
-    fn drop(&mut self) {
-        let ctx = self.ctx;
-        // SAFETY: the buffer and fence were never submitted, or their submission completed or
-        // failed (submit_and_wait waits), so neither is in use.
-        // Resetting the buffer too puts it back in the initial state from any state but
-        // pending (a recording cut short included).
+    /// Takes back a command buffer and fence that no submission uses any more: kept as
+    /// spares (reset) up to MAX_SPARES, else destroyed.
+    fn return_spare(&self, cmd: vk::CommandBuffer, fence: vk::Fence) {
+        // SAFETY: the caller guarantees that neither is in use (never submitted, or its
+        // submission completed or failed). Resetting the buffer puts it back in the initial
+        // state from any state but pending (a recording cut short included).
         let reset = unsafe {
-            ctx.device.reset_fences(&[self.fence]).and_then(|()| {
-                ctx.device
-                    .reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
+            self.device.reset_fences(&[fence]).and_then(|()| {
+                self.device
+                    .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
             })
         };
-        let mut spare = ctx.spare.lock().unwrap_or_else(|e| e.into_inner());
+        let mut spare = self.spare.lock().unwrap_or_else(|e| e.into_inner());
         if reset.is_ok() && spare.len() < MAX_SPARES {
-            spare.push((self.cmd, self.fence));
+            spare.push((cmd, fence));
             return;
         }
         drop(spare);
         // SAFETY: as above.
         unsafe {
-            ctx.device.destroy_fence(self.fence, None);
-            ctx.device
-                .free_command_buffers(ctx.command_pool, &[self.cmd]);
+            self.device.destroy_fence(fence, None);
+            self.device.free_command_buffers(self.command_pool, &[cmd]);
         }
+    }
+}
+
+/// Spare command buffers and fences kept at most (more are freed): frames in flight, and
+/// the odd upload or read-back between them.
+const MAX_SPARES: usize = 6;
+
+/// Where a [`Commands`]' work stands.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Progress {
+    Recorded,
+    Submitted,
+    /// Completed, or failed (a device loss): nothing of it runs any more.
+    Done,
+}
+
+/// A recorded command buffer and its fence (see [`GpuContext::record`]), through any handle
+/// to the context (a borrow, or an `Arc` for work kept in flight). Submitted at most once;
+/// back to the context's spares when dropped — after its work completed, which a drop of
+/// submitted, unfinished work waits for.
+pub struct Commands<C: Deref<Target = GpuContext>> {
+    ctx: C,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    submission: String,
+    progress: Progress,
+}
+
+impl<C: Deref<Target = GpuContext>> Commands<C> {
+    fn record(
+        ctx: C,
+        submission: &str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<Self, GpuError> {
+        let (cmd, fence) = ctx.command_buffer_and_fence()?;
+        // Back to the spares on every path from here on, recorded or not.
+        let commands = Commands {
+            ctx,
+            cmd,
+            fence,
+            submission: submission.to_string(),
+            progress: Progress::Recorded,
+        };
+        let ctx = &*commands.ctx;
+        {
+            let mut m = ctx.markers();
+            m.names.clear();
+            m.cut = false;
+            if let Some(slots) = m.allocation.as_mut().and_then(|a| a.mapped_slice_mut()) {
+                slots.fill(0);
+            }
+        }
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
+        // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
+        unsafe { ctx.device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
+        record(cmd);
+        if !ctx.markers().names.is_empty() {
+            // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
+            // before the host reads them after a device loss.
+            ctx.cmd_barrier(
+                cmd,
+                Scope::ALL_WORK.and(Scope::FILL_WRITE),
+                Scope::HOST_READ,
+            );
+        }
+        // SAFETY: recording was begun above.
+        unsafe { ctx.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        Ok(commands)
+    }
+
+    /// Submits the commands to the queue and returns at once; their fence signals when
+    /// they complete ([`Self::is_done`], [`Self::wait`]).
+    pub fn submit(&mut self) -> Result<(), GpuError> {
+        assert!(
+            self.progress == Progress::Recorded,
+            "recorded commands are submitted once"
+        );
+        let cmds = [self.cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // SAFETY: the queue is used only from this thread; cmd (ended, not pending) and the
+        // unsignalled fence are valid.
+        let submitted = unsafe {
+            self.ctx
+                .device
+                .queue_submit(self.ctx.queue, &submit, self.fence)
+        };
+        match submitted {
+            Ok(()) => {
+                self.progress = Progress::Submitted;
+                Ok(())
+            }
+            Err(e) => {
+                self.progress = Progress::Done;
+                Err(self.failed(e, "vkQueueSubmit"))
+            }
+        }
+    }
+
+    /// Whether the submitted commands have completed (their fence has signalled); never
+    /// blocks.
+    pub fn is_done(&self) -> Result<bool, GpuError> {
+        if self.progress != Progress::Submitted {
+            return Ok(self.progress == Progress::Done);
+        }
+        // SAFETY: the fence belongs to this device.
+        match unsafe { self.ctx.device.get_fence_status(self.fence) } {
+            Ok(done) => Ok(done),
+            Err(e) => Err(self.failed(e, "vkGetFenceStatus")),
+        }
+    }
+
+    /// Waits for the submitted commands to complete.
+    pub fn wait(&mut self) -> Result<(), GpuError> {
+        if self.progress != Progress::Submitted {
+            return Ok(());
+        }
+        // SAFETY: the fence belongs to this device and was submitted with the commands.
+        let waited = unsafe {
+            self.ctx
+                .device
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+        };
+        self.progress = Progress::Done;
+        let injected = self.ctx.markers().cut;
+        match (waited, injected) {
+            // The command buffer ended after the injected pass: fail as a driver would.
+            (Ok(()), true) => Err(self.failed(vk::Result::ERROR_DEVICE_LOST, "vkWaitForFences")),
+            (Ok(()), false) => Ok(()),
+            (Err(e), _) => Err(self.failed(e, "vkWaitForFences")),
+        }
+    }
+
+    /// Submits the commands and waits for them to complete.
+    pub fn submit_and_wait(mut self) -> Result<(), GpuError> {
+        self.submit()?;
+        self.wait()
+    }
+
+    /// The error of a failed call: a device loss names the pass it happened in.
+    fn failed(&self, e: vk::Result, call: &'static str) -> GpuError {
+        if e != vk::Result::ERROR_DEVICE_LOST {
+            return GpuError::Vulkan { call, result: e };
+        }
+        // Read before the call: device_lost locks the markers itself.
+        let injected = self.ctx.markers().cut;
+        self.ctx.device_lost(&self.submission, injected)
+    }
+}
+
+impl<C: Deref<Target = GpuContext>> Drop for Commands<C> {
+    fn drop(&mut self) {
+        if self.progress == Progress::Submitted {
+            // SAFETY: the fence belongs to this device; the command buffer may not be freed
+            // or reused while pending. An error (a lost device) means nothing runs any more.
+            let _ = unsafe {
+                self.ctx
+                    .device
+                    .wait_for_fences(&[self.fence], true, u64::MAX)
+            };
+        }
+        self.ctx.return_spare(self.cmd, self.fence);
     }
 }
 

@@ -21,7 +21,7 @@ pub use validation::ValidationLog;
 
 pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
-pub use context::{ContextNeeds, GpuContext, Recorded, VulkanCreator};
+pub use context::{Commands, ContextNeeds, GpuContext, VulkanCreator};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage, TexelView};
@@ -30,7 +30,7 @@ pub use options::{
     GpuOptions, RayQueries, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR,
 };
 pub use pipeline::{ComputePipeline, PipelineLayout};
-pub use present::{ExternalImage, SourceRect};
+pub use present::{check_copies, ExternalImage, SourceRect};
 pub use swapchain::{
     surface_instance_extensions, swapchain_device_extensions, PresentPreference, Presented,
     Swapchain,

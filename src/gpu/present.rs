@@ -64,26 +64,28 @@ impl GpuContext {
         Ok(())
     }
 
-    /// Copies each `(rect, dst)`: `rect` of `src` (a frame in GENERAL layout after compute
-    /// writes) into all of `dst`, converting format and scaling. One submission for all the
-    /// copies (both eyes of a headset frame), waited for.
+    /// Copies each `(rect, dst)`: `rect` of `src` (a frame in GENERAL layout) into all of
+    /// `dst`, converting format and scaling. One submission for all the copies, waited for.
     pub fn copy_to_external(
         &self,
         src: &StorageImage,
         copies: &[(SourceRect, ExternalImage)],
     ) -> Result<(), GpuError> {
-        for (rect, _) in copies {
-            if rect.extent[0] == 0
-                || rect.extent[1] == 0
-                || rect.offset[0] + rect.extent[0] > src.width
-                || rect.offset[1] + rect.extent[1] > src.height
-            {
-                return Err(GpuError::Limit(format!(
-                    "copy of {rect:?} from a {}x{} image: the rectangle is empty or not inside it",
-                    src.width, src.height
-                )));
-            }
-        }
+        check_copies(src, copies)?;
+        self.submit_and_wait("present copy", |cmd| {
+            self.cmd_copy_to_external(cmd, src, copies)
+        })
+    }
+
+    /// Records the copies of [`Self::copy_to_external`] into `cmd`, after the commands that
+    /// wrote `src` (both eyes of a headset frame, in the frame's own submission). The
+    /// rectangles must have passed [`check_copies`].
+    pub fn cmd_copy_to_external(
+        &self,
+        cmd: vk::CommandBuffer,
+        src: &StorageImage,
+        copies: &[(SourceRect, ExternalImage)],
+    ) {
         // SAFETY: the physical device belongs to this instance.
         let src_features = unsafe {
             self.instance
@@ -92,26 +94,28 @@ impl GpuContext {
         let linear = src_features
             .optimal_tiling_features
             .contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
-        self.submit_and_wait("present copy", |cmd| {
-            // The frame's compute writes must land before the blits read them.
-            self.cmd_image_barriers(
-                cmd,
-                &[ImageTransition {
-                    image: src.image,
-                    range: color_layer(0),
-                    from: (Scope::COMPUTE_WRITE, vk::ImageLayout::GENERAL),
-                    to: (Scope::BLIT_READ, vk::ImageLayout::GENERAL),
-                }],
-            );
-            for (rect, dst) in copies {
-                // Linear filtering only when scaling, and only where the format allows it.
-                let filter = match rect.extent != dst.extent && linear {
-                    true => vk::Filter::LINEAR,
-                    false => vk::Filter::NEAREST,
-                };
-                self.cmd_blit(cmd, src, *rect, dst, filter);
-            }
-        })
+        // The frame's writes (a copy from the resolved pixels, or compute passes after it)
+        // must land before the blits read them.
+        self.cmd_image_barriers(
+            cmd,
+            &[ImageTransition {
+                image: src.image,
+                range: color_layer(0),
+                from: (
+                    Scope::COMPUTE_WRITE.and(Scope::COPY_WRITE),
+                    vk::ImageLayout::GENERAL,
+                ),
+                to: (Scope::BLIT_READ, vk::ImageLayout::GENERAL),
+            }],
+        );
+        for (rect, dst) in copies {
+            // Linear filtering only when scaling, and only where the format allows it.
+            let filter = match rect.extent != dst.extent && linear {
+                true => vk::Filter::LINEAR,
+                false => vk::Filter::NEAREST,
+            };
+            self.cmd_blit(cmd, src, *rect, dst, filter);
+        }
     }
 
     /// Records one blit into `dst`, with its layout transitions before and after.
@@ -188,4 +192,24 @@ fn color_layer(layer: u32) -> vk::ImageSubresourceRange {
         base_array_layer: layer,
         layer_count: 1,
     }
+}
+
+/// Refuses a copy whose source rectangle is empty or not inside `src`.
+pub fn check_copies(
+    src: &StorageImage,
+    copies: &[(SourceRect, ExternalImage)],
+) -> Result<(), GpuError> {
+    for (rect, _) in copies {
+        if rect.extent[0] == 0
+            || rect.extent[1] == 0
+            || rect.offset[0] + rect.extent[0] > src.width
+            || rect.offset[1] + rect.extent[1] > src.height
+        {
+            return Err(GpuError::Limit(format!(
+                "copy of {rect:?} from a {}x{} image: the rectangle is empty or not inside it",
+                src.width, src.height
+            )));
+        }
+    }
+    Ok(())
 }

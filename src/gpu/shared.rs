@@ -87,7 +87,7 @@ pub struct PushConstants {
     pub width: u32,
     pub height: u32,
     pub seed: u32,
-    pub pad0: u32,
+    pub layer_base: u32,
     pub sample_offset: u32,
     pub probe_count: u32,
     pub eye: u32,

@@ -74,6 +74,15 @@ impl Scope {
         Stage::COMPUTE_SHADER,
         Access::ACCELERATION_STRUCTURE_READ_KHR,
     );
+    /// Every command submitted before, with its writes: what a frame starts by waiting for
+    /// when the frames in flight share buffers and images (the queue runs them in order, but
+    /// overlaps commands that no barrier orders, across submissions too).
+    pub const EARLIER_WORK: Scope = Scope::new(Stage::ALL_COMMANDS, Access::MEMORY_WRITE);
+    /// Every command after, reading or writing anything.
+    pub const LATER_WORK: Scope = Scope::new(
+        Stage::ALL_COMMANDS,
+        Access::from_raw(Access::MEMORY_READ.as_raw() | Access::MEMORY_WRITE.as_raw()),
+    );
     /// The host reading mapped memory after the submission's fence.
     pub const HOST_READ: Scope = Scope::new(Stage::HOST, Access::HOST_READ);
     /// An image handed to someone else (a compositor, a presentation engine), who orders its

@@ -1,10 +1,11 @@
 //! The counters the shaders keep for every frame (shared.h's STAT_* words): per eye what the
 //! trace counted, per eye and layer the lattice points the plan traced, and the trace's
 //! indirect dispatch sizes, and with a profiling trace its traversal work. They live in device memory, where atomics and the indirect
-//! dispatch are fast on a GPU, are zeroed by the frame's first command and copied into a
-//! host-visible buffer by its last.
+//! dispatch are fast on a GPU, are zeroed by the frame's first command and copied by its last
+//! into the frame slot's host-visible buffer (frames in flight each have their own).
 
 use super::frame::{EyeCounters, TraversalCounts};
+use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::shared::*;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, Scope};
@@ -16,7 +17,8 @@ const BYTES: u64 = STAT_WORDS as u64 * 4;
 pub struct FrameCounters {
     /// The shaders' counters (BINDING_STATS), also the trace's indirect arguments.
     pub device: Buffer,
-    host: Buffer,
+    /// One read-back per frame slot.
+    host: Vec<Buffer>,
 }
 
 /// What one frame counted.
@@ -37,22 +39,28 @@ impl FrameCounters {
             | vk::BufferUsageFlags::TRANSFER_DST;
         Ok(Self {
             device: Buffer::new(ctx, "counters", BYTES, usage, MemoryLocation::GpuOnly)?,
-            host: Buffer::new(
-                ctx,
-                "counters read-back",
-                BYTES,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?,
+            host: (0..MAX_FRAMES_IN_FLIGHT)
+                .map(|_| {
+                    Buffer::new(
+                        ctx,
+                        "counters read-back",
+                        BYTES,
+                        vk::BufferUsageFlags::TRANSFER_DST,
+                        MemoryLocation::GpuToCpu,
+                    )
+                })
+                .collect::<Result<_, _>>()?,
         })
     }
 
-    /// The two allocations, for a scene's memory check.
-    pub fn plan() -> [PlannedAllocation; 2] {
-        [
-            PlannedAllocation::storage("counters", BYTES),
-            PlannedAllocation::host("counters read-back", BYTES, true),
-        ]
+    /// The allocations, for a scene's memory check.
+    pub fn plan() -> Vec<PlannedAllocation> {
+        let mut plan = vec![PlannedAllocation::storage("counters", BYTES)];
+        plan.extend(
+            (0..MAX_FRAMES_IN_FLIGHT)
+                .map(|_| PlannedAllocation::host("counters read-back", BYTES, true)),
+        );
+        plan
     }
 
     /// Records zeroing every counter before the passes that add to them.
@@ -67,16 +75,17 @@ impl FrameCounters {
         );
     }
 
-    /// Records copying the counters for the host, after every pass that wrote them.
-    pub fn cmd_collect(&self, ctx: &GpuContext, cmd: vk::CommandBuffer) {
+    /// Records copying the counters into frame slot `slot`'s read-back, after every pass
+    /// that wrote them.
+    pub fn cmd_collect(&self, ctx: &GpuContext, cmd: vk::CommandBuffer, slot: usize) {
         ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
-        self.device.cmd_copy_to(cmd, &self.host, BYTES);
+        self.device.cmd_copy_to(cmd, &self.host[slot], BYTES);
         ctx.cmd_barrier(cmd, Scope::COPY_WRITE, Scope::HOST_READ);
     }
 
-    /// The counters of the last frame (its fence has signalled).
-    pub fn read(&self) -> Result<CountedFrame, RenderError> {
-        let bytes = self.host.read()?;
+    /// The counters of slot `slot`'s frame (its fence has signalled).
+    pub fn read(&self, slot: usize) -> Result<CountedFrame, RenderError> {
+        let bytes = self.host[slot].read()?;
         let words: &[u32] = bytemuck::cast_slice(&bytes[..BYTES as usize]);
         let eyes = words[..(STAT_COUNT * STAT_EYES) as usize]
             .chunks_exact(STAT_COUNT as usize)

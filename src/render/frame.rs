@@ -1,6 +1,7 @@
 //! A rendered frame on the host: linear RGB radiance plus what it cost and what went wrong.
 
 use super::settings::Traversal;
+use std::time::Instant;
 
 use crate::gpu::shared::{
     PROFILE_BLAS_GROUP_STEPS, PROFILE_BLAS_LANE_STEPS, PROFILE_BLAS_NODES, PROFILE_PRIMITIVES,
@@ -44,6 +45,13 @@ pub struct FrameStats {
     pub traversal: Option<TraversalCounts>,
     /// The traversal that traced the frame.
     pub traced_with: Traversal,
+    /// Earlier frames whose GPU work had not completed when this frame was submitted: 0
+    /// when frames are rendered one at a time, up to the frames in flight less one.
+    pub busy_at_submit: u32,
+    /// When the frame was submitted, and when the renderer saw its fence signalled (which it
+    /// looks at when asked for finished frames, so this is an upper bound).
+    pub submitted_at: Option<Instant>,
+    pub completed_at: Option<Instant>,
 }
 
 /// What the trace's BVH traversals did in one frame (shared.h's PROFILE_* counters).

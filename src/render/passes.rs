@@ -27,8 +27,12 @@ pub struct FramePasses<'a> {
     pub timestamps: &'a mut TimestampPool,
     pub counters: &'a FrameCounters,
     pub targets: &'a FrameTargets,
-    /// Every eye's push constants (camera, image; the gaze is in the targets' layer buffer).
+    /// Every eye's push constants (camera, image, the slot's layers; the gaze is in the
+    /// targets' layer buffer).
     pub eyes: &'a [PushConstants],
+    /// The frame slot: which of the targets' layer and plan-dispatch sets, and which counter
+    /// read-back, are this frame's.
+    pub slot: usize,
 }
 
 impl FramePasses<'_> {
@@ -41,8 +45,11 @@ impl FramePasses<'_> {
         }
     }
 
-    /// Starts the frame: timings reset, counters zeroed.
+    /// Starts the frame: the frames before it finished with the targets and counters they
+    /// share with it (frames in flight), timings reset, counters zeroed.
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
+        self.ctx
+            .cmd_barrier(cmd, Scope::EARLIER_WORK, Scope::LATER_WORK);
         self.timestamps.cmd_reset(cmd);
         self.counters.cmd_reset(self.ctx, cmd);
     }
@@ -56,7 +63,7 @@ impl FramePasses<'_> {
         let args = &self.targets.plan_dispatch;
         for (e, push) in self.eyes.iter().enumerate() {
             let name = self.name(e, "plan");
-            let offset = e as u64 * PLAN_DISPATCH_BYTES;
+            let offset = self.targets.plan_dispatch_offset(self.slot, e);
             self.timestamps.cmd_timed(cmd, &name, || {
                 p.plan
                     .cmd_dispatch_indirect(cmd, layout, push, args, offset)
@@ -130,7 +137,7 @@ impl FramePasses<'_> {
 
     /// Ends the frame: the counters copied where the host reads them after the fence.
     pub fn finish(&mut self, cmd: vk::CommandBuffer) {
-        self.counters.cmd_collect(self.ctx, cmd);
+        self.counters.cmd_collect(self.ctx, cmd, self.slot);
     }
 }
 

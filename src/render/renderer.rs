@@ -3,11 +3,12 @@
 //! config), records the same passes for both eyes in one submission (`passes`): plan, trace
 //! and resolve, each timed; then plans each eye for its gaze on the CPU (O(layers) numbers,
 //! `eye_params`), writes them where the commands read them, and submits: the gaze is latched
-//! after recording.
+//! after recording. Frames may be left in flight (`in_flight`): submitted, read back later.
 
 use super::counters::FrameCounters;
 use super::eye_params::{eye_layers, eye_push, EyeLayers};
-use super::frame::{Frame, FrameStats, TraversalCounts};
+use super::frame::Frame;
+use super::in_flight::{frame_results, FrameKnown, PendingFrame, MAX_FRAMES_IN_FLIGHT};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
 use super::settings::{RenderSettings, Traversal};
@@ -23,7 +24,7 @@ use crate::gpu::{
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use gpu_allocator::MemoryLocation;
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -53,7 +54,19 @@ pub struct LatticePoint {
 }
 
 pub struct Renderer {
-    // Field order is drop order: every resource before the context it borrows.
+    // Field order is drop order: every resource before the context it borrows, and frames
+    // in flight (whose drop waits for them) before everything they use.
+    /// Submitted frames not read back yet, oldest first.
+    in_flight: VecDeque<PendingFrame>,
+    /// Frames read back (their fences signalled) that the caller has not taken yet.
+    finished: VecDeque<Frame>,
+    /// The most frames left in flight (1: every frame waited for before the next).
+    frames_in_flight: usize,
+    /// The slot of the next submitted frame (round the ring of MAX_FRAMES_IN_FLIGHT).
+    next_slot: usize,
+    /// Whether a binding changed since the descriptor set was last written (it may not be
+    /// written while a frame in flight uses it).
+    bindings_stale: bool,
     /// Trace pipelines by (integrator, max bounces, profiling, traversal).
     trace: HashMap<TraceKey, ComputePipeline>,
     /// Whether the trace counts its traversal work (FrameStats::traversal).
@@ -65,7 +78,8 @@ pub struct Renderer {
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
     raycast: HashMap<Traversal, ComputePipeline>,
-    timestamps: TimestampPool,
+    /// One pool per frame slot.
+    timestamps: Vec<TimestampPool>,
     targets: Option<FrameTargets>,
     /// The targets used before the current ones, kept so that alternating between two
     /// configs (regular and foveated frames of a bench) does not rebuild the ray buffer and
@@ -88,6 +102,10 @@ pub struct Renderer {
 }
 
 type TraceKey = (u32, u32, bool, Traversal);
+
+/// Commands recorded at the end of a frame's submission, reading its output image (a copy
+/// into a headset's swapchain images).
+pub type AfterFrame<'a> = dyn FnMut(vk::CommandBuffer, &StorageImage) + 'a;
 
 /// Timed passes per frame: plan, trace and resolve for each of two eyes and the dispatch
 /// sizes, with room to spare.
@@ -130,6 +148,11 @@ impl Renderer {
             layout.bind_tlas(accel);
         }
         Ok(Self {
+            in_flight: VecDeque::new(),
+            finished: VecDeque::new(),
+            frames_in_flight: 1,
+            next_slot: 0,
+            bindings_stale: true,
             trace: HashMap::new(),
             profile_traversal: false,
             traversal: Traversal::preferred(ctx),
@@ -138,7 +161,9 @@ impl Renderer {
             plan_args: None,
             resolve: None,
             raycast: HashMap::new(),
-            timestamps: TimestampPool::new(ctx, TIMED_PASSES)?,
+            timestamps: (0..MAX_FRAMES_IN_FLIGHT)
+                .map(|_| TimestampPool::new(ctx, TIMED_PASSES))
+                .collect::<Result<_, _>>()?,
             targets: None,
             spare_targets: None,
             probe: None,
@@ -187,6 +212,9 @@ impl Renderer {
         if wanted == self.visibility_key && !self.visibility_stale {
             return Ok(());
         }
+        // The buffer is replaced: no frame in flight may still read it.
+        self.wait_all()?;
+        self.bindings_stale = true;
         // shared.h's layout: words per plane (0: no mask), then each eye's planes.
         let words: Vec<u32> = match applies {
             true => {
@@ -317,8 +345,12 @@ impl Renderer {
         Ok(())
     }
 
-    /// Points every binding at this renderer's buffers and the current targets.
-    fn bind(&self) {
+    /// Points every binding at this renderer's buffers and the current targets, if any of
+    /// them changed (which waited for the frames in flight).
+    fn bind(&mut self) {
+        if !std::mem::take(&mut self.bindings_stale) {
+            return;
+        }
         let b = &self.buffers;
         let t = self
             .targets
@@ -361,6 +393,9 @@ impl Renderer {
         if self.targets.as_ref().is_some_and(|t| t.key == key) {
             return Ok(());
         }
+        // Other targets: no frame in flight may still use the current ones.
+        self.wait_all()?;
+        self.bindings_stale = true;
         if self.spare_targets.as_ref().is_some_and(|t| t.key == key) {
             std::mem::swap(&mut self.targets, &mut self.spare_targets);
             return Ok(());
@@ -433,6 +468,54 @@ impl Renderer {
         self.run_frame(request, None, false, Some(latch))
     }
 
+    /// How many frames may be in flight at once (1..=MAX_FRAMES_IN_FLIGHT; 1 by default):
+    /// [`Self::submit_frame_latched`] waits for the oldest only when that many are.
+    pub fn set_frames_in_flight(&mut self, frames: usize) -> Result<(), RenderError> {
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&frames) {
+            return Err(RenderError::Settings(format!(
+                "{frames} frames in flight: give 1 (each frame finished before the next) to \
+                 {MAX_FRAMES_IN_FLIGHT}"
+            )));
+        }
+        self.frames_in_flight = frames;
+        Ok(())
+    }
+
+    /// Submits a frame like [`Self::measure_frame_latched`] and returns without waiting for
+    /// it; its results come from [`Self::next_finished`], in submission order. When the frames
+    /// in flight are already as many as allowed, the oldest is waited for first. `after`
+    /// records commands that read the frame's output image (a copy into a swapchain image)
+    /// into the frame's own submission; it is not called without an output image
+    /// (`set_output_image`).
+    pub fn submit_frame_latched(
+        &mut self,
+        request: &FrameRequest,
+        latch: &mut dyn FnMut() -> Vec<Gaze>,
+        after: &mut AfterFrame<'_>,
+    ) -> Result<(), RenderError> {
+        self.submit(request, None, Some(latch), Some(after))
+    }
+
+    /// Frames submitted and not finished yet (as far as the renderer has looked).
+    pub fn in_flight(&self) -> usize {
+        self.in_flight.len()
+    }
+
+    /// The oldest submitted frame not taken yet, if it has finished; with `wait`, waits for
+    /// it. None when no frame is left.
+    pub fn next_finished(&mut self, wait: bool) -> Result<Option<Frame>, RenderError> {
+        if self.finished.is_empty() {
+            let done = match self.in_flight.front() {
+                None => return Ok(None),
+                Some(oldest) => wait || oldest.commands.is_done()?,
+            };
+            if done {
+                self.retire_oldest()?;
+            }
+        }
+        Ok(self.finished.pop_front())
+    }
+
     /// Runs only the resolve pass of `request`, on lattice values given by the caller
     /// (`value` of every lattice point of every eye and layer) instead of traced ones. For
     /// testing the pass against CPU references on data with known answers.
@@ -457,8 +540,8 @@ impl Renderer {
         (eyes, planning.elapsed().as_secs_f64() * 1e3)
     }
 
-    /// The frame: prepare, record (plan → trace → resolve → output image), then latch the
-    /// gaze (the layer buffers), submit and wait.
+    /// One frame from submission to results: submit, wait for every frame in flight, and
+    /// take this one (the last) with its pixels when asked.
     fn run_frame(
         &mut self,
         request: &FrameRequest,
@@ -466,20 +549,48 @@ impl Renderer {
         read_output: bool,
         latch: Option<&mut dyn FnMut() -> Vec<Gaze>>,
     ) -> Result<Frame, RenderError> {
+        self.submit(request, given, latch, None)?;
+        self.wait_all()?;
+        let mut frame = self.finished.pop_back().expect("the frame just submitted");
+        if read_output {
+            // The pixels are this frame's: nothing was submitted after it.
+            frame.rgb = self.targets.as_ref().expect("prepared").read_pixels()?;
+        }
+        Ok(frame)
+    }
+
+    /// The frame: prepare, record (plan → trace → resolve → output image → `after`) into
+    /// the next slot, then latch the gaze (the slot's layers) and submit.
+    fn submit(
+        &mut self,
+        request: &FrameRequest,
+        given: Option<&dyn Fn(LatticePoint) -> [f32; 4]>,
+        latch: Option<&mut dyn FnMut() -> Vec<Gaze>>,
+        after: Option<&mut AfterFrame<'_>>,
+    ) -> Result<(), RenderError> {
+        if self.in_flight.len() >= self.frames_in_flight {
+            self.retire_oldest()?;
+        }
         self.prepare(request)?;
         let request_gazes: Vec<Gaze> = request.eyes.iter().map(|e| e.gaze).collect();
         if let Some(value) = given {
+            self.wait_all()?;
             let (eyes, _) = self.plan_eyes(request, &request_gazes);
             let targets = self.targets.as_mut().expect("prepared");
             let lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
             targets.replace_lattice(lattice)?;
+            self.bindings_stale = true;
         }
         self.bind();
 
+        let slot = self.next_slot;
         let recording = Instant::now();
         let targets = self.targets.as_ref().expect("prepared");
         let pushes: Vec<PushConstants> = (0..request.eyes.len())
-            .map(|e| eye_push(request, e, &targets.buffer))
+            .map(|e| PushConstants {
+                layer_base: targets.layer_base(slot),
+                ..eye_push(request, e, &targets.buffer)
+            })
             .collect();
         let mut passes = FramePasses {
             ctx: &self.ctx,
@@ -490,12 +601,13 @@ impl Renderer {
                 trace: &self.trace[&self.trace_key(&request.settings)],
                 resolve: self.resolve.as_ref().expect("prepared"),
             },
-            timestamps: &mut self.timestamps,
+            timestamps: &mut self.timestamps[slot],
             counters: &self.counters,
             targets,
             eyes: &pushes,
+            slot,
         };
-        let recorded = self.ctx.record("frame", |cmd| {
+        let mut commands = self.ctx.record_owned("frame", |cmd| {
             passes.begin(cmd);
             if given.is_none() {
                 passes.plan(cmd);
@@ -503,6 +615,9 @@ impl Renderer {
             }
             passes.resolve(cmd);
             passes.output_image(cmd);
+            if let (Some(after), Some(image)) = (after, &targets.output) {
+                after(cmd, image);
+            }
             passes.finish(cmd);
         })?;
         let record_ms = recording.elapsed().as_secs_f64() * 1e3;
@@ -516,9 +631,53 @@ impl Renderer {
         self.targets
             .as_mut()
             .expect("prepared")
-            .write_layers(&eyes)?;
-        recorded.submit_and_wait()?;
-        self.frame_results(request, &eyes, read_output, plan_ms, record_ms)
+            .write_layers(slot, &eyes)?;
+        let mut busy_at_submit = 0;
+        for frame in &self.in_flight {
+            busy_at_submit += !frame.commands.is_done()? as u32;
+        }
+        let submitted_at = Instant::now();
+        commands.submit()?;
+        self.next_slot = (slot + 1) % MAX_FRAMES_IN_FLIGHT;
+        self.in_flight.push_back(PendingFrame {
+            commands,
+            slot,
+            known: FrameKnown {
+                width: request.settings.width,
+                height: request.settings.height,
+                eyes,
+                layer_spp: request.foveation.layers.iter().map(|l| l.spp).collect(),
+                plan_ms,
+                record_ms,
+                profile_traversal: self.profile_traversal,
+                traced_with: self.traversal,
+                busy_at_submit,
+                submitted_at,
+            },
+        });
+        Ok(())
+    }
+
+    /// Waits for the oldest frame in flight and reads its results into `finished`, which
+    /// frees its slot.
+    fn retire_oldest(&mut self) -> Result<(), RenderError> {
+        let Some(mut frame) = self.in_flight.pop_front() else {
+            return Ok(());
+        };
+        frame.commands.wait()?;
+        let slot = frame.slot;
+        let results = frame_results(frame.known, &self.timestamps[slot], &self.counters, slot)?;
+        self.finished.push_back(results);
+        Ok(())
+    }
+
+    /// Waits for every frame in flight (their results wait in `finished`): before anything
+    /// they use is replaced or rebound.
+    fn wait_all(&mut self) -> Result<(), RenderError> {
+        while !self.in_flight.is_empty() {
+            self.retire_oldest()?;
+        }
+        Ok(())
     }
 
     /// Validates the request and makes pipelines, targets and masks ready for it.
@@ -546,60 +705,6 @@ impl Renderer {
         self.ensure_visibility(request.eyes.len(), [s.width, s.height], request.foveation)
     }
 
-    /// The finished frame: counters, timings and (when asked) the pixels.
-    fn frame_results(
-        &self,
-        request: &FrameRequest,
-        eyes: &[EyeLayers],
-        read_output: bool,
-        plan_ms: f64,
-        record_ms: f64,
-    ) -> Result<Frame, RenderError> {
-        let passes = self.timestamps.read()?;
-        let counted = self.counters.read()?;
-        let mut counters = counted.eyes;
-        counters.truncate(eyes.len());
-        let layer_count = request.foveation.layers.len();
-        let layer_samples = (0..layer_count)
-            .map(|k| {
-                let points: u64 = counted.layer_points[..eyes.len()]
-                    .iter()
-                    .map(|p| p[k])
-                    .sum();
-                points * request.foveation.layers[k].spp as u64
-            })
-            .collect();
-        let targets = self.targets.as_ref().expect("prepared");
-        let rgb = match read_output {
-            true => targets.read_pixels()?,
-            false => Vec::new(),
-        };
-        Ok(Frame {
-            width: request.settings.width * eyes.len() as u32,
-            height: request.settings.height,
-            rgb,
-            gazes: eyes.iter().map(|e| e.gaze).collect(),
-            stats: FrameStats {
-                nonfinite_samples: counters.iter().map(|c| c.nonfinite_samples).sum(),
-                stack_overflows: counters.iter().map(|c| c.stack_overflows).sum(),
-                paths: counters.iter().map(|c| c.paths).sum(),
-                rays: counters.iter().map(|c| c.rays).sum(),
-                eyes: counters,
-                pass_ms: passes.iter().map(|p| (p.name.clone(), p.ms)).collect(),
-                pass_start_ms: passes.iter().map(|p| p.start_ms).collect(),
-                layer_samples,
-                plan_ms,
-                record_ms,
-                traversal: self.profile_traversal.then(|| {
-                    counted.traversal[..eyes.len()]
-                        .iter()
-                        .fold(TraversalCounts::default(), |a, &b| a + b)
-                }),
-                traced_with: self.traversal,
-            },
-        })
-    }
-
     /// Closest hits of arbitrary rays through the GPU traversal (for tests and tools).
     /// Returns the hits and the number of stack overflows.
     pub fn raycast(
@@ -616,6 +721,9 @@ impl Renderer {
             self.raycast.insert(self.traversal, pipeline);
         }
         let hit_bytes = std::mem::size_of_val(rays) as u64 / 2;
+        // The probe buffers are rebound and the counters reused: nothing may be in flight.
+        self.wait_all()?;
+        self.bindings_stale = true;
         self.probe = None;
         let ray_buffer = Buffer::with_data(&self.ctx, "probe rays", bytemuck::cast_slice(rays))?;
         let hit_buffer = Buffer::new(
@@ -656,9 +764,9 @@ impl Renderer {
             pipeline.cmd_dispatch(cmd, layout, &push, groups);
             // The hits, read by the host after the fence.
             ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
-            counters.cmd_collect(ctx, cmd);
+            counters.cmd_collect(ctx, cmd, 0);
         })?;
-        let overflows = self.counters.read()?.eyes[0].stack_overflows;
+        let overflows = self.counters.read(0)?.eyes[0].stack_overflows;
         let (_, hits) = self.probe.as_ref().expect("set above");
         let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
         Ok((hits, overflows))

@@ -5,6 +5,7 @@
 //! rewrites every frame.
 
 use super::eye_params::EyeLayers;
+use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::passes::{groups_1d, PLAN_DISPATCH_BYTES};
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
@@ -39,8 +40,9 @@ pub struct FrameTargets {
     /// The frame as an image, eyes side by side, when `key.image`: copied from `pixels` at
     /// the end of every frame.
     pub output: Option<StorageImage>,
-    /// This frame's layers, every eye's (BINDING_LAYERS), and each eye's plan dispatch
-    /// (workgroup counts): host-visible, written with the gaze right before submission.
+    /// Per frame slot, the frame's layers, every eye's (BINDING_LAYERS), and each eye's plan
+    /// dispatch (workgroup counts): host-visible, written with the gaze right before
+    /// submission, into the slot's part so that frames in flight keep theirs.
     pub layers: Buffer,
     pub plan_dispatch: Buffer,
 }
@@ -84,16 +86,17 @@ impl TargetKey {
         let (w, h) = (self.width as u64, self.height as u64);
         let eyes = self.fovs.len() as u64;
         let layers = self.config.layers.len() as u64;
+        let slots = MAX_FRAMES_IN_FLIGHT as u64;
         let texel = 16; // RGBA32F, StorageImage::FORMAT
         let mut plan = vec![
             PlannedAllocation::storage("frame pixels", w * eyes * h * texel),
             PlannedAllocation::host("frame read-back", w * eyes * h * texel, false),
             PlannedAllocation::host(
                 "frame layers",
-                eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
+                slots * eyes * layers * std::mem::size_of::<GpuLayer>() as u64,
                 true,
             ),
-            PlannedAllocation::host("plan dispatch", eyes * PLAN_DISPATCH_BYTES, false),
+            PlannedAllocation::host("plan dispatch", slots * eyes * PLAN_DISPATCH_BYTES, false),
         ];
         if self.image {
             plan.push(PlannedAllocation::image(
@@ -169,15 +172,16 @@ impl FrameTargets {
             )?),
             false => None,
         };
+        let slots = MAX_FRAMES_IN_FLIGHT as u64;
         let layers = host_buffer(
             ctx,
             "frame layers",
-            eyes * buffer.layers.len() as u64 * std::mem::size_of::<GpuLayer>() as u64,
+            slots * eyes * buffer.layers.len() as u64 * std::mem::size_of::<GpuLayer>() as u64,
         )?;
         let plan_dispatch = Buffer::new(
             ctx,
             "plan dispatch",
-            eyes * PLAN_DISPATCH_BYTES,
+            slots * eyes * PLAN_DISPATCH_BYTES,
             vk::BufferUsageFlags::INDIRECT_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
@@ -203,11 +207,12 @@ impl FrameTargets {
         Ok(())
     }
 
-    /// Writes this frame's layer parameters (every eye's, eye after eye) and each eye's plan
-    /// dispatch for its `plan_runs()` threads.
-    pub fn write_layers(&mut self, eyes: &[EyeLayers]) -> Result<(), RenderError> {
+    /// Writes frame slot `slot`'s layer parameters (every eye's, eye after eye) and each
+    /// eye's plan dispatch for its `plan_runs()` threads.
+    pub fn write_layers(&mut self, slot: usize, eyes: &[EyeLayers]) -> Result<(), RenderError> {
         let layers: Vec<GpuLayer> = eyes.iter().flat_map(|e| e.layers.iter().copied()).collect();
-        self.layers.write(0, bytemuck::cast_slice(&layers))?;
+        let at = self.layer_base(slot) as usize * std::mem::size_of::<GpuLayer>();
+        self.layers.write(at, bytemuck::cast_slice(&layers))?;
         let dispatch: Vec<[u32; 4]> = eyes
             .iter()
             .map(|e| {
@@ -215,9 +220,21 @@ impl FrameTargets {
                 [x, y, z, 0]
             })
             .collect();
-        self.plan_dispatch
-            .write(0, bytemuck::cast_slice(&dispatch))?;
+        self.plan_dispatch.write(
+            self.plan_dispatch_offset(slot, 0) as usize,
+            bytemuck::cast_slice(&dispatch),
+        )?;
         Ok(())
+    }
+
+    /// Frame slot `slot`'s first entry of the layer buffer (PushConstants::layer_base).
+    pub fn layer_base(&self, slot: usize) -> u32 {
+        (slot * self.key.fovs.len() * self.buffer.layers.len()) as u32
+    }
+
+    /// Byte offset of eye `eye`'s plan dispatch of frame slot `slot`.
+    pub fn plan_dispatch_offset(&self, slot: usize, eye: usize) -> u64 {
+        (slot * self.key.fovs.len() + eye) as u64 * PLAN_DISPATCH_BYTES
     }
 
     /// The resolved frame on the host: linear RGB, eyes side by side, row-major.

@@ -186,6 +186,7 @@ fn headset_timing(record: &FrameRecord, last_display_s: Option<f64>) -> HeadsetT
         gpu_done_ms: record.gpu_done_ms,
         frame_period_ms: period_s * 1e3,
         missed_frames: missed,
+        busy_at_submit: record.frame.stats.busy_at_submit,
     }
 }
 

@@ -18,6 +18,7 @@ use crate::gpu::{ContextNeeds, GpuContext, GpuOptions, SourceRect};
 use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
 use crate::scene::Scene;
 use openxr as xr;
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -54,6 +55,9 @@ pub struct XrOptions {
     /// Set (by a Ctrl+C or termination handler) to end the session as `frames` does: the
     /// runtime is asked to stop, and everything is torn down and recorded.
     pub stop: Arc<AtomicBool>,
+    /// Frames submitted before the CPU waits for the oldest one's GPU work (1: each frame
+    /// finished before the next is planned; at most MAX_FRAMES_IN_FLIGHT).
+    pub frames_in_flight: usize,
 }
 
 /// One rendered frame, for whoever records the session.
@@ -73,7 +77,8 @@ pub struct FrameRecord<'a> {
     /// CPU milliseconds from the end of xrWaitFrame to the end of xrEndFrame.
     pub cpu_ms: f64,
     /// CPU milliseconds from the end of xrWaitFrame to the gaze latch (right before the
-    /// frame's submission) and to the end of its GPU work (its fence).
+    /// frame's submission) and to the end of its GPU work (when fovea saw its fence
+    /// signalled: it looks after every xrWaitFrame and xrEndFrame).
     pub latch_ms: f64,
     pub gpu_done_ms: f64,
     /// fovea's GPU memory in use after the frame, bytes.
@@ -291,6 +296,8 @@ fn run_with_context(
     let mut renderer = Renderer::new(ctx, &options.scene)?;
     // Frames are copied from the output image into the swapchains.
     renderer.set_output_image(true);
+    renderer.set_frames_in_flight(options.frames_in_flight)?;
+    let mut submitted_frames = VecDeque::new();
     let placement = SpacePlacement::at_camera(&options.scene.camera);
     let use_mask = options.visibility_mask && xr_instance.visibility_mask;
     let mut masks_stale = use_mask;
@@ -384,6 +391,14 @@ fn run_with_context(
             }
             let state = waiter.wait().xr("xrWaitFrame")?;
             let started = Instant::now();
+            // Frames that finished while xrWaitFrame blocked.
+            record_finished(
+                &mut renderer,
+                &mut submitted_frames,
+                ctx,
+                record,
+                usize::MAX,
+            )?;
             stream.begin().xr("xrBeginFrame")?;
             if !state.should_render {
                 stream
@@ -441,10 +456,21 @@ fn run_with_context(
                 seed: options.settings.seed.wrapping_add(summary.frames as u32),
                 ..options.settings
             };
+            // Both eyes' swapchain images, written by the frame's own submission and released
+            // right after it (the runtime orders its reads after our queue's work); released
+            // whatever happened, so the runtime's image accounting stays right.
+            let mut targets = Vec::with_capacity(2);
+            for (e, swapchain) in swapchains.iter_mut().enumerate() {
+                let rect = SourceRect {
+                    offset: [e as u32 * size[0], 0],
+                    extent: size,
+                };
+                targets.push((rect, swapchain.acquire()?));
+            }
             // The gaze is located as the last step before the frame's submission (its commands
             // are recorded by then): the newest sample the tracker has for this display time.
             let mut latched = None;
-            let frame = renderer.measure_frame_latched(
+            let submitted = renderer.submit_frame_latched(
                 &FrameRequest {
                     settings,
                     foveation: &options.foveation,
@@ -462,26 +488,14 @@ fn run_with_context(
                     latched = Some((gaze, started.elapsed()));
                     gazes
                 },
-            )?;
-            let gpu_done = started.elapsed();
-            let (gaze, latch) = latched.expect("the renderer latches the gaze of every frame");
-            let gaze = gaze?;
-            let output = renderer.output_image().expect("a frame was just rendered");
-            // Both eyes' images in one submission; released whatever happened, so the
-            // runtime's image accounting stays right.
-            let mut copies = Vec::with_capacity(2);
-            for (e, swapchain) in swapchains.iter_mut().enumerate() {
-                let rect = SourceRect {
-                    offset: [e as u32 * size[0], 0],
-                    extent: size,
-                };
-                copies.push((rect, swapchain.acquire()?));
-            }
-            let copied = ctx.copy_to_external(output, &copies);
+                &mut |cmd, output| ctx.cmd_copy_to_external(cmd, output, &targets),
+            );
             for swapchain in &mut swapchains {
                 swapchain.release()?;
             }
-            copied?;
+            submitted?;
+            let (gaze, latch) = latched.expect("the renderer latches the gaze of every frame");
+            let gaze = gaze?;
             let projection_views: Vec<_> = located
                 .iter()
                 .zip(&swapchains)
@@ -501,20 +515,21 @@ fn run_with_context(
                         .views(&projection_views)],
                 )
                 .xr("xrEndFrame")?;
-            let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
-            record(&FrameRecord {
+            submitted_frames.push_back(SubmittedFrame {
                 index: summary.frames,
                 display_time_s: time_s,
                 display_period_s: state.predicted_display_period.as_nanos() as f64 * 1e-9,
                 gaze_time_s: gaze.time_s,
-                frame: &frame,
-                gaze: &gaze.filtered,
-                images: &images,
-                cpu_ms,
+                gaze: gaze.filtered,
+                images,
+                started,
+                cpu_ms: started.elapsed().as_secs_f64() * 1e3,
                 latch_ms: latch.as_secs_f64() * 1e3,
-                gpu_done_ms: gpu_done.as_secs_f64() * 1e3,
-                gpu_bytes: ctx.memory_in_use(),
-            })?;
+            });
+            // Room for the next frame now, so that nothing waits between its xrWaitFrame and
+            // its latch.
+            let keep = options.frames_in_flight - 1;
+            record_finished(&mut renderer, &mut submitted_frames, ctx, record, keep)?;
             summary.frames += 1;
             if options.frames.is_some_and(|n| summary.frames >= n) {
                 session.request_exit().xr("xrRequestExitSession")?;
@@ -531,6 +546,8 @@ fn run_with_context(
         }
         Err(e) => return Err(e),
     }
+    // The frames still in flight were rendered: they are recorded like the others.
+    record_finished(&mut renderer, &mut submitted_frames, ctx, record, 0)?;
     summary.probe = probe.map(|report| ProbeReport {
         gaze: headset_gaze.activity(),
         frames: summary.frames,
@@ -547,6 +564,51 @@ fn run_with_context(
     drop(renderer);
     summary.validation = ctx.take_validation_messages();
     Ok(summary)
+}
+
+/// A frame submitted and handed to the runtime, whose GPU work may still be running.
+struct SubmittedFrame {
+    index: u64,
+    display_time_s: f64,
+    display_period_s: f64,
+    gaze_time_s: f64,
+    gaze: FilteredGaze,
+    images: Vec<ImageGeometry>,
+    /// The end of its xrWaitFrame.
+    started: Instant,
+    cpu_ms: f64,
+    latch_ms: f64,
+}
+
+/// Records the submitted frames whose GPU work has finished, oldest first, after waiting for
+/// the oldest ones until at most `keep` are left in flight.
+fn record_finished(
+    renderer: &mut Renderer,
+    submitted: &mut VecDeque<SubmittedFrame>,
+    ctx: &GpuContext,
+    record: &mut impl FnMut(&FrameRecord) -> Result<(), XrError>,
+    keep: usize,
+) -> Result<(), XrError> {
+    while let Some(frame) = renderer.next_finished(renderer.in_flight() > keep)? {
+        let sent = submitted
+            .pop_front()
+            .expect("every finished frame was submitted by this loop");
+        let done = frame.stats.completed_at.unwrap_or_else(Instant::now);
+        record(&FrameRecord {
+            index: sent.index,
+            display_time_s: sent.display_time_s,
+            display_period_s: sent.display_period_s,
+            gaze_time_s: sent.gaze_time_s,
+            frame: &frame,
+            gaze: &sent.gaze,
+            images: &sent.images,
+            cpu_ms: sent.cpu_ms,
+            latch_ms: sent.latch_ms,
+            gpu_done_ms: done.duration_since(sent.started).as_secs_f64() * 1e3,
+            gpu_bytes: ctx.memory_in_use(),
+        })?;
+    }
+    Ok(())
 }
 
 /// Each eye's visibility mask from the runtime's hidden-triangle meshes.
