@@ -1047,3 +1047,62 @@ fn frames_in_flight_overlap_and_render_what_one_frame_at_a_time_renders() {
         );
     }
 }
+
+#[test]
+fn each_frame_shows_the_trackers_newest_sample_at_its_latch_and_a_slow_compositor_misses_frames() {
+    // The simulated tracker samples at 120 Hz on the runtime's clock, which reads two display
+    // periods before a frame's display time when its xrWaitFrame returns and moves on in real
+    // time; the compositor needs 20 ms a frame, so every frame is shown two 90 Hz periods
+    // after the one before.
+    let dir = scratch("latency");
+    let (ok, out) = xr(
+        &dir,
+        &["--simulated", "--frames", "12", "--scene", "control"],
+        &[
+            ("SIM_HEADSET_SIZE", "16x16"),
+            ("SIM_HEADSET_COMPOSITOR_MS", "20"),
+        ],
+    );
+    assert!(ok, "{out}");
+    let ms = |column: &str| -> Vec<f64> {
+        left_column(&dir, column)
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let (photon, latch) = (ms("gaze_to_photon_ms"), ms("latch_ms"));
+    let lead_ms = sim_headset::LEAD_NS as f64 * 1e-6;
+    let sample_ms = sim_headset::GAZE_PERIOD_NS as f64 * 1e-6;
+    let period_ms = sim_headset::FRAME_PERIOD_NS as f64 * 1e-6;
+    // Frame 0 waits for pipelines far past its render period; the others latch within it.
+    for f in 1..12 {
+        // At the latch the runtime's clock read (display - lead + latch): the gaze's sample
+        // is the newest at or before that moment (0.5 ms for the two sides' clocks), so the
+        // next sample would have come after it.
+        let latched_at = lead_ms - latch[f];
+        assert!(
+            latch[f] < period_ms,
+            "frame {f} latched {} ms late",
+            latch[f]
+        );
+        assert!(photon[f] >= latched_at - 0.5, "frame {f}: {} ms", photon[f]);
+        assert!(
+            photon[f] - sample_ms < latched_at,
+            "frame {f}: {} ms",
+            photon[f]
+        );
+    }
+    // The 120 Hz samples beat against the 90 Hz display: not one fixed age.
+    let ages: std::collections::BTreeSet<i64> = photon[1..]
+        .iter()
+        .map(|p| (p * 10.0).round() as i64)
+        .collect();
+    assert!(ages.len() >= 2, "{photon:?}");
+    let missed = left_column(&dir, "missed_frames");
+    assert!(missed[1..].iter().all(|m| m == "1"), "{missed:?}");
+    let session: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("session/session.json")).unwrap())
+            .unwrap();
+    assert_eq!(session["latency"]["missed_frames"], 11);
+    assert!(out.contains("frames missed: 11"), "{out}");
+}

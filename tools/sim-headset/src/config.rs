@@ -49,6 +49,9 @@ pub struct Config {
     /// `SIM_HEADSET_NO_RENDER=FROM-TO`: frames (inclusive) whose `shouldRender` is false, as
     /// when the compositor shows something else over the app.
     pub no_render: Option<(u64, u64)>,
+    /// `SIM_HEADSET_COMPOSITOR_MS`: the compositor's time per frame; over a display period,
+    /// frames are shown every few periods (the ones between missed).
+    pub compositor_ms: f64,
 }
 
 /// The Vive Pro Eye's recommended per-eye size, which the simulated headset imitates.
@@ -70,6 +73,7 @@ impl Default for Config {
             report_path: None,
             realtime: false,
             no_render: None,
+            compositor_ms: 0.0,
         }
     }
 }
@@ -183,6 +187,17 @@ impl Config {
         if let Some(v) = get("SIM_HEADSET_NO_RENDER") {
             config.no_render = Some(parse_frame_range("SIM_HEADSET_NO_RENDER", &v)?);
         }
+        if let Some(v) = get("SIM_HEADSET_COMPOSITOR_MS") {
+            config.compositor_ms = v
+                .trim()
+                .parse()
+                .ok()
+                .filter(|ms: &f64| (0.0..=1000.0).contains(ms))
+                .ok_or_else(|| ConfigError {
+                    variable: "SIM_HEADSET_COMPOSITOR_MS",
+                    message: format!("{v:?} is not milliseconds from 0 to 1000"),
+                })?;
+        }
         Ok(config)
     }
 }
@@ -266,6 +281,7 @@ mod tests {
             ("SIM_HEADSET_REALTIME", "1"),
             ("SIM_HEADSET_NO_RENDER", "5-9"),
             ("SIM_HEADSET_LOSSES", "1"),
+            ("SIM_HEADSET_COMPOSITOR_MS", "20"),
         ])
         .unwrap();
         assert_eq!(c.gaze.keyframes().len(), 2);
@@ -278,6 +294,7 @@ mod tests {
         assert!(c.realtime);
         assert_eq!(c.no_render, Some((5, 9)));
         assert_eq!(c.losses, Some(1));
+        assert_eq!(c.compositor_ms, 20.0);
     }
 
     #[test]
@@ -293,6 +310,8 @@ mod tests {
             ("SIM_HEADSET_REALTIME", "fast"),
             ("SIM_HEADSET_NO_RENDER", "9-5"),
             ("SIM_HEADSET_NO_RENDER", "7"),
+            ("SIM_HEADSET_COMPOSITOR_MS", "-3"),
+            ("SIM_HEADSET_COMPOSITOR_MS", "slow"),
             ("SIM_HEADSET_GAZE", "0 0"),
             ("SIM_HEADSET_GAZE_FILE", "/nonexistent/gaze.txt"),
         ] {

@@ -2,7 +2,6 @@
 //! validation, state advancement and saving submitted eye images.
 
 use std::path::Path;
-use std::time::{Duration, Instant};
 
 use openxr_sys as xr;
 use openxr_sys::Handle as _;
@@ -13,15 +12,7 @@ use crate::registry::Runtime;
 use crate::session::{self, with_both};
 use crate::system::MAX_LAYERS;
 
-/// 90 Hz, the Vive Pro Eye's refresh rate.
-pub const FRAME_PERIOD_NS: i64 = 1_000_000_000 / 90;
-/// Frame 0's predicted display time: one second, so no valid time is ever ≤ 0.
-const FIRST_DISPLAY_TIME_NS: i64 = 1_000_000_000;
-
-/// Predicted display time of frame `frame` (frames are 1/90 s apart, no real clock).
-pub fn display_time(frame: u64) -> xr::Time {
-    xr::Time::from_nanos(FIRST_DISPLAY_TIME_NS + frame as i64 * FRAME_PERIOD_NS)
-}
+use crate::clock::FRAME_PERIOD_NS;
 
 pub fn wait_frame(
     rt: &mut Runtime,
@@ -39,22 +30,11 @@ pub fn wait_frame(
         if !s.running {
             return Err(xr::Result::ERROR_SESSION_NOT_RUNNING);
         }
-        if inst.config.realtime {
-            let period = Duration::from_nanos(FRAME_PERIOD_NS as u64);
-            if let Some(last) = s.frames.last_wait {
-                let next = last + period;
-                let now = Instant::now();
-                if next > now {
-                    std::thread::sleep(next - now);
-                }
-            }
-            s.frames.last_wait = Some(Instant::now());
-        }
         let frame = s.frames.waits;
         s.frames.waits += 1;
         s.frames.wait_pending = true;
         inst.log.frames_waited += 1;
-        state.predicted_display_time = display_time(frame);
+        state.predicted_display_time = xr::Time::from_nanos(s.frames.clock.wait_frame());
         state.predicted_display_period = xr::Duration::from_nanos(FRAME_PERIOD_NS);
         let losses_left = inst
             .config
@@ -284,11 +264,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn display_times_advance_by_a_90_hz_period() {
-        assert_eq!(display_time(0).as_nanos(), 1_000_000_000);
-        assert_eq!(
-            display_time(90).as_nanos() - display_time(0).as_nanos(),
-            90 * 11_111_111
-        );
+    fn the_period_is_90_hz() {
+        assert_eq!(FRAME_PERIOD_NS, 11_111_111);
     }
 }

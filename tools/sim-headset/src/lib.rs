@@ -10,6 +10,7 @@
 //! [`set_config_override`] for the calling thread (see README.md).
 
 mod actions;
+mod clock;
 mod config;
 mod dispatch;
 mod entry_points;
@@ -54,8 +55,4 @@ pub fn eye_fov(eye: usize) -> xr::Fovf {
     views::eye_fov(eye)
 }
 
-/// The headset's predicted display time for frame `frame` (frame 0 is the first
-/// `xrWaitFrame`), so tests can relate times to the gaze script.
-pub fn display_time(frame: u64) -> xr::Time {
-    frame::display_time(frame)
-}
+pub use clock::{FRAME_PERIOD_NS, GAZE_PERIOD_NS, LEAD_NS};

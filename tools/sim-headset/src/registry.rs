@@ -46,14 +46,25 @@ pub struct Instance {
     pub log: ReportLog,
 }
 
-#[derive(Default)]
 pub struct FrameLoop {
     /// xrWaitFrame calls so far; the current frame index is `waits - 1`.
     pub waits: u64,
     /// A wait has returned that no xrBeginFrame has consumed yet.
     pub wait_pending: bool,
     pub frame_begun: bool,
-    pub last_wait: Option<std::time::Instant>,
+    /// Display slots and the eye tracker's samples.
+    pub clock: crate::clock::Clock,
+}
+
+impl FrameLoop {
+    pub fn new(config: &crate::config::Config) -> Self {
+        Self {
+            waits: 0,
+            wait_pending: false,
+            frame_begun: false,
+            clock: crate::clock::Clock::new(config.realtime, config.compositor_ms),
+        }
+    }
 }
 
 pub struct Session {

@@ -17,7 +17,7 @@ pub fn transition(inst: &mut Instance, session: &mut Session, id: u64, state: xr
     inst.events.push_back(Event::SessionStateChanged {
         session: id,
         state,
-        time: crate::frame::display_time(session.frames.waits.saturating_sub(1)),
+        time: xr::Time::from_nanos(session.frames.clock.display_ns()),
     });
     inst.log.record_state(state);
 }
@@ -101,6 +101,7 @@ pub fn create_session(
     // SAFETY: the binding names the app's live Vulkan objects, created through the loader
     // behind the function pointer it gave us (or the system loader).
     let vk = unsafe { VkContext::new(inst.vk.get_instance_proc_addr, &binding)? };
+    let frames = FrameLoop::new(&inst.config);
     let id = rt.new_id();
     let mut session = Session {
         instance: id_instance,
@@ -108,7 +109,7 @@ pub fn create_session(
         running: false,
         exit_requested: false,
         lost: false,
-        frames: FrameLoop::default(),
+        frames,
         vk,
         attached_sets: Vec::new(),
         synced_sets: Default::default(),

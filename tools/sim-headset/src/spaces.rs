@@ -82,7 +82,7 @@ pub fn locate_in_world(
             Ok(Located {
                 pose: pose::compose(gaze, sp.offset),
                 flags,
-                sample_time: Some(crate::frame::display_time(frame)),
+                sample_time: Some(xr::Time::from_nanos(s.frames.clock.gaze_sample_ns())),
             })
         }
     }

@@ -359,7 +359,20 @@ fn full_session_with_gaze_images_and_report() {
                 [pose.position.x, pose.position.y, pose.position.z],
                 [0.0; 3]
             ));
-            assert_eq!(sample_time, time, "frame {frame}");
+            // The tracker's newest 120 Hz sample when the gaze was located, right after
+            // xrWaitFrame: two display periods (and less than one sample) before display.
+            let (time, sample_time) = (time.as_nanos(), sample_time.as_nanos());
+            let age = time - sample_time;
+            assert_eq!(
+                sample_time % sim_headset::GAZE_PERIOD_NS,
+                0,
+                "frame {frame}"
+            );
+            assert!(
+                (sim_headset::FRAME_PERIOD_NS..=sim_headset::LEAD_NS + sim_headset::GAZE_PERIOD_NS)
+                    .contains(&age),
+                "frame {frame}: sample {sample_time} for display {time}"
+            );
         }
     }
 
