@@ -210,10 +210,14 @@ fn a_ten_frame_session_exits_cleanly_and_both_eyes_show_the_scene() {
         let latch: f64 = column(row, "latch_ms").parse().unwrap();
         let done: f64 = column(row, "gpu_done_ms").parse().unwrap();
         assert!(latch >= 0.0 && latch < done, "{row}");
-        assert!(column(row, "gaze_to_photon_ms")
-            .parse::<f64>()
-            .unwrap()
-            .is_finite());
+        // Empty while the session is not focused yet (no gaze sample); after, the tracker's
+        // sample is older than the display time by at least a period.
+        let frame: u32 = column(row, "frame").parse().unwrap();
+        let photon = column(row, "gaze_to_photon_ms");
+        if frame >= 2 || !photon.is_empty() {
+            let photon: f64 = photon.parse().unwrap();
+            assert!(photon >= 1000.0 / 90.0 - 1e-3, "{row}");
+        }
     }
 }
 
@@ -1067,7 +1071,7 @@ fn each_frame_shows_the_trackers_newest_sample_at_its_latch_and_a_slow_composito
     let ms = |column: &str| -> Vec<f64> {
         left_column(&dir, column)
             .iter()
-            .map(|v| v.parse().unwrap())
+            .map(|v| v.parse().unwrap_or(f64::NAN))
             .collect()
     };
     let (photon, latch) = (ms("gaze_to_photon_ms"), ms("latch_ms"));

@@ -67,7 +67,7 @@ pub struct FrameRow {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeadsetTiming {
     /// The frame's predicted display time minus the time the eye tracker took its gaze
-    /// sample (both the runtime's clock): the gaze-to-photon estimate.
+    /// sample (both the runtime's clock): the gaze-to-photon estimate; NaN without a sample.
     pub gaze_to_photon_ms: f64,
     /// CPU ms from the end of xrWaitFrame to the gaze latch (the last thing before the
     /// frame's submission).
@@ -87,7 +87,10 @@ impl FrameRow {
     /// The row with a headset frame's timing.
     pub fn with_timing(self, t: &HeadsetTiming) -> Self {
         Self {
-            gaze_to_photon_ms: Some(t.gaze_to_photon_ms),
+            gaze_to_photon_ms: t
+                .gaze_to_photon_ms
+                .is_finite()
+                .then_some(t.gaze_to_photon_ms),
             latch_ms: Some(t.latch_ms),
             gpu_done_ms: Some(t.gpu_done_ms),
             frame_period_ms: t.frame_period_ms.is_finite().then_some(t.frame_period_ms),

@@ -33,6 +33,8 @@ pub struct GazeActivity {
 pub(super) struct FrameGaze {
     pub(super) filtered: FilteredGaze,
     pub(super) time_s: f64,
+    /// Whether the tracker gave a sample (else `time_s` is the display time).
+    pub(super) sampled: bool,
 }
 
 fn seconds(t: xr::Time) -> f64 {
@@ -73,11 +75,13 @@ impl HeadsetGaze {
         images: &[ImageGeometry],
     ) -> Result<FrameGaze, XrError> {
         let mut time_s = seconds(time);
+        let mut sampled = false;
         let tangents = match &self.tracker {
             Ok(tracker) => {
                 let sample = tracker.locate(session, space, time)?;
                 if let Some(t) = sample.sample_time {
                     time_s = seconds(t);
+                    sampled = true;
                 }
                 if focused && !self.judged && !sample.active {
                     eprintln!(
@@ -104,6 +108,10 @@ impl HeadsetGaze {
         let filtered = self
             .filter
             .update(seconds(time), tangents.as_deref(), images);
-        Ok(FrameGaze { filtered, time_s })
+        Ok(FrameGaze {
+            filtered,
+            time_s,
+            sampled,
+        })
     }
 }

@@ -181,7 +181,11 @@ fn headset_timing(record: &FrameRecord, last_display_s: Option<f64>) -> HeadsetT
         false => 0,
     };
     HeadsetTiming {
-        gaze_to_photon_ms: (record.display_time_s - record.gaze_time_s) * 1e3,
+        // No sample (no tracker, or not focused yet): no age to give.
+        gaze_to_photon_ms: match record.gaze_sampled {
+            true => (record.display_time_s - record.gaze_time_s) * 1e3,
+            false => f64::NAN,
+        },
         latch_ms: record.latch_ms,
         gpu_done_ms: record.gpu_done_ms,
         frame_period_ms: period_s * 1e3,

@@ -70,6 +70,8 @@ pub struct FrameRecord<'a> {
     /// When the eye tracker took the gaze sample (XrEyeGazeSampleTimeEXT), else the display
     /// time.
     pub gaze_time_s: f64,
+    /// Whether the eye tracker gave a sample (its time) for the frame.
+    pub gaze_sampled: bool,
     /// GPU timings and counters of both eyes (no pixels: the image went to the headset).
     pub frame: &'a Frame,
     pub gaze: &'a FilteredGaze,
@@ -520,6 +522,7 @@ fn run_with_context(
                 display_time_s: time_s,
                 display_period_s: state.predicted_display_period.as_nanos() as f64 * 1e-9,
                 gaze_time_s: gaze.time_s,
+                gaze_sampled: gaze.sampled,
                 gaze: gaze.filtered,
                 images,
                 started,
@@ -572,6 +575,7 @@ struct SubmittedFrame {
     display_time_s: f64,
     display_period_s: f64,
     gaze_time_s: f64,
+    gaze_sampled: bool,
     gaze: FilteredGaze,
     images: Vec<ImageGeometry>,
     /// The end of its xrWaitFrame.
@@ -599,6 +603,7 @@ fn record_finished(
             display_time_s: sent.display_time_s,
             display_period_s: sent.display_period_s,
             gaze_time_s: sent.gaze_time_s,
+            gaze_sampled: sent.gaze_sampled,
             frame: &frame,
             gaze: &sent.gaze,
             images: &sent.images,
