@@ -117,7 +117,21 @@ layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLa
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };
 // Only resolve.comp writes the frame's pixels: on lavapipe a storage-buffer store costs about
 // half an imageStore (which goes through a per-lane image-format routine).
+// temporal.comp (which defines READS_PIXELS) reads them back and writes what it shows.
+#ifdef READS_PIXELS
+layout(std430, set = 0, binding = BINDING_PIXELS) buffer PixelsBuf { vec4 pixels[]; };
+#else
 layout(std430, set = 0, binding = BINDING_PIXELS) writeonly buffer PixelsBuf { vec4 pixels[]; };
+#endif
+// Temporal history (temporal.comp; trace writes the lattice points' surfaces while it is on).
+#ifdef WRITES_LATTICE
+layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) writeonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
+#else
+layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
+#endif
+layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf { vec4 history[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) buffer HistorySurfaceBuf { uvec4 history_surface[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_VIEWS) readonly buffer HistoryViews { GpuHistoryView history_views[]; };
 
 layout(push_constant) uniform Push { PushConstants pc; };
 

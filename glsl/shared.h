@@ -33,10 +33,20 @@
 #define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
 #define BINDING_PIXELS 16      // vec4[]: the resolved frame, eye after eye, rows of pc.width; copied
                                // into OUTPUT only for what needs an image (presenting, accumulating)
-#define BINDING_COUNT 17
+// Temporal history (render/history.rs, glsl/temporal.comp); bound to a stand-in buffer while
+// history is off, when no pass reads them.
+#define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
+                                   // on: the surface at the point's pixel centre (SURFACE_*)
+#define BINDING_HISTORY 18     // vec4[]: per eye two planes (ping-pong, PushConstants.history)
+                               // of pixels: rgb the mean of the pixel's own traced samples, w their
+                               // count; at ((eye * 2 + plane) * height + y) * width + x
+#define BINDING_HISTORY_SURFACE 19 // uvec4[] in HISTORY's layout: the surface a pixel's history
+                                   // belongs to (SURFACE_*)
+#define BINDING_HISTORY_VIEWS 20 // GpuHistoryView[]: per frame slot and eye (slot * STAT_EYES + eye)
+#define BINDING_COUNT 21
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 17
+#define BINDING_TLAS 21
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/gpu/shared.rs checks them against the structs' sizes).
@@ -191,7 +201,7 @@ struct PushConstants {
     uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
     uint layer; // accumulate.comp: the running mean's layer of LAYER_IMAGES
     uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
-    uint pad1;
+    uint history; // 0: no history; else HISTORY_ON | read plane << 1 | frame slot << 2
     uint debug; // DEBUG_*
     uint layer_count; // layers per eye; this eye's are LAYERS[layer_base + eye*layer_count ..]
 };
@@ -224,6 +234,26 @@ struct GpuLayer {
     uint plan_runs; // plan.comp's threads for this eye (its layers' boxes' runs together), the
                     // same in each of its layers: the gaze decides it, so it is written with
                     // the gaze, right before the frame is submitted (not a push constant)
+};
+
+// ---- temporal history (glsl/temporal.comp) ----------------------------------------------------
+#define HISTORY_ON 1
+// A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
+// the pixel centre's ray (float bits; SURFACE_NONE: the ray left the scene), y the unit normal
+// facing the camera (octahedral, packSnorm2x16), z the object (TLAS index; NO_EMITTER: none).
+#define SURFACE_NONE 0xbf800000u // -1.0f
+
+// One eye's view of the frame before, for reprojecting its history into this frame.
+struct GpuHistoryView {
+    vec4 position; // the earlier frame's camera (PushConstants' cam_* of that frame)
+    vec4 right;
+    vec4 up;
+    vec4 forward;
+    vec4 tan;
+    uint valid; // 0: no usable history (first frame, reset, another image size): start afresh
+    uint moved; // 1: the camera moved since that frame (history is resampled and capped)
+    uint cap; // in motion, a pixel's history counts at most this many samples (exponential beyond)
+    uint pad0;
 };
 
 struct GpuProbeRay {

@@ -26,6 +26,25 @@ vec3 camera_ray(vec2 pixel, vec2 jitter) {
     return normalize(pc.cam_forward.xyz + t.x * pc.cam_right.xyz + t.y * pc.cam_up.xyz);
 }
 
+// Octahedral encoding of a unit vector into [-1, 1]^2 (packed with packSnorm2x16).
+vec2 octahedral(vec3 n) {
+    n /= abs(n.x) + abs(n.y) + abs(n.z);
+    vec2 e = n.xy;
+    if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return e;
+}
+
+// The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding).
+uvec4 centre_surface(ivec2 p, inout uint overflows) {
+    vec3 d = camera_ray(vec2(p), vec2(0.5));
+    Hit h = trace_scene(pc.cam_position.xyz, d, 0.0, INF, false);
+    if (h.overflow) overflows++;
+    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_EMITTER, 0u);
+    vec3 n = hit_normal(h, pc.cam_position.xyz + h.t * d);
+    if (dot(n, d) > 0.0) n = -n;
+    return uvec4(floatBitsToUint(h.t), packSnorm2x16(octahedral(n)), h.object, 0u);
+}
+
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
                 + gl_GlobalInvocationID.x;
@@ -78,6 +97,12 @@ void main() {
         overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);
+    // History on: the surface at the point's pixel centre, which temporal.comp reprojects
+    // and tests history against. One more camera ray (counted), traced after the samples.
+    if ((pc.history & HISTORY_ON) != 0u) {
+        rays++;
+        lattice_surface[entry] = centre_surface(pixel, overflows);
+    }
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
     atomicAdd(stats[block + STAT_PATHS], spp);

@@ -128,7 +128,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             eye,
             layer,
             work_stride,
-            pad1,
+            history,
             debug,
             layer_count
         }
@@ -161,6 +161,20 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     check!(s, GpuProbeRay { origin, direction });
     check!(
         s,
+        GpuHistoryView {
+            position,
+            right,
+            up,
+            forward,
+            tan,
+            valid,
+            moved,
+            cap,
+            pad0
+        }
+    );
+    check!(
+        s,
         GpuProbeHit {
             t,
             object,
@@ -170,7 +184,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        9,
+        10,
         "shared.h has a struct this test does not check: add it"
     );
     assert!(

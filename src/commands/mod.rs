@@ -4,6 +4,7 @@ pub mod bench;
 pub mod check;
 pub mod render;
 pub mod render_bench;
+pub mod render_sequence;
 pub mod scenes;
 pub mod view;
 pub mod xr;

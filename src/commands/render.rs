@@ -9,7 +9,7 @@ use fovea::foveation::{
 };
 use fovea::render::{
     eye_views, output, DebugView, EyeView, FovChoice, Frame, FrameRequest, Integrator,
-    RenderSettings, Renderer, TraversalCounts, MAX_SIDE,
+    RenderSettings, Renderer, TemporalSettings, TraversalCounts, MAX_SIDE,
 };
 use fovea::scene::{self, Camera};
 use std::path::PathBuf;
@@ -62,6 +62,8 @@ pub struct RenderArgs {
     pub gaze: GazeChoice,
     #[command(flatten)]
     pub trace: Box<TraceArgs>,
+    #[command(flatten)]
+    pub sequence: Box<SequenceArgs>,
     /// Render both eyes (IPD 63 mm), side by side in one image.
     #[arg(long)]
     pub stereo: bool,
@@ -71,9 +73,11 @@ pub struct RenderArgs {
     /// A debug view instead of the image.
     #[arg(long, value_enum)]
     pub debug: Option<DebugArg>,
-    /// Output image: .png (an .exr with linear radiance is written beside it) or .exr.
-    #[arg(long, default_value = "fovea.png")]
-    pub out: PathBuf,
+    /// Output image: .png (an .exr with linear radiance is written beside it) or .exr;
+    /// default fovea.png. With --camera-path, the directory the frames go to (default
+    /// frames).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Instead of one image, time every built-in scene: regular, and with --foveation other
     /// than off also forward and corner gaze (and the trace's gaze with --gaze-trace).
     #[arg(long)]
@@ -107,6 +111,33 @@ pub struct TraceArgs {
     #[arg(long, value_name = "N", requires = "gaze_trace", allow_negative_numbers = true,
           value_parser = whole_number("a row of the gaze trace, 0 or more".into()))]
     pub trace_frame: Option<u32>,
+}
+
+/// The sequence options (boxed, as TraceArgs).
+#[derive(Args)]
+pub struct SequenceArgs {
+    /// Render a sequence: one frame per row of a camera path (CSV: frame,dx,dy,dz,yaw_deg,
+    /// pitch_deg,roll_deg; the scene camera moved along its own right, up and forward axes
+    /// in metres, then turned right, up and clockwise in degrees), written to the --out
+    /// directory as frame_NNNN.png and .exr. Frame k uses seed --seed + k and, with
+    /// --gaze-trace, row k of the trace.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["bench", "debug", "trace_frame"])]
+    pub camera_path: Option<PathBuf>,
+    /// With --camera-path: keep a temporal history (every pixel accumulates the samples
+    /// traced at it, reprojected as the camera moves; sparse layers shift their lattices
+    /// every frame). Default on.
+    #[arg(long, value_enum, requires = "camera_path")]
+    pub temporal: Option<OnOff>,
+    /// While the camera moves, a pixel's history counts at most this many samples.
+    #[arg(long, default_value_t = TemporalSettings::default().cap, requires = "camera_path",
+          value_parser = whole_number("a number of samples, 1 or more".into()))]
+    pub temporal_cap: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
 }
 
 impl RenderArgs {
@@ -148,7 +179,7 @@ impl RenderArgs {
 /// A clap parser for a whole-number option whose message says what the option takes; clap's
 /// own says "invalid digit found in string" for `-5` or `1e9`. `what`: "a width in pixels
 /// from 1 to 16384". Ranges are checked with the other settings.
-fn whole_number(what: String) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync {
+pub fn whole_number(what: String) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync {
     move |text: &str| {
         let text = text.trim();
         let (negative, digits) = match text.strip_prefix('-') {
@@ -194,6 +225,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
     if args.bench {
         return super::render_bench::run(&ctx, args, &config, &settings, trace);
+    }
+    if let Some(path) = &args.sequence.camera_path {
+        return super::render_sequence::run(&ctx, args, path, &config, &settings, trace);
     }
     let aspect = settings.width as f32 / settings.height as f32;
     let scene = scene::load(&args.scene, aspect)?;
@@ -248,7 +282,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
         frame.rgb = diff.rgb;
     }
-    let written = output::write_frame(&frame, &args.out)?;
+    let out = args.out.clone().unwrap_or_else(|| "fovea.png".into());
+    let written = output::write_frame(&frame, &out)?;
     for path in written {
         println!("wrote {}", path.display());
     }

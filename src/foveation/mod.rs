@@ -11,6 +11,7 @@ pub mod gaze;
 pub mod gaze_filter;
 pub mod gaze_source;
 pub mod gaze_trace;
+pub mod lattice_shift;
 pub mod plan;
 pub mod ray_buffer;
 pub mod view;

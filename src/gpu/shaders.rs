@@ -9,3 +9,4 @@ pub const PLAN: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan.spv"));
 pub const PLAN_ARGS: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan_args.spv"));
 pub const RESOLVE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/resolve.spv"));
 pub const ACCUMULATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));
+pub const TEMPORAL: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/temporal.spv"));

@@ -93,7 +93,7 @@ pub struct PushConstants {
     pub eye: u32,
     pub layer: u32,
     pub work_stride: u32,
-    pub pad1: u32,
+    pub history: u32,
     pub debug: u32,
     pub layer_count: u32,
 }
@@ -121,6 +121,20 @@ pub struct GpuLayer {
     pub mask_plane: u32,
     pub outer: f32,
     pub plan_runs: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuHistoryView {
+    pub position: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub forward: [f32; 4],
+    pub tan: [f32; 4],
+    pub valid: u32,
+    pub moved: u32,
+    pub cap: u32,
+    pub pad0: u32,
 }
 
 /// shared.h's `NO_LIMIT` (a float, so build.rs does not generate it).

@@ -8,6 +8,7 @@
 use super::request::FrameRequest;
 use super::settings::RenderSettings;
 use crate::foveation::gaze::GazeFix;
+use crate::foveation::lattice_shift::lattice_shift;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
@@ -44,12 +45,14 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> PushCon
 }
 
 /// Plans eye `e` of `request` looking at `gaze` on `image`, whose ray buffer is `buffer`.
+/// `history_frame` shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted).
 pub fn eye_layers(
     request: &FrameRequest,
     e: usize,
     gaze: Gaze,
     buffer: &RayBuffer,
     image: &ImageGeometry,
+    history_frame: u32,
 ) -> EyeLayers {
     let (gaze_px, fix) = gaze.resolve(image);
     match fix {
@@ -72,10 +75,12 @@ pub fn eye_layers(
         .iter()
         .enumerate()
         .map(|(k, l)| {
+            let [sx, sy] = lattice_shift(history_frame, l.spacing);
             let anchor = match l.gaze_anchored {
                 true => gaze_anchor(image, gaze_px),
                 false => [0, 0],
             };
+            let anchor = [anchor[0] + sx, anchor[1] + sy];
             let (i0, i1, j0, j1) = layer_box(l, image, anchor);
             let (box_cols, box_rows) = ((i1 - i0 + 1).max(0) as u32, (j1 - j0 + 1).max(0) as u32);
             let box_prefix = prefix;

@@ -4,6 +4,7 @@ pub mod accumulate;
 mod counters;
 mod eye_params;
 mod frame;
+mod history;
 mod in_flight;
 pub mod output;
 mod passes;
@@ -13,6 +14,7 @@ mod settings;
 mod targets;
 
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
+pub use history::TemporalSettings;
 pub use in_flight::MAX_FRAMES_IN_FLIGHT;
 pub use renderer::{LatticePoint, Renderer};
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};

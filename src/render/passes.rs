@@ -17,6 +17,8 @@ pub struct FramePipelines<'a> {
     pub plan_args: &'a ComputePipeline,
     pub trace: &'a ComputePipeline,
     pub resolve: &'a ComputePipeline,
+    /// With history on (render/history.rs).
+    pub temporal: Option<&'a ComputePipeline>,
 }
 
 /// Everything one frame's commands use.
@@ -117,6 +119,29 @@ impl FramePasses<'_> {
             let name = self.name(e, "resolve");
             self.timestamps.cmd_timed(cmd, &name, || {
                 p.resolve.cmd_dispatch(cmd, layout, push, groups)
+            });
+        }
+    }
+
+    /// Temporal (with history on): per eye, every pixel's history carried into this frame,
+    /// its own new samples added, and what is shown rewritten from it.
+    pub fn temporal(&mut self, cmd: vk::CommandBuffer) {
+        let Some(pipeline) = self.pipelines.temporal else {
+            return;
+        };
+        // It reads the resolved pixels and the lattice values and surfaces.
+        self.ctx
+            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
+        let t = self.targets;
+        let groups = [
+            t.key.width.div_ceil(WORKGROUP_SIZE_X),
+            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
+            1,
+        ];
+        for (e, push) in self.eyes.iter().enumerate() {
+            let name = self.name(e, "temporal");
+            self.timestamps.cmd_timed(cmd, &name, || {
+                pipeline.cmd_dispatch(cmd, self.layout, push, groups)
             });
         }
     }

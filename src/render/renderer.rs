@@ -8,6 +8,7 @@
 use super::counters::FrameCounters;
 use super::eye_params::{eye_layers, eye_push, EyeLayers};
 use super::frame::Frame;
+use super::history::{History, HistoryKey, TemporalSettings};
 use super::in_flight::{frame_results, FrameKnown, PendingFrame, MAX_FRAMES_IN_FLIGHT};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
@@ -77,6 +78,11 @@ pub struct Renderer {
     plan: Option<ComputePipeline>,
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
+    temporal_pass: Option<ComputePipeline>,
+    /// Temporal rendering (`set_temporal`): its settings, and the history once a frame
+    /// needed it.
+    temporal: Option<TemporalSettings>,
+    history: Option<History>,
     raycast: HashMap<Traversal, ComputePipeline>,
     /// One pool per frame slot.
     timestamps: Vec<TimestampPool>,
@@ -160,6 +166,9 @@ impl Renderer {
             plan: None,
             plan_args: None,
             resolve: None,
+            temporal_pass: None,
+            temporal: None,
+            history: None,
             raycast: HashMap::new(),
             timestamps: (0..MAX_FRAMES_IN_FLIGHT)
                 .map(|_| TimestampPool::new(ctx, TIMED_PASSES))
@@ -251,6 +260,31 @@ impl Renderer {
         self.targets.as_ref().and_then(|t| t.output.as_ref())
     }
 
+    /// From the next frame on, frames keep a temporal history (`Some`) or not (`None`, the
+    /// default): every pixel accumulates the samples traced at it over the frames, carried
+    /// by reprojection while the camera moves, and the sparse layers' lattices shift every
+    /// frame so that every pixel is traced in turn (render/history.rs, glsl/temporal.comp).
+    /// Frames of one sequence must differ in seed (`accumulate::frame_seed`).
+    pub fn set_temporal(&mut self, settings: Option<TemporalSettings>) -> Result<(), RenderError> {
+        if settings == self.temporal {
+            return Ok(());
+        }
+        // The history's buffers go: no frame in flight may still use them.
+        self.wait_all()?;
+        self.history = None;
+        self.bindings_stale = true;
+        self.temporal = settings;
+        Ok(())
+    }
+
+    /// Forgets the history: the next frame starts a new one (a cut in a sequence, a jump
+    /// that reprojection should not bridge).
+    pub fn reset_history(&mut self) {
+        if let Some(history) = &mut self.history {
+            history.reset();
+        }
+    }
+
     /// From the next frame on, the trace counts its BVH traversal's work (nodes, triangle and
     /// primitive tests, loop steps per lane and per subgroup) into `FrameStats::traversal`: a
     /// second trace pipeline, specialised with SPEC_PROFILE; the image is the same.
@@ -327,12 +361,24 @@ impl Renderer {
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", spirv, &spec)?;
             self.trace.insert(key, p);
         }
-        for (slot, name, spirv) in [
-            (&mut self.plan, "plan", shaders::PLAN),
-            (&mut self.plan_args, "dispatch sizes", shaders::PLAN_ARGS),
-            (&mut self.resolve, "resolve", shaders::RESOLVE),
+        let temporal = self.temporal.is_some();
+        for (slot, name, spirv, wanted) in [
+            (&mut self.plan, "plan", shaders::PLAN, true),
+            (
+                &mut self.plan_args,
+                "dispatch sizes",
+                shaders::PLAN_ARGS,
+                true,
+            ),
+            (&mut self.resolve, "resolve", shaders::RESOLVE, true),
+            (
+                &mut self.temporal_pass,
+                "temporal",
+                shaders::TEMPORAL,
+                temporal,
+            ),
         ] {
-            if slot.is_none() {
+            if slot.is_none() && wanted {
                 *slot = Some(ComputePipeline::new(
                     &self.ctx,
                     &self.layout,
@@ -376,6 +422,22 @@ impl Renderer {
                 (BINDING_PROBE_HITS, &self.counters.device),
             ]),
         }
+        // Without history no pass reads the history bindings, which must still be valid.
+        let stand_in = &self.counters.device;
+        list.extend(match &self.history {
+            Some(h) => [
+                (BINDING_LATTICE_SURFACE, &h.lattice_surfaces),
+                (BINDING_HISTORY, &h.pixels),
+                (BINDING_HISTORY_SURFACE, &h.surfaces),
+                (BINDING_HISTORY_VIEWS, &h.views),
+            ],
+            None => [
+                (BINDING_LATTICE_SURFACE, stand_in),
+                (BINDING_HISTORY, stand_in),
+                (BINDING_HISTORY_SURFACE, stand_in),
+                (BINDING_HISTORY_VIEWS, stand_in),
+            ],
+        });
         // LAYER_IMAGES is accumulate.comp's alone: no frame pass uses it.
         let texels = [
             (BINDING_NODES, &b.nodes),
@@ -531,10 +593,18 @@ impl Renderer {
     fn plan_eyes(&self, request: &FrameRequest, gazes: &[Gaze]) -> (Vec<EyeLayers>, f64) {
         let planning = Instant::now();
         let targets = self.targets.as_ref().expect("prepared");
+        let history_frame = self.history.as_ref().map_or(0, History::frame);
         let eyes = (0..request.eyes.len())
             .map(|e| {
                 let gaze = gazes.get(e).copied().unwrap_or(request.eyes[e].gaze);
-                eye_layers(request, e, gaze, &targets.buffer, &targets.images[e])
+                eye_layers(
+                    request,
+                    e,
+                    gaze,
+                    &targets.buffer,
+                    &targets.images[e],
+                    history_frame,
+                )
             })
             .collect();
         (eyes, planning.elapsed().as_secs_f64() * 1e3)
@@ -586,9 +656,12 @@ impl Renderer {
         let slot = self.next_slot;
         let recording = Instant::now();
         let targets = self.targets.as_ref().expect("prepared");
+        // Given lattice values (compose) have no surfaces: history is left alone.
+        let history = self.history.as_ref().filter(|_| given.is_none());
         let pushes: Vec<PushConstants> = (0..request.eyes.len())
             .map(|e| PushConstants {
                 layer_base: targets.layer_base(slot),
+                history: history.as_ref().map_or(0, |h| h.push_word(slot)),
                 ..eye_push(request, e, &targets.buffer)
             })
             .collect();
@@ -600,6 +673,7 @@ impl Renderer {
                 plan_args: self.plan_args.as_ref().expect("prepared"),
                 trace: &self.trace[&self.trace_key(&request.settings)],
                 resolve: self.resolve.as_ref().expect("prepared"),
+                temporal: history.as_ref().and(self.temporal_pass.as_ref()),
             },
             timestamps: &mut self.timestamps[slot],
             counters: &self.counters,
@@ -614,6 +688,7 @@ impl Renderer {
                 passes.trace(cmd);
             }
             passes.resolve(cmd);
+            passes.temporal(cmd);
             passes.output_image(cmd);
             if let (Some(after), Some(image)) = (after, &targets.output) {
                 after(cmd, image);
@@ -632,6 +707,9 @@ impl Renderer {
             .as_mut()
             .expect("prepared")
             .write_layers(slot, &eyes)?;
+        if let Some(history) = self.history.as_mut().filter(|_| given.is_none()) {
+            history.advance(slot, &pushes)?;
+        }
         let mut busy_at_submit = 0;
         for frame in &self.in_flight {
             busy_at_submit += !frame.commands.is_done()? as u32;
@@ -702,7 +780,31 @@ impl Renderer {
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
             image: self.output_image,
         })?;
-        self.ensure_visibility(request.eyes.len(), [s.width, s.height], request.foveation)
+        self.ensure_visibility(request.eyes.len(), [s.width, s.height], request.foveation)?;
+        self.ensure_history(request)
+    }
+
+    /// Makes the history ready for `request`'s image when temporal rendering is on: a new
+    /// (empty) one when the image size, the eyes or the lattice changed.
+    fn ensure_history(&mut self, request: &FrameRequest) -> Result<(), RenderError> {
+        let Some(settings) = self.temporal else {
+            return Ok(());
+        };
+        let targets = self.targets.as_ref().expect("prepared");
+        let key = HistoryKey {
+            width: request.settings.width,
+            height: request.settings.height,
+            eyes: request.eyes.len() as u32,
+            lattice_len: targets.lattice_len() as u64,
+        };
+        if self.history.as_ref().is_some_and(|h| h.key == key) {
+            return Ok(());
+        }
+        self.wait_all()?;
+        self.bindings_stale = true;
+        self.history = None;
+        self.history = Some(History::new(&self.ctx, key, settings)?);
+        Ok(())
     }
 
     /// Closest hits of arbitrary rays through the GPU traversal (for tests and tools).

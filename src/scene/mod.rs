@@ -2,6 +2,7 @@
 //! the GPU layout, and the feature flags that let shaders skip what a scene does not need.
 
 pub mod builtin;
+mod camera_path;
 pub mod cpu_raycast;
 mod error;
 mod features;
@@ -11,6 +12,7 @@ pub mod gpu_layout;
 pub mod types;
 pub mod validate;
 
+pub use camera_path::{CameraPath, CameraPathError, CameraPose};
 pub use cpu_raycast::CpuRaycaster;
 pub use error::SceneError;
 pub use features::SceneFeatures;

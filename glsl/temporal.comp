@@ -1,0 +1,202 @@
+#version 460
+// The temporal pass: after resolve, per pixel of one eye, the pixel's history (the mean and
+// count of the samples traced at this pixel in earlier frames, and the surface they belong
+// to) is carried into this frame and the pixel's own new samples are added to it; what is
+// shown is that history, with resolve's spatial estimate mixed in only while the pixel has
+// few samples of its own.
+//
+// History belongs to scene points, not to layers: a pixel's samples are those traced at its
+// own pixel centre by whichever layer traced it (the sparse layers' lattices shift every
+// frame, render/history.rs, so every pixel is traced in turn), and history is carried
+// between frames by reprojection: the pixel's surface (its own, or the nearest lattice
+// point's of the layer shown there) gives its scene point, the point's place in the earlier
+// frame's image the history taps. A tap whose surface differs (object, normal, distance) is
+// disoccluded or occluded and rejected. While the camera stands still nothing is resampled
+// and nothing is capped: the history is the plain mean of every sample the pixel got, which
+// converges to the unbiased image. In motion taps are bilinear and the count is capped, so
+// history follows (exponentially) what the pixel sees now.
+//
+// One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
+// like resolve.comp.
+#extension GL_GOOGLE_include_directive : require
+#define READS_PIXELS
+#include "plan.glsl"
+#include "view.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+// A tap is the same surface when the object is the same, the normals within ~25 degrees
+// and the distances within 5% (+ 1 mm): generous enough for the approximate surface of
+// a pixel between lattice points, tight enough to see a step in depth.
+const float SAME_NORMAL_COS = 0.9;
+const float SAME_DISTANCE = 0.05;
+
+struct Surface {
+    float dist; // < 0: nothing (the sky)
+    vec3 n;
+    uint object;
+};
+
+vec3 from_octahedral(vec2 e) {
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+Surface decode(uvec4 s) {
+    Surface r;
+    r.dist = uintBitsToFloat(s.x);
+    r.n = from_octahedral(unpackSnorm2x16(s.y));
+    r.object = s.z;
+    return r;
+}
+
+bool same_surface(Surface a, Surface b) {
+    if (a.object != b.object) return false;
+    if (a.dist < 0.0 || b.dist < 0.0) return a.dist < 0.0 && b.dist < 0.0;
+    return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= SAME_DISTANCE * b.dist + 1e-3;
+}
+
+uint history_index(uint plane, ivec2 p) {
+    return ((pc.eye * 2u + plane) * pc.height + uint(p.y)) * pc.width + uint(p.x);
+}
+
+// World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
+// of its left, right, up and down edges), as trace.comp's camera_ray makes it.
+vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
+    vec2 uv = pos / vec2(pc.width, pc.height);
+    vec2 t = vec2(mix(tan4.x, tan4.y, uv.x), mix(tan4.z, tan4.w, uv.y));
+    return normalize(f + t.x * r + t.y * u);
+}
+
+// Where direction d (from the camera's position) lands in that camera's image, in continuous
+// pixel coordinates; false behind the camera.
+bool project(GpuHistoryView v, vec3 d, out vec2 pos) {
+    float z = dot(d, v.forward.xyz);
+    pos = vec2(-1.0);
+    if (z <= 1e-6 * length(d)) return false;
+    vec2 t = vec2(dot(d, v.right.xyz), dot(d, v.up.xyz)) / z;
+    vec2 uv = (t - v.tan.xz) / (v.tan.yw - v.tan.xz);
+    pos = uv * vec2(pc.width, pc.height);
+    return true;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= int(pc.width) || p.y >= int(pc.height)) return;
+    uint base = eye_layer_base();
+    uint read_plane = (pc.history >> 1) & 1u;
+    uint write_plane = 1u - read_plane;
+    GpuHistoryView view = history_views[(pc.history >> 2) * STAT_EYES + pc.eye];
+    uint out_index = (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
+    uint mask_words = visibility[0];
+    vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
+    bool shown = within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)
+              && visibility_bit(mask_words, pc.eye * (pc.layer_count + 1u), p);
+    if (!shown) { // never traced, black in resolve: no history either
+        history[history_index(write_plane, p)] = vec4(0.0);
+        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, 0u);
+        return;
+    }
+
+    // The pixel's own samples this frame: of the layers that traced it, the one with the
+    // most (a pixel's samples depend only on pixel, sample index and seed, so a layer with
+    // fewer traced a prefix of the same samples: counting both would count them twice).
+    uint own_spp = 0u;
+    uint own_entry = 0u;
+    for (uint depth = 0u; depth < pc.layer_count; ++depth) {
+        uint k = base + depth;
+        int d = layers[k].spacing;
+        ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
+        ivec2 ij = floor_div(rel, d);
+        ivec2 lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+        ivec2 hi = lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+        if (ij * d == rel && all(greaterThanEqual(ij, lo)) && all(lessThanEqual(ij, hi))
+            && layers[k].spp > own_spp && traced_point(k, p, mask_words)) {
+            own_spp = layers[k].spp;
+            own_entry = lattice_index(k, ij);
+        }
+    }
+    // The layer shown here (the innermost whose radius holds the pixel) and its spp.
+    vec3 gaze = layers[base].gaze.xyz;
+    uint depth = 0u;
+    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
+    uint k = base + depth;
+    float shown_spp = float(max(layers[k].spp, 1u));
+    // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
+    uint surface_entry = own_entry;
+    if (own_spp == 0u) {
+        int d = layers[k].spacing;
+        ivec2 lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+        ivec2 hi = lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+        ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
+        ivec2 ij = clamp(floor_div(rel + d / 2, d), lo, hi);
+        surface_entry = lattice_index(k, ij);
+    }
+    uvec4 now_packed = lattice_surface[surface_entry];
+    Surface now = decode(now_packed);
+
+    // The history carried into this frame: the earlier frame's pixel at the same scene point.
+    vec4 carried = vec4(0.0);
+    uvec4 carried_packed = now_packed;
+    if (view.valid != 0u) {
+        if (view.moved == 0u) {
+            // Standing still: the same pixel, whole (no resampling, no test: nothing moved).
+            carried = history[history_index(read_plane, p)];
+            carried_packed = history_surface[history_index(read_plane, p)];
+        } else {
+            vec3 d = view_dir(pc.cam_tan, pc.cam_right.xyz, pc.cam_up.xyz, pc.cam_forward.xyz, vec2(p) + 0.5);
+            // From the earlier camera: the point (or, for the sky, the direction).
+            vec3 seen = now.dist < 0.0 ? d : pc.cam_position.xyz + now.dist * d - view.position.xyz;
+            Surface expected = now;
+            expected.dist = now.dist < 0.0 ? -1.0 : length(seen);
+            vec2 q;
+            if (project(view, seen, q)) {
+                // Bilinear taps around q, each kept only where its surface is this one.
+                vec2 f = q - 0.5;
+                ivec2 t0 = ivec2(floor(f));
+                vec2 w1 = f - vec2(t0);
+                float weights = 0.0;
+                float best = 0.0;
+                for (int i = 0; i < 4; ++i) {
+                    ivec2 t = t0 + ivec2(i & 1, i >> 1);
+                    if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.width) || t.y >= int(pc.height)) continue;
+                    float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
+                    vec4 h = history[history_index(read_plane, t)];
+                    uvec4 hs = history_surface[history_index(read_plane, t)];
+                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected)) continue;
+                    carried += w * h;
+                    weights += w;
+                    if (w > best) {
+                        best = w;
+                        carried_packed = hs;
+                    }
+                }
+                carried = weights > 1e-3 ? carried / weights : vec4(0.0);
+                // Distances are from this frame's camera from now on.
+                carried_packed.x = now_packed.x;
+            }
+            carried.w = min(carried.w, float(view.cap));
+        }
+    }
+
+    // The pixel's new history: what was carried plus its own samples of this frame.
+    vec3 mean = carried.rgb;
+    float n = carried.w;
+    uvec4 surface = n > 0.0 ? carried_packed : now_packed;
+    if (own_spp > 0u) {
+        vec3 own = lattice[own_entry].rgb;
+        mean = (mean * n + own * float(own_spp)) / (n + float(own_spp));
+        n += float(own_spp);
+        surface = now_packed;
+    }
+    history[history_index(write_plane, p)] = vec4(mean, n);
+    history_surface[history_index(write_plane, p)] = surface;
+
+    // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
+    // the shown layer's spp, halving with every spp-worth of own samples the pixel has.
+    if (pc.debug == DEBUG_LAYERS) return; // the layer tints stay as resolve made them
+    vec3 spatial = pixels[out_index].rgb;
+    float w_spatial = shown_spp * exp2(-n / shown_spp);
+    pixels[out_index] = vec4((mean * n + spatial * w_spatial) / (n + w_spatial), 1.0);
+}

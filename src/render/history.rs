@@ -1,0 +1,182 @@
+//! Temporal history (glsl/temporal.comp): per eye and pixel, the mean and count of the
+//! samples traced at that pixel over the frames, and the surface they belong to, in two
+//! planes that frames take turns reading and writing; the lattice points' surfaces the trace
+//! writes for it; and, per frame slot and eye, the view of the frame before (its camera,
+//! whether the camera moved), written with the gaze right before submission. The history's
+//! frame count also shifts the sparse layers' lattices (`lattice_shift`).
+
+use super::in_flight::MAX_FRAMES_IN_FLIGHT;
+use super::RenderError;
+use crate::gpu::shared::{GpuHistoryView, PushConstants, HISTORY_ON, STAT_EYES};
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+/// How history is kept (`Renderer::set_temporal`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TemporalSettings {
+    /// While the camera moves, a pixel's history counts at most this many samples: beyond
+    /// it, new samples are blended in exponentially, so history follows what changed (view-
+    /// dependent shading, resampling blur) within about `cap / spp` frames. A still camera
+    /// is never capped: its history is the plain mean of every sample.
+    pub cap: u32,
+}
+
+impl Default for TemporalSettings {
+    fn default() -> Self {
+        Self { cap: 64 }
+    }
+}
+
+/// What the history's buffers were made for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryKey {
+    pub width: u32,
+    pub height: u32,
+    pub eyes: u32,
+    /// Lattice points per eye (the ray buffer's entries).
+    pub lattice_len: u64,
+}
+
+impl HistoryKey {
+    /// Every allocation of [`History::new`], for the memory check before it.
+    pub fn plan(&self) -> Vec<PlannedAllocation> {
+        let pixels = self.width as u64 * self.height as u64 * self.eyes as u64 * 2;
+        vec![
+            PlannedAllocation::storage("history", pixels * 16),
+            PlannedAllocation::storage("history surfaces", pixels * 16),
+            PlannedAllocation::storage(
+                "lattice surfaces",
+                self.eyes as u64 * self.lattice_len * 16,
+            ),
+            PlannedAllocation::host("history views", views_bytes(), true),
+        ]
+    }
+}
+
+fn views_bytes() -> u64 {
+    (MAX_FRAMES_IN_FLIGHT * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>()) as u64
+}
+
+/// One eye's camera as the passes see it (PushConstants' cam_* fields).
+type EyeCamera = [[f32; 4]; 5];
+
+fn eye_camera(push: &PushConstants) -> EyeCamera {
+    [
+        push.cam_position,
+        push.cam_right,
+        push.cam_up,
+        push.cam_forward,
+        push.cam_tan,
+    ]
+}
+
+pub struct History {
+    pub key: HistoryKey,
+    pub settings: TemporalSettings,
+    /// BINDING_HISTORY and BINDING_HISTORY_SURFACE: per eye two planes of pixels.
+    pub pixels: Buffer,
+    pub surfaces: Buffer,
+    /// BINDING_LATTICE_SURFACE: the surface at every lattice point traced this frame.
+    pub lattice_surfaces: Buffer,
+    /// BINDING_HISTORY_VIEWS: per frame slot and eye.
+    pub views: Buffer,
+    /// Frames added since the history started (the lattice shift's frame).
+    frame: u32,
+    /// The plane the next frame reads (the one the frame before wrote).
+    read_plane: u32,
+    /// Every eye's camera in the frame before; None: no history to carry.
+    cameras: Option<Vec<EyeCamera>>,
+}
+
+impl History {
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        key: HistoryKey,
+        settings: TemporalSettings,
+    ) -> Result<Self, RenderError> {
+        ctx.check_memory(
+            &format!(
+                "the temporal history of {}x{} pixels",
+                key.width, key.height
+            ),
+            &key.plan(),
+            "turn --temporal off or use a smaller --width/--height",
+        )?;
+        let device = |name: &str, bytes: u64| {
+            Buffer::new(
+                ctx,
+                name,
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let plan = key.plan();
+        Ok(Self {
+            key,
+            settings,
+            pixels: device("history", plan[0].bytes)?,
+            surfaces: device("history surfaces", plan[1].bytes)?,
+            lattice_surfaces: device("lattice surfaces", plan[2].bytes)?,
+            views: Buffer::new(
+                ctx,
+                "history views",
+                views_bytes(),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?,
+            frame: 0,
+            read_plane: 0,
+            cameras: None,
+        })
+    }
+
+    /// Forgets everything accumulated: the next frame starts afresh (and unshifted).
+    pub fn reset(&mut self) {
+        self.frame = 0;
+        self.cameras = None;
+    }
+
+    /// The lattice shift's frame for the next frame.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// PushConstants::history of the next frame, submitted in frame slot `slot`.
+    pub fn push_word(&self, slot: usize) -> u32 {
+        HISTORY_ON | self.read_plane << 1 | (slot as u32) << 2
+    }
+
+    /// Writes slot `slot`'s views for the next frame, whose eyes' push constants are
+    /// `pushes`, and moves on to the frame after it (called once per submitted frame, in
+    /// order).
+    pub fn advance(&mut self, slot: usize, pushes: &[PushConstants]) -> Result<(), RenderError> {
+        let now: Vec<EyeCamera> = pushes.iter().map(eye_camera).collect();
+        let views: Vec<GpuHistoryView> = now
+            .iter()
+            .enumerate()
+            .map(|(e, camera)| {
+                let before = self.cameras.as_ref().and_then(|c| c.get(e));
+                let [position, right, up, forward, tan] = *before.unwrap_or(camera);
+                GpuHistoryView {
+                    position,
+                    right,
+                    up,
+                    forward,
+                    tan,
+                    valid: before.is_some() as u32,
+                    moved: before.is_some_and(|b| b != camera) as u32,
+                    cap: self.settings.cap,
+                    pad0: 0,
+                }
+            })
+            .collect();
+        let at = slot * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>();
+        self.views.write(at, bytemuck::cast_slice(&views))?;
+        self.cameras = Some(now);
+        self.read_plane = 1 - self.read_plane;
+        self.frame = self.frame.wrapping_add(1);
+        Ok(())
+    }
+}
