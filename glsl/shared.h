@@ -240,7 +240,8 @@ struct GpuLayer {
 #define HISTORY_ON 1
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
 // the pixel centre's ray (float bits; SURFACE_NONE: the ray left the scene), y the unit normal
-// facing the camera (octahedral, packSnorm2x16), z the object (TLAS index; NO_EMITTER: none).
+// facing the camera (octahedral, packSnorm2x16), z the object (TLAS index), w its material
+// (z and w NO_EMITTER: none).
 #define SURFACE_NONE 0xbf800000u // -1.0f
 
 // One eye's view of the frame before, for reprojecting its history into this frame.

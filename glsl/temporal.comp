@@ -25,16 +25,21 @@
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
-// A tap is the same surface when the object is the same, the normals within ~25 degrees
+// A tap is the same surface when the object and its material are the same (an emitter
+// set into a wall of the same mesh is another surface), the normals within ~25 degrees
 // and the distances within 5% (+ 1 mm): generous enough for the approximate surface of
 // a pixel between lattice points, tight enough to see a step in depth.
 const float SAME_NORMAL_COS = 0.9;
 const float SAME_DISTANCE = 0.05;
+// In motion, a pixel next to an edge between surfaces keeps at most this many frames' worth
+// of its own samples.
+const float EDGE_CAP = 2.0;
 
 struct Surface {
     float dist; // < 0: nothing (the sky)
     vec3 n;
     uint object;
+    uint material;
 };
 
 vec3 from_octahedral(vec2 e) {
@@ -48,11 +53,12 @@ Surface decode(uvec4 s) {
     r.dist = uintBitsToFloat(s.x);
     r.n = from_octahedral(unpackSnorm2x16(s.y));
     r.object = s.z;
+    r.material = s.w;
     return r;
 }
 
 bool same_surface(Surface a, Surface b) {
-    if (a.object != b.object) return false;
+    if (a.object != b.object || a.material != b.material) return false;
     if (a.dist < 0.0 || b.dist < 0.0) return a.dist < 0.0 && b.dist < 0.0;
     return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= SAME_DISTANCE * b.dist + 1e-3;
 }
@@ -95,7 +101,7 @@ void main() {
               && visibility_bit(mask_words, pc.eye * (pc.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history[history_index(write_plane, p)] = vec4(0.0);
-        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, 0u);
+        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, NO_EMITTER);
         return;
     }
 
@@ -124,15 +130,11 @@ void main() {
     uint k = base + depth;
     float shown_spp = float(max(layers[k].spp, 1u));
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
-    uint surface_entry = own_entry;
-    if (own_spp == 0u) {
-        int d = layers[k].spacing;
-        ivec2 lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-        ivec2 hi = lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
-        ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
-        ivec2 ij = clamp(floor_div(rel + d / 2, d), lo, hi);
-        surface_entry = lattice_index(k, ij);
-    }
+    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    int spacing = layers[k].spacing;
+    ivec2 nearest = clamp(floor_div(p - ivec2(layers[k].anchor_x, layers[k].anchor_y) + spacing / 2, spacing), box_lo, box_hi);
+    uint surface_entry = own_spp > 0u ? own_entry : lattice_index(k, nearest);
     uvec4 now_packed = lattice_surface[surface_entry];
     Surface now = decode(now_packed);
 
@@ -177,6 +179,26 @@ void main() {
                 carried_packed.x = now_packed.x;
             }
             carried.w = min(carried.w, float(view.cap));
+            // Neighbourhood clamp: carried radiance stays within what this frame traced
+            // around the pixel (its layer's 3x3 nearest lattice points). A pixel an edge
+            // crossed held a mix of both sides that its centre's surface test cannot see
+            // (the sky does not move when the camera steps); this frame's samples can.
+            vec3 lo = vec3(1e30);
+            vec3 hi = vec3(-1e30);
+            bool edge = false;
+            for (int i = 0; i < 9; ++i) {
+                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_lo, box_hi));
+                vec3 v = lattice[entry].rgb;
+                lo = min(lo, v);
+                hi = max(hi, v);
+                uvec4 s = lattice_surface[entry];
+                edge = edge || s.z != now.object || s.w != now.material;
+            }
+            carried.rgb = clamp(carried.rgb, lo, hi);
+            // Near an edge between surfaces the part of the pixel each covers changes as the
+            // view moves, which no surface test of its centre sees: there history counts
+            // for little, and this frame's samples (which do see it) soon take over.
+            if (edge) carried.w = min(carried.w, EDGE_CAP * float(max(own_spp, 1u)));
         }
     }
 

@@ -39,10 +39,10 @@ uvec4 centre_surface(ivec2 p, inout uint overflows) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
     Hit h = trace_scene(pc.cam_position.xyz, d, 0.0, INF, false);
     if (h.overflow) overflows++;
-    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_EMITTER, 0u);
+    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_EMITTER, NO_EMITTER);
     vec3 n = hit_normal(h, pc.cam_position.xyz + h.t * d);
     if (dot(n, d) > 0.0) n = -n;
-    return uvec4(floatBitsToUint(h.t), packSnorm2x16(octahedral(n)), h.object, 0u);
+    return uvec4(floatBitsToUint(h.t), packSnorm2x16(octahedral(n)), h.object, load_object_ids(h.object).y);
 }
 
 void main() {

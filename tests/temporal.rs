@@ -1,0 +1,239 @@
+//! Temporal history (glsl/temporal.comp): with a still view it converges to the unbiased
+//! image in every layer (the sparse lattices shift, so every pixel gets samples of its own);
+//! across a camera turn it carries what it accumulated to the right pixels; where the camera's
+//! move uncovers what was hidden it leaves no trace of the hiding object.
+
+mod common;
+
+use fovea::foveation::{FoveationConfig, Gaze};
+use fovea::render::accumulate::frame_seed;
+use fovea::render::{
+    DebugView, EyeView, Frame, FrameRequest, Integrator, RenderSettings, Renderer, TemporalSettings,
+};
+use fovea::scene::{AaBox, Camera, CameraPose, Environment, Material, Scene};
+use glam::Vec3;
+
+const SIZE: u32 = 64;
+
+/// Renders one frame per pose of `scene`'s camera, frame k with seed 1 + k; the frames as
+/// rendered (with history when `temporal`).
+fn sequence(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    config: &FoveationConfig,
+    poses: &[CameraPose],
+    temporal: bool,
+) -> Vec<Frame> {
+    renderer
+        .set_temporal(temporal.then(TemporalSettings::default))
+        .unwrap();
+    renderer.reset_history();
+    poses
+        .iter()
+        .enumerate()
+        .map(|(k, pose)| {
+            let eyes = [EyeView {
+                camera: pose.apply(&scene.camera),
+                gaze: Gaze::Forward,
+            }];
+            renderer
+                .render_frame(&FrameRequest {
+                    settings: settings(config.layers[0].spp, frame_seed(1, k as u32)),
+                    foveation: config,
+                    eyes: &eyes,
+                    debug: DebugView::None,
+                })
+                .unwrap()
+        })
+        .collect()
+}
+
+fn settings(spp: u32, seed: u32) -> RenderSettings {
+    common::settings(SIZE, SIZE, spp, seed, Integrator::Pt)
+}
+
+/// A regular frame of `camera` at `spp` samples per pixel.
+fn regular(renderer: &mut Renderer, camera: &Camera, spp: u32, seed: u32) -> Frame {
+    renderer.set_temporal(None).unwrap();
+    renderer.render(camera, &settings(spp, seed)).unwrap()
+}
+
+/// Mean squared error as a display shows the images: radiance above 1 clips (the light
+/// source's own edge would otherwise outweigh the whole image).
+fn mse(a: &Frame, b: &Frame) -> f64 {
+    let n = a.rgb.len() as f64;
+    let shown = |v: f32| v.min(1.0) as f64;
+    a.rgb
+        .iter()
+        .zip(&b.rgb)
+        .map(|(x, y)| (shown(*x) - shown(*y)).powi(2))
+        .sum::<f64>()
+        / n
+}
+
+/// `mse` over the pixels `at` only.
+fn mse_at(a: &Frame, b: &Frame, at: &[(u32, u32)]) -> f64 {
+    let shown = |v: f32| v.min(1.0) as f64;
+    let sum: f64 = at
+        .iter()
+        .flat_map(|&(x, y)| {
+            let (p, q) = (a.pixel(x, y), b.pixel(x, y));
+            (0..3).map(move |c| (shown(p[c]) - shown(q[c])).powi(2))
+        })
+        .sum();
+    sum / (3 * at.len().max(1)) as f64
+}
+
+/// The pixels of `reference` (as displayed) that differ from none of their 3x3 neighbours by
+/// more than 0.1: away from edges between surfaces.
+fn smooth_pixels(reference: &Frame) -> Vec<(u32, u32)> {
+    let shown = |x: u32, y: u32| reference.pixel(x, y).map(|v| v.min(1.0));
+    (1..SIZE - 1)
+        .flat_map(|y| (1..SIZE - 1).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let centre = shown(x, y);
+            (0..9).all(|i| {
+                let q = shown(x + i % 3 - 1, y + i / 3 - 1);
+                (0..3).all(|c| (q[c] - centre[c]).abs() <= 0.1)
+            })
+        })
+        .collect()
+}
+
+fn still(frames: usize) -> Vec<CameraPose> {
+    vec![CameraPose::default(); frames]
+}
+
+#[test]
+fn a_still_view_converges_to_the_unbiased_image_in_every_layer() {
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let thesis = FoveationConfig::thesis(); // spacings 1, 2, 3, 4 at 4 spp
+    let reference = regular(&mut renderer, &scene.camera, 1024, 99);
+    let frames = sequence(&mut renderer, &scene, &thesis, &still(64), true);
+    let after = |n: usize| mse(&frames[n - 1], &reference);
+    // Unbiased: the error keeps falling as samples add up (about as 1/N; a biased estimate,
+    // such as the spatial fill of unshifted lattices, would level off at its bias).
+    assert!(
+        after(64) < 0.5 * after(16),
+        "error after 16 frames {:.3e}, after 64 {:.3e}: not converging",
+        after(16),
+        after(64)
+    );
+    // After 64 frames every pixel has traced at least 16 samples of its own (the background,
+    // spacing 4: once every 16 frames at 4 spp): no worse than a regular 16-spp frame.
+    let regular_16 = regular(&mut renderer, &scene.camera, 16, 7);
+    let bound = mse(&regular_16, &reference);
+    assert!(
+        after(64) < bound,
+        "after 64 frames {:.3e}, regular 16 spp {bound:.3e}",
+        after(64)
+    );
+    // Without history a still view stays as noisy as its first frame.
+    let plain = sequence(&mut renderer, &scene, &thesis, &still(4), false);
+    assert!(mse(&plain[3], &reference) > 4.0 * after(64));
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn history_follows_a_camera_turn() {
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let regular_2 = FoveationConfig::regular(2);
+    let turned = CameraPose {
+        turn_deg: [4.0, -2.0, 0.0],
+        ..Default::default()
+    };
+    let mut poses = still(24);
+    poses.push(turned);
+    let frames = sequence(&mut renderer, &scene, &regular_2, &poses, true);
+    let camera = turned.apply(&scene.camera);
+    let reference = regular(&mut renderer, &camera, 1024, 99);
+    let fresh = regular(&mut renderer, &camera, 2, 25);
+    // 48 samples of history resampled into the turned view (but where the turn uncovered a
+    // strip at the image's edge) against the turned frame's own 2: away from edges between
+    // surfaces far less noise; at them (where history is kept short, as the part of a pixel
+    // each surface covers changes) still less.
+    let smooth = smooth_pixels(&reference);
+    let (carried, alone) = (mse(&frames[24], &reference), mse(&fresh, &reference));
+    let (carried_smooth, alone_smooth) = (
+        mse_at(&frames[24], &reference, &smooth),
+        mse_at(&fresh, &reference, &smooth),
+    );
+    assert!(smooth.len() > 2000, "{} smooth pixels", smooth.len());
+    assert!(
+        carried_smooth < 0.25 * alone_smooth,
+        "turned frame away from edges: with history {carried_smooth:.3e}, without {alone_smooth:.3e}"
+    );
+    assert!(
+        carried < 0.7 * alone,
+        "turned frame with history {carried:.3e}, without {alone:.3e}"
+    );
+    // Not biased by the move: the image's mean matches the reference's.
+    let (a, b) = (frames[24].mean(), reference.mean());
+    for c in 0..3 {
+        assert!(
+            (a[c] - b[c]).abs() < 0.01 * b[c].max(0.05),
+            "channel {c}: mean {:.4} against {:.4}",
+            a[c],
+            b[c]
+        );
+    }
+    common::assert_no_validation_messages(&ctx);
+}
+
+/// A dark box 3 m ahead against a uniform sky, which every ray that misses the box sees
+/// exactly (no noise), so any trace of the box where the sky is uncovered shows.
+fn box_against_the_sky() -> Scene {
+    let mut scene = fovea::scene::builtin::control(1.0);
+    scene.materials = vec![Material::diffuse(Vec3::splat(0.1))];
+    scene.boxes = vec![AaBox {
+        min: Vec3::new(-0.35, 1.25, -3.35),
+        max: Vec3::new(0.35, 1.95, -2.65),
+        material: 0,
+    }];
+    scene.environment = Environment::uniform(Vec3::ONE);
+    scene
+}
+
+#[test]
+fn an_uncovered_background_keeps_no_ghost_of_what_covered_it() {
+    let ctx = common::context();
+    let scene = box_against_the_sky();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let regular_2 = FoveationConfig::regular(2);
+    // The camera steps right: the box moves left in the image, uncovering sky on its right.
+    let stepped = CameraPose {
+        offset: [0.25, 0.0, 0.0],
+        ..Default::default()
+    };
+    let mut poses = still(16);
+    poses.push(stepped);
+    let frames = sequence(&mut renderer, &scene, &regular_2, &poses, true);
+    let before = &frames[15];
+    let after = &frames[16];
+    let reference = regular(&mut renderer, &stepped.apply(&scene.camera), 64, 99);
+    let sky = |f: &Frame, x: u32, y: u32| f.pixel(x, y) == [1.0; 3];
+    // Pixels deep in the sky after the step (their whole 3x3 neighbourhood) that showed the
+    // box before it, wholly or in part (at its edge): the uncovered ones.
+    let mut uncovered = 0;
+    for y in 1..SIZE - 1 {
+        for x in 1..SIZE - 1 {
+            let all_sky = (0..9).all(|i| sky(&reference, x + i % 3 - 1, y + i / 3 - 1));
+            if !all_sky || before.pixel(x, y) == [1.0; 3] {
+                continue;
+            }
+            uncovered += 1;
+            let shown = after.pixel(x, y);
+            assert!(
+                shown.iter().all(|c| (c - 1.0).abs() < 1e-3),
+                "pixel ({x}, {y}) was box, is sky now, shows {shown:?}"
+            );
+        }
+    }
+    // The step uncovers a band of the box's width times its shift.
+    assert!(uncovered > 20, "only {uncovered} pixels uncovered");
+    common::assert_no_validation_messages(&ctx);
+}
