@@ -292,3 +292,78 @@ fn traversal_flag_picks_the_traversal_and_the_profile_needs_software() {
     assert!(!ok && text.contains("software"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_camera_path_renders_one_frame_per_row_and_bad_paths_say_what_is_wrong() {
+    let dir = std::env::temp_dir().join(format!("fovea-path-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("path.csv");
+    let header = "frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n";
+    std::fs::write(
+        &path,
+        format!("{header}0,0,0,0,0,0,0\n1,0.05,0,0,2,0,0\n2,0.1,0,0,4,1,0\n"),
+    )
+    .unwrap();
+    let out = dir.join("frames");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "cornell",
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "--foveation",
+            "thesis",
+        ];
+        args.extend_from_slice(extra);
+        fovea(&args)
+    };
+    let (ok, text) = render(&[
+        "--camera-path",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("3 frames") && text.contains("temporal history on"),
+        "{text}"
+    );
+    for k in 0..3 {
+        for ext in ["png", "exr"] {
+            let file = out.join(format!("frame_{k:04}.{ext}"));
+            assert!(file.is_file(), "{} missing:\n{text}", file.display());
+        }
+    }
+    assert!(!out.join("frame_0003.png").exists());
+    let (ok, text) = render(&[
+        "--camera-path",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--temporal",
+        "off",
+    ]);
+    assert!(ok && text.contains("temporal history off"), "{text}");
+
+    // Bad input: a row out of order, an image name for the directory, history without a path.
+    std::fs::write(&path, format!("{header}0,0,0,0,0,0,0\n2,0,0,0,0,0,0\n")).unwrap();
+    let (ok, text) = render(&[
+        "--camera-path",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && text.contains("line 3: frame '2' where 1 was expected"),
+        "{text}"
+    );
+    std::fs::write(&path, format!("{header}0,0,0,0,0,0,0\n")).unwrap();
+    let (ok, text) = render(&["--camera-path", path.to_str().unwrap(), "--out", "x.png"]);
+    assert!(!ok && text.contains("give a directory"), "{text}");
+    let (ok, text) = render(&["--temporal", "on"]);
+    assert!(!ok && text.contains("--camera-path"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -54,6 +54,11 @@ pub struct XrArgs {
     /// time (for comparison).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=fovea::render::MAX_FRAMES_IN_FLIGHT as u64))]
     pub frames_in_flight: u64,
+    /// Keep a temporal history: every pixel accumulates the samples traced at it, carried by
+    /// reprojection as the head moves (see `fovea render --camera-path`). Off by default
+    /// until the bench's motion protocol measures it on a headset's motion.
+    #[arg(long, value_enum, default_value_t = super::render::OnOff::Off)]
+    pub temporal: super::render::OnOff,
     /// Use the simulated headset linked into fovea instead of the system's OpenXR runtime
     /// (configured by SIM_HEADSET_* variables, see tools/sim-headset/README.md).
     #[arg(long)]
@@ -158,6 +163,8 @@ pub fn run(args: &XrArgs) -> Result<()> {
         probe: args.probe,
         stop,
         frames_in_flight: args.frames_in_flight as usize,
+        temporal: (args.temporal == super::render::OnOff::On)
+            .then(fovea::render::TemporalSettings::default),
     };
     if args.probe {
         let options = XrOptions {

@@ -15,7 +15,9 @@ use super::vulkan::RuntimeVulkan;
 use crate::foveation::gaze_filter::FilteredGaze;
 use crate::foveation::{FoveationConfig, ImageGeometry, VisibilityMask};
 use crate::gpu::{ContextNeeds, GpuContext, GpuOptions, SourceRect};
-use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
+use crate::render::{
+    DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
+};
 use crate::scene::Scene;
 use openxr as xr;
 use std::collections::VecDeque;
@@ -58,6 +60,8 @@ pub struct XrOptions {
     /// Frames submitted before the CPU waits for the oldest one's GPU work (1: each frame
     /// finished before the next is planned; at most MAX_FRAMES_IN_FLIGHT).
     pub frames_in_flight: usize,
+    /// Temporal history (`Renderer::set_temporal`); None: off.
+    pub temporal: Option<TemporalSettings>,
 }
 
 /// One rendered frame, for whoever records the session.
@@ -299,6 +303,7 @@ fn run_with_context(
     // Frames are copied from the output image into the swapchains.
     renderer.set_output_image(true);
     renderer.set_frames_in_flight(options.frames_in_flight)?;
+    renderer.set_temporal(options.temporal)?;
     let mut submitted_frames = VecDeque::new();
     let placement = SpacePlacement::at_camera(&options.scene.camera);
     let use_mask = options.visibility_mask && xr_instance.visibility_mask;
