@@ -131,6 +131,7 @@ layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer Latti
 #endif
 layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf { vec4 history[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) buffer HistorySurfaceBuf { uvec4 history_surface[]; };
+layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_VIEWS) readonly buffer HistoryViews { GpuHistoryView history_views[]; };
 
 layout(push_constant) uniform Push { PushConstants pc; };

@@ -10,6 +10,7 @@
 #ifndef FOVEA_PLAN_GLSL
 #define FOVEA_PLAN_GLSL
 #include "bindings.glsl"
+#include "view.glsl"
 
 // Is pixel p's bit of VISIBILITY plane `plane` set? `words` is VISIBILITY[0], the words per
 // plane, read once by the caller (0, no mask: every bit is).
@@ -55,6 +56,15 @@ bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
     ij = ivec2(layers[k].box_i0 + int(first), layers[k].box_j0 + int(local / runs_per_row));
     n = min(PLAN_RUN, cols - first);
     return true;
+}
+
+// The depth (0: innermost) of the layer shown in direction u of the eye whose layers start
+// at LAYERS[base]: the innermost whose radius holds it (resolve.comp's per-pixel choice).
+uint shown_depth(vec3 u, uint base) {
+    vec3 gaze = layers[base].gaze.xyz;
+    uint depth = 0u;
+    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
+    return depth;
 }
 
 // The pixel of layer k's lattice point ij.

@@ -43,10 +43,12 @@
 #define BINDING_HISTORY_SURFACE 19 // uvec4[] in HISTORY's layout: the surface a pixel's history
                                    // belongs to (SURFACE_*)
 #define BINDING_HISTORY_VIEWS 20 // GpuHistoryView[]: per frame slot and eye (slot * STAT_EYES + eye)
-#define BINDING_COUNT 21
+#define BINDING_DENOISE 21    // vec4[]: the denoiser's other buffer (it ping-pongs with PIXELS), in
+                              // PIXELS' layout
+#define BINDING_COUNT 22
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 21
+#define BINDING_TLAS 22
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/gpu/shared.rs checks them against the structs' sizes).
@@ -234,6 +236,10 @@ struct GpuLayer {
     uint plan_runs; // plan.comp's threads for this eye (its layers' boxes' runs together), the
                     // same in each of its layers: the gaze decides it, so it is written with
                     // the gaze, right before the frame is submitted (not a push constant)
+    uint denoise; // denoise.comp's iterations over the pixels shown from this layer
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------
@@ -243,6 +249,7 @@ struct GpuLayer {
 // facing the camera (octahedral, packSnorm2x16), z the object (TLAS index), w its material
 // (z and w NO_EMITTER: none).
 #define SURFACE_NONE 0xbf800000u // -1.0f
+#define SURFACE_HIDDEN 0xfffffffeu // material of a pixel the lens or the occlusion mask hides
 
 // One eye's view of the frame before, for reprojecting its history into this frame.
 struct GpuHistoryView {

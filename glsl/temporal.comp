@@ -101,7 +101,7 @@ void main() {
               && visibility_bit(mask_words, pc.eye * (pc.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history[history_index(write_plane, p)] = vec4(0.0);
-        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, NO_EMITTER);
+        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, SURFACE_HIDDEN);
         return;
     }
 
@@ -124,10 +124,7 @@ void main() {
         }
     }
     // The layer shown here (the innermost whose radius holds the pixel) and its spp.
-    vec3 gaze = layers[base].gaze.xyz;
-    uint depth = 0u;
-    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
-    uint k = base + depth;
+    uint k = base + shown_depth(u, base);
     float shown_spp = float(max(layers[k].spp, 1u));
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
     ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);

@@ -155,7 +155,11 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             box_prefix,
             mask_plane,
             outer,
-            plan_runs
+            plan_runs,
+            denoise,
+            pad0,
+            pad1,
+            pad2
         }
     );
     check!(s, GpuProbeRay { origin, direction });

@@ -39,7 +39,20 @@ pub struct Layer {
     /// Samples per target pixel.
     #[serde(default = "default_spp", deserialize_with = "deserialize_spp")]
     pub spp: u32,
+    /// Iterations of the edge-aware denoiser over the pixels shown from this layer (0, the
+    /// default: none; each doubles the filter's reach: 1 → 5 px, 2 → 13, 3 → 29). It is
+    /// guided by the temporal history's surfaces, so it needs history on.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub denoise: u32,
 }
+
+/// serde's `skip_serializing_if = "..."` needs a function path.
+fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+/// The most denoiser iterations a layer may ask for (a reach of 125 pixels).
+pub const MAX_DENOISE: u32 = 5;
 
 /// A layer's whole-number field, read with a message that says what it takes (serde's own
 /// says "expected u32" for `spacing = -1` or `spp = 1.5`). The range is checked by `validate`.
@@ -146,6 +159,7 @@ impl FoveationConfig {
             radius_deg,
             spacing,
             spp: DEFAULT_SPP,
+            denoise: 0,
         };
         Self {
             layers: vec![
@@ -166,6 +180,7 @@ impl FoveationConfig {
                 radius_deg: None,
                 spacing: 1,
                 spp,
+                denoise: 0,
             }],
             // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
             blend_deg: 0.0,
@@ -193,6 +208,11 @@ impl FoveationConfig {
     /// outward; `blend_deg` finite and >= 0, and no blend band overlapping the previous one or
     /// the gaze point; spacing in 1..=[`MAX_SPACING`], never decreasing outward; spp in
     /// 1..=[`MAX_LAYER_SPP`]; `occlusion_deg`, if given, finite in (0, 180].
+    /// The most denoiser iterations any layer asks for (0: no denoising).
+    pub fn denoise_iterations(&self) -> u32 {
+        self.layers.iter().map(|l| l.denoise).max().unwrap_or(0)
+    }
+
     pub fn validate(&self) -> Result<(), FoveationError> {
         self.check()
             .map_err(|problem| FoveationError::Invalid { problem })
@@ -245,6 +265,12 @@ impl FoveationConfig {
                 return Err(format!(
                     "layer {n}: spacing = {} must be in 1..={MAX_SPACING} pixels",
                     layer.spacing
+                ));
+            }
+            if layer.denoise > MAX_DENOISE {
+                return Err(format!(
+                    "layer {n}: denoise = {} must be in 0..={MAX_DENOISE} iterations",
+                    layer.denoise
                 ));
             }
             if !(1..=MAX_LAYER_SPP).contains(&layer.spp) {
@@ -484,7 +510,8 @@ mod tests {
             [Layer {
                 radius_deg: None,
                 spacing: 1,
-                spp: 4
+                spp: 4,
+                denoise: 0
             }]
         );
         // One layer that is coarser than 1 is not regular rendering.
@@ -565,12 +592,14 @@ mod tests {
                 radius_deg: Some(i as f32),
                 spacing: 1,
                 spp: 1,
+                denoise: 0,
             })
             .collect();
         many.layers.push(Layer {
             radius_deg: None,
             spacing: 1,
             spp: 1,
+            denoise: 0,
         });
         assert_rejected(&many, &["9 layers", "8"]);
         // Exactly MAX_LAYERS is fine.
@@ -764,5 +793,27 @@ mod tests {
         let dir = env!("CARGO_MANIFEST_DIR");
         let error = FoveationConfig::from_arg(dir).unwrap_err().to_string();
         assert!(error.contains(dir), "{error}");
+    }
+}
+
+#[cfg(test)]
+mod denoise_tests {
+    use super::*;
+
+    #[test]
+    fn denoise_is_read_per_layer_defaults_to_none_and_is_bounded() {
+        let text =
+            "[[layer]]\nradius_deg = 5.0\nspacing = 1\n[[layer]]\nspacing = 2\ndenoise = 3\n";
+        let config = FoveationConfig::from_toml_str(text, "t.toml").unwrap();
+        assert_eq!(config.layers[0].denoise, 0);
+        assert_eq!(config.layers[1].denoise, 3);
+        assert_eq!(config.denoise_iterations(), 3);
+        assert_eq!(FoveationConfig::thesis().denoise_iterations(), 0);
+        let too_many = text.replace("denoise = 3", "denoise = 6");
+        let err = FoveationConfig::from_toml_str(&too_many, "t.toml").unwrap_err();
+        assert!(
+            err.to_string().contains("denoise = 6 must be in 0..=5"),
+            "{err}"
+        );
     }
 }

@@ -306,11 +306,13 @@ mod tests {
                     radius_deg: Some(15.0),
                     spacing: 2,
                     spp: 2,
+                    denoise: 0,
                 },
                 Layer {
                     radius_deg: None,
                     spacing: 5,
                     spp: 1,
+                    denoise: 0,
                 },
             ],
             blend_deg: 3.0,

@@ -121,6 +121,10 @@ pub struct GpuLayer {
     pub mask_plane: u32,
     pub outer: f32,
     pub plan_runs: u32,
+    pub denoise: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 #[repr(C)]

@@ -113,6 +113,8 @@ pub fn eye_layers(
                 mask_plane: e as u32 * (layer_count + 1) + 1 + k as u32,
                 outer: l.outer.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32,
                 plan_runs: 0,
+                denoise: request.foveation.layers[k].denoise,
+                ..Default::default()
             }
         })
         .collect();

@@ -50,6 +50,7 @@ impl HistoryKey {
                 self.eyes as u64 * self.lattice_len * 16,
             ),
             PlannedAllocation::host("history views", views_bytes(), true),
+            PlannedAllocation::storage("denoiser pixels", pixels / 2 * 16),
         ]
     }
 }
@@ -81,6 +82,9 @@ pub struct History {
     pub lattice_surfaces: Buffer,
     /// BINDING_HISTORY_VIEWS: per frame slot and eye.
     pub views: Buffer,
+    /// BINDING_DENOISE: the denoiser's second buffer of pixels (it ping-pongs with the
+    /// frame's).
+    pub denoise: Buffer,
     /// Frames added since the history started (the lattice shift's frame).
     frame: u32,
     /// The plane the next frame reads (the one the frame before wrote).
@@ -125,6 +129,13 @@ impl History {
                 views_bytes(),
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
+            )?,
+            denoise: Buffer::new(
+                ctx,
+                "denoiser pixels",
+                plan[4].bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::GpuOnly,
             )?,
             frame: 0,
             read_plane: 0,

@@ -9,7 +9,7 @@
 use super::counters::FrameCounters;
 use super::targets::FrameTargets;
 use crate::gpu::shared::*;
-use crate::gpu::{vk, ComputePipeline, GpuContext, PipelineLayout, Scope, TimestampPool};
+use crate::gpu::{vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, TimestampPool};
 
 /// The frame's pipelines (trace specialised for the scene, integrator and depth).
 pub struct FramePipelines<'a> {
@@ -19,6 +19,9 @@ pub struct FramePipelines<'a> {
     pub resolve: &'a ComputePipeline,
     /// With history on (render/history.rs).
     pub temporal: Option<&'a ComputePipeline>,
+    /// With history on and a layer that asks for denoising: the pipeline, the most
+    /// iterations any layer asks for, and the buffer it ping-pongs with the pixels.
+    pub denoise: Option<(&'a ComputePipeline, u32, &'a Buffer)>,
 }
 
 /// Everything one frame's commands use.
@@ -143,6 +146,51 @@ impl FramePasses<'_> {
             self.timestamps.cmd_timed(cmd, &name, || {
                 pipeline.cmd_dispatch(cmd, self.layout, push, groups)
             });
+        }
+    }
+
+    /// Denoise (when a layer asks for it): iterations of the a-trous filter, each over every
+    /// pixel of each eye, alternating between the pixels and the denoiser's buffer; an odd
+    /// count ends with a copy back into the pixels.
+    pub fn denoise(&mut self, cmd: vk::CommandBuffer) {
+        let Some((pipeline, iterations, other)) = self.pipelines.denoise else {
+            return;
+        };
+        let t = self.targets;
+        let groups = [
+            t.key.width.div_ceil(WORKGROUP_SIZE_X),
+            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
+            1,
+        ];
+        for i in 0..iterations {
+            self.ctx
+                .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
+            for (e, push) in self.eyes.iter().enumerate() {
+                let push = PushConstants {
+                    sample_offset: i,
+                    layer: i % 2,
+                    ..*push
+                };
+                let name = self.name(e, "denoise");
+                self.timestamps.cmd_timed(cmd, &name, || {
+                    pipeline.cmd_dispatch(cmd, self.layout, &push, groups)
+                });
+            }
+        }
+        if iterations % 2 == 1 {
+            // The copy reads the last iteration's output and overwrites what the one before
+            // wrote into the pixels.
+            self.ctx.cmd_barrier(
+                cmd,
+                Scope::COMPUTE_WRITE,
+                Scope::COPY_READ.and(Scope::COPY_WRITE),
+            );
+            other.cmd_copy_to(cmd, &t.pixels, t.pixels.size);
+            self.ctx.cmd_barrier(
+                cmd,
+                Scope::COPY_WRITE,
+                Scope::COMPUTE_READ_WRITE.and(Scope::COPY_READ),
+            );
         }
     }
 

@@ -79,10 +79,14 @@ pub struct Renderer {
     plan_args: Option<ComputePipeline>,
     resolve: Option<ComputePipeline>,
     temporal_pass: Option<ComputePipeline>,
+    denoise: Option<ComputePipeline>,
     /// Temporal rendering (`set_temporal`): its settings, and the history once a frame
     /// needed it.
     temporal: Option<TemporalSettings>,
     history: Option<History>,
+    /// What the history bindings point at while history is off: a buffer of their own, as
+    /// the trace (which writes LATTICE_SURFACE only with history on) still declares one.
+    history_stand_in: Buffer,
     raycast: HashMap<Traversal, ComputePipeline>,
     /// One pool per frame slot.
     timestamps: Vec<TimestampPool>,
@@ -167,8 +171,16 @@ impl Renderer {
             plan_args: None,
             resolve: None,
             temporal_pass: None,
+            denoise: None,
             temporal: None,
             history: None,
+            history_stand_in: Buffer::new(
+                ctx,
+                "history stand-in",
+                16,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?,
             raycast: HashMap::new(),
             timestamps: (0..MAX_FRAMES_IN_FLIGHT)
                 .map(|_| TimestampPool::new(ctx, TIMED_PASSES))
@@ -377,6 +389,7 @@ impl Renderer {
                 shaders::TEMPORAL,
                 temporal,
             ),
+            (&mut self.denoise, "denoise", shaders::DENOISE, temporal),
         ] {
             if slot.is_none() && wanted {
                 *slot = Some(ComputePipeline::new(
@@ -423,19 +436,21 @@ impl Renderer {
             ]),
         }
         // Without history no pass reads the history bindings, which must still be valid.
-        let stand_in = &self.counters.device;
+        let stand_in = &self.history_stand_in;
         list.extend(match &self.history {
             Some(h) => [
                 (BINDING_LATTICE_SURFACE, &h.lattice_surfaces),
                 (BINDING_HISTORY, &h.pixels),
                 (BINDING_HISTORY_SURFACE, &h.surfaces),
                 (BINDING_HISTORY_VIEWS, &h.views),
+                (BINDING_DENOISE, &h.denoise),
             ],
             None => [
                 (BINDING_LATTICE_SURFACE, stand_in),
                 (BINDING_HISTORY, stand_in),
                 (BINDING_HISTORY_SURFACE, stand_in),
                 (BINDING_HISTORY_VIEWS, stand_in),
+                (BINDING_DENOISE, stand_in),
             ],
         });
         // LAYER_IMAGES is accumulate.comp's alone: no frame pass uses it.
@@ -674,6 +689,14 @@ impl Renderer {
                 trace: &self.trace[&self.trace_key(&request.settings)],
                 resolve: self.resolve.as_ref().expect("prepared"),
                 temporal: history.as_ref().and(self.temporal_pass.as_ref()),
+                denoise: match (
+                    history,
+                    &self.denoise,
+                    request.foveation.denoise_iterations(),
+                ) {
+                    (Some(h), Some(pipeline), n) if n > 0 => Some((pipeline, n, &h.denoise)),
+                    _ => None,
+                },
             },
             timestamps: &mut self.timestamps[slot],
             counters: &self.counters,
@@ -689,6 +712,7 @@ impl Renderer {
             }
             passes.resolve(cmd);
             passes.temporal(cmd);
+            passes.denoise(cmd);
             passes.output_image(cmd);
             if let (Some(after), Some(image)) = (after, &targets.output) {
                 after(cmd, image);
@@ -788,6 +812,14 @@ impl Renderer {
     /// (empty) one when the image size, the eyes or the lattice changed.
     fn ensure_history(&mut self, request: &FrameRequest) -> Result<(), RenderError> {
         let Some(settings) = self.temporal else {
+            if let Some(k) = request.foveation.layers.iter().position(|l| l.denoise > 0) {
+                return Err(RenderError::Settings(format!(
+                    "layer {} asks for denoise, which is guided by the temporal history's \
+                     surfaces: turn history on (fovea render --camera-path, fovea xr \
+                     --temporal on) or set the layer's denoise to 0",
+                    k + 1
+                )));
+            }
             return Ok(());
         };
         let targets = self.targets.as_ref().expect("prepared");

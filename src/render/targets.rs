@@ -160,7 +160,10 @@ impl FrameTargets {
             ctx,
             "frame pixels",
             eyes * key.width as u64 * key.height as u64 * 16,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            // TRANSFER_DST: the denoiser's last iteration may be copied back into it.
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
         let output = match key.image {

@@ -1,0 +1,111 @@
+#version 460
+// The periphery's denoiser: one iteration of an edge-aware a-trous wavelet filter (Dammertz
+// et al. 2010, the spatial filter of SVGF), over the pixels of the layers that ask for it
+// (GpuLayer.denoise iterations; a pixel whose layer asks for fewer is copied). Iteration i
+// spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap counts only on the same
+// surface (object and material, the temporal pass's per-pixel surfaces), weighted down by
+// the angle between the normals, the relative difference in distance and the difference in
+// luminance against the local noise (the luminance's standard deviation over the 3x3 pixels
+// around, as SVGF estimates it where history is short). So flat noisy regions are smoothed
+// and edges between surfaces are not crossed.
+//
+// PushConstants.sample_offset is the iteration; PushConstants.layer the direction: 0 reads
+// PIXELS and writes DENOISE, 1 the other way round.
+#extension GL_GOOGLE_include_directive : require
+#define READS_PIXELS
+#include "plan.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+// Edge-stopping strengths (SVGF's defaults where it has them).
+const float NORMAL_POWER = 64.0;
+const float LUMINANCE_SIGMA = 4.0;
+const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
+
+uint pixel_index(ivec2 p) {
+    return (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
+}
+
+vec4 read_input(ivec2 p) {
+    return pc.layer == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
+}
+
+void write_output(ivec2 p, vec4 c) {
+    if (pc.layer == 0u) {
+        denoise_pixels[pixel_index(p)] = c;
+    } else {
+        pixels[pixel_index(p)] = c;
+    }
+}
+
+float luminance(vec3 c) {
+    return dot(c, vec3(0.2126, 0.7152, 0.0722));
+}
+
+vec3 from_octahedral(vec2 e) {
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+bool on_image(ivec2 q) {
+    return all(greaterThanEqual(q, ivec2(0))) && q.x < int(pc.width) && q.y < int(pc.height);
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (!on_image(p)) return;
+    vec4 centre = read_input(p);
+    uint base = eye_layer_base();
+    uint iteration = pc.sample_offset;
+    vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
+    uint depth = shown_depth(u, base);
+    if (iteration >= layers[base + depth].denoise || pc.debug == DEBUG_LAYERS) {
+        write_output(p, centre);
+        return;
+    }
+    // This frame's per-pixel surfaces: the history plane the temporal pass just wrote.
+    uint plane = 1u - ((pc.history >> 1) & 1u);
+    uint surfaces = (pc.eye * 2u + plane) * pc.height * pc.width;
+    uvec4 sp = history_surface[surfaces + uint(p.y) * pc.width + uint(p.x)];
+    vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
+    float dp = uintBitsToFloat(sp.x);
+
+    // The local noise: the luminance's standard deviation over the 3x3 pixels around.
+    float l_sum = 0.0;
+    float l_sq = 0.0;
+    for (int i = 0; i < 9; ++i) {
+        ivec2 q = clamp(p + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(pc.width, pc.height) - 1);
+        float l = luminance(read_input(q).rgb);
+        l_sum += l;
+        l_sq += l * l;
+    }
+    float sigma = sqrt(max(l_sq / 9.0 - (l_sum / 9.0) * (l_sum / 9.0), 0.0));
+    float lp = luminance(centre.rgb);
+
+    const float KERNEL[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
+    int step = 1 << iteration;
+    vec3 sum = vec3(0.0);
+    float weights = 0.0;
+    for (int dy = -2; dy <= 2; ++dy) {
+        for (int dx = -2; dx <= 2; ++dx) {
+            ivec2 q = p + step * ivec2(dx, dy);
+            if (!on_image(q)) continue;
+            uvec4 sq = history_surface[surfaces + uint(q.y) * pc.width + uint(q.x)];
+            if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
+            vec3 c = read_input(q).rgb;
+            float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];
+            if (dp > 0.0) {
+                vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
+                float dq = uintBitsToFloat(sq.x);
+                w *= pow(max(dot(np, nq), 0.0), NORMAL_POWER);
+                w *= exp(-abs(dp - dq) / (DISTANCE_SIGMA * dp * float(step) * length(vec2(dx, dy)) + 1e-6));
+            }
+            w *= exp(-abs(luminance(c) - lp) / (LUMINANCE_SIGMA * sigma + 1e-6));
+            sum += w * c;
+            weights += w;
+        }
+    }
+    // The centre tap always counts (weight 9/64), so weights > 0.
+    write_output(p, vec4(sum / weights, centre.a));
+}
