@@ -129,8 +129,22 @@ layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) writeonly buffer Latt
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
 #endif
-layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf { vec4 history[]; };
-layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) buffer HistorySurfaceBuf { uvec4 history_surface[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf0 { vec4 history0[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_1) buffer HistoryBuf1 { vec4 history1[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) buffer HistorySurfaceBuf0 { uvec4 history_surface0[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE_1) buffer HistorySurfaceBuf1 { uvec4 history_surface1[]; };
+// A history plane's pixel i (the plane is the same for every invocation of a dispatch).
+vec4 history_load(uint plane, uint i) { return plane == 0u ? history0[i] : history1[i]; }
+uvec4 history_surface_load(uint plane, uint i) { return plane == 0u ? history_surface0[i] : history_surface1[i]; }
+void history_store(uint plane, uint i, vec4 v, uvec4 surface) {
+    if (plane == 0u) {
+        history0[i] = v;
+        history_surface0[i] = surface;
+    } else {
+        history1[i] = v;
+        history_surface1[i] = surface;
+    }
+}
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_VIEWS) readonly buffer HistoryViews { GpuHistoryView history_views[]; };
 

@@ -66,8 +66,8 @@ void main() {
     }
     // This frame's per-pixel surfaces: the history plane the temporal pass just wrote.
     uint plane = 1u - ((pc.history >> 1) & 1u);
-    uint surfaces = (pc.eye * 2u + plane) * pc.height * pc.width;
-    uvec4 sp = history_surface[surfaces + uint(p.y) * pc.width + uint(p.x)];
+    uint surfaces = pc.eye * pc.height * pc.width;
+    uvec4 sp = history_surface_load(plane, surfaces + uint(p.y) * pc.width + uint(p.x));
     vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
     float dp = uintBitsToFloat(sp.x);
 
@@ -91,7 +91,7 @@ void main() {
         for (int dx = -2; dx <= 2; ++dx) {
             ivec2 q = p + step * ivec2(dx, dy);
             if (!on_image(q)) continue;
-            uvec4 sq = history_surface[surfaces + uint(q.y) * pc.width + uint(q.x)];
+            uvec4 sq = history_surface_load(plane, surfaces + uint(q.y) * pc.width + uint(q.x));
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
             vec3 c = read_input(q).rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];

@@ -37,18 +37,22 @@
 // history is off, when no pass reads them.
 #define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
                                    // on: the surface at the point's pixel centre (SURFACE_*)
-#define BINDING_HISTORY 18     // vec4[]: per eye two planes (ping-pong, PushConstants.history)
-                               // of pixels: rgb the mean of the pixel's own traced samples, w their
-                               // count; at ((eye * 2 + plane) * height + y) * width + x
+#define BINDING_HISTORY 18     // vec4[]: history plane 0 (frames take turns reading one plane and
+                               // writing the other, PushConstants.history): per eye and pixel, rgb
+                               // the mean of the pixel's own traced samples, w their count; at
+                               // (eye * height + y) * width + x. Two bindings, not one buffer of two
+                               // planes: maxStorageBufferRange is 128 MiB on lavapipe
 #define BINDING_HISTORY_SURFACE 19 // uvec4[] in HISTORY's layout: the surface a pixel's history
-                                   // belongs to (SURFACE_*)
+                                   // belongs to (SURFACE_*), plane 0
 #define BINDING_HISTORY_VIEWS 20 // GpuHistoryView[]: per frame slot and eye (slot * STAT_EYES + eye)
 #define BINDING_DENOISE 21    // vec4[]: the denoiser's other buffer (it ping-pongs with PIXELS), in
                               // PIXELS' layout
-#define BINDING_COUNT 22
+#define BINDING_HISTORY_1 22  // HISTORY's plane 1
+#define BINDING_HISTORY_SURFACE_1 23 // HISTORY_SURFACE's plane 1
+#define BINDING_COUNT 24
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 22
+#define BINDING_TLAS 24
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/gpu/shared.rs checks them against the structs' sizes).

@@ -63,8 +63,8 @@ bool same_surface(Surface a, Surface b) {
     return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= SAME_DISTANCE * b.dist + 1e-3;
 }
 
-uint history_index(uint plane, ivec2 p) {
-    return ((pc.eye * 2u + plane) * pc.height + uint(p.y)) * pc.width + uint(p.x);
+uint history_index(ivec2 p) {
+    return (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
 }
 
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
@@ -100,8 +100,7 @@ void main() {
     bool shown = within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)
               && visibility_bit(mask_words, pc.eye * (pc.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
-        history[history_index(write_plane, p)] = vec4(0.0);
-        history_surface[history_index(write_plane, p)] = uvec4(SURFACE_NONE, 0u, NO_EMITTER, SURFACE_HIDDEN);
+        history_store(write_plane, history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_EMITTER, SURFACE_HIDDEN));
         return;
     }
 
@@ -141,8 +140,8 @@ void main() {
     if (view.valid != 0u) {
         if (view.moved == 0u) {
             // Standing still: the same pixel, whole (no resampling, no test: nothing moved).
-            carried = history[history_index(read_plane, p)];
-            carried_packed = history_surface[history_index(read_plane, p)];
+            carried = history_load(read_plane, history_index(p));
+            carried_packed = history_surface_load(read_plane, history_index(p));
         } else {
             vec3 d = view_dir(pc.cam_tan, pc.cam_right.xyz, pc.cam_up.xyz, pc.cam_forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
@@ -161,8 +160,8 @@ void main() {
                     ivec2 t = t0 + ivec2(i & 1, i >> 1);
                     if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.width) || t.y >= int(pc.height)) continue;
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
-                    vec4 h = history[history_index(read_plane, t)];
-                    uvec4 hs = history_surface[history_index(read_plane, t)];
+                    vec4 h = history_load(read_plane, history_index(t));
+                    uvec4 hs = history_surface_load(read_plane, history_index(t));
                     if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected)) continue;
                     carried += w * h;
                     weights += w;
@@ -209,8 +208,7 @@ void main() {
         n += float(own_spp);
         surface = now_packed;
     }
-    history[history_index(write_plane, p)] = vec4(mean, n);
-    history_surface[history_index(write_plane, p)] = surface;
+    history_store(write_plane, history_index(p), vec4(mean, n), surface);
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
     // the shown layer's spp, halving with every spp-worth of own samples the pixel has.

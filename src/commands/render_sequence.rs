@@ -71,9 +71,18 @@ pub fn run(
         output::write_frame(&frame, &file)?;
         let s = &frame.stats;
         overflows += s.stack_overflows;
+        // What history and denoising cost of the frame's GPU time.
+        let ms_of = |pass: &str| -> f64 {
+            s.pass_ms
+                .iter()
+                .filter(|(name, _)| name.ends_with(pass))
+                .fold(0.0, |sum, (_, ms)| sum + ms)
+        };
         println!(
-            "frame {k}: {:.2} ms GPU, {} samples, wrote {}",
+            "frame {k}: {:.2} ms GPU (temporal {:.2}, denoise {:.2}), {} samples, wrote {}",
             s.gpu_ms(),
+            ms_of("temporal"),
+            ms_of("denoise"),
             s.paths,
             file.display()
         );

@@ -41,16 +41,18 @@ pub struct HistoryKey {
 impl HistoryKey {
     /// Every allocation of [`History::new`], for the memory check before it.
     pub fn plan(&self) -> Vec<PlannedAllocation> {
-        let pixels = self.width as u64 * self.height as u64 * self.eyes as u64 * 2;
+        let plane = self.width as u64 * self.height as u64 * self.eyes as u64 * 16;
         vec![
-            PlannedAllocation::storage("history", pixels * 16),
-            PlannedAllocation::storage("history surfaces", pixels * 16),
+            PlannedAllocation::storage("history plane 0", plane),
+            PlannedAllocation::storage("history plane 1", plane),
+            PlannedAllocation::storage("history surfaces plane 0", plane),
+            PlannedAllocation::storage("history surfaces plane 1", plane),
             PlannedAllocation::storage(
                 "lattice surfaces",
                 self.eyes as u64 * self.lattice_len * 16,
             ),
             PlannedAllocation::host("history views", views_bytes(), true),
-            PlannedAllocation::storage("denoiser pixels", pixels / 2 * 16),
+            PlannedAllocation::storage("denoiser pixels", plane),
         ]
     }
 }
@@ -75,9 +77,9 @@ fn eye_camera(push: &PushConstants) -> EyeCamera {
 pub struct History {
     pub key: HistoryKey,
     pub settings: TemporalSettings,
-    /// BINDING_HISTORY and BINDING_HISTORY_SURFACE: per eye two planes of pixels.
-    pub pixels: Buffer,
-    pub surfaces: Buffer,
+    /// BINDING_HISTORY(_1) and BINDING_HISTORY_SURFACE(_1): two planes of every eye's pixels.
+    pub pixels: [Buffer; 2],
+    pub surfaces: [Buffer; 2],
     /// BINDING_LATTICE_SURFACE: the surface at every lattice point traced this frame.
     pub lattice_surfaces: Buffer,
     /// BINDING_HISTORY_VIEWS: per frame slot and eye.
@@ -120,9 +122,15 @@ impl History {
         Ok(Self {
             key,
             settings,
-            pixels: device("history", plan[0].bytes)?,
-            surfaces: device("history surfaces", plan[1].bytes)?,
-            lattice_surfaces: device("lattice surfaces", plan[2].bytes)?,
+            pixels: [
+                device(&plan[0].name, plan[0].bytes)?,
+                device(&plan[1].name, plan[1].bytes)?,
+            ],
+            surfaces: [
+                device(&plan[2].name, plan[2].bytes)?,
+                device(&plan[3].name, plan[3].bytes)?,
+            ],
+            lattice_surfaces: device(&plan[4].name, plan[4].bytes)?,
             views: Buffer::new(
                 ctx,
                 "history views",
@@ -133,7 +141,7 @@ impl History {
             denoise: Buffer::new(
                 ctx,
                 "denoiser pixels",
-                plan[4].bytes,
+                plan[6].bytes,
                 vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::GpuOnly,
             )?,

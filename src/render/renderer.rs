@@ -440,15 +440,19 @@ impl Renderer {
         list.extend(match &self.history {
             Some(h) => [
                 (BINDING_LATTICE_SURFACE, &h.lattice_surfaces),
-                (BINDING_HISTORY, &h.pixels),
-                (BINDING_HISTORY_SURFACE, &h.surfaces),
+                (BINDING_HISTORY, &h.pixels[0]),
+                (BINDING_HISTORY_1, &h.pixels[1]),
+                (BINDING_HISTORY_SURFACE, &h.surfaces[0]),
+                (BINDING_HISTORY_SURFACE_1, &h.surfaces[1]),
                 (BINDING_HISTORY_VIEWS, &h.views),
                 (BINDING_DENOISE, &h.denoise),
             ],
             None => [
                 (BINDING_LATTICE_SURFACE, stand_in),
                 (BINDING_HISTORY, stand_in),
+                (BINDING_HISTORY_1, stand_in),
                 (BINDING_HISTORY_SURFACE, stand_in),
+                (BINDING_HISTORY_SURFACE_1, stand_in),
                 (BINDING_HISTORY_VIEWS, stand_in),
                 (BINDING_DENOISE, stand_in),
             ],
