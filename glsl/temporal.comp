@@ -6,7 +6,7 @@
 // few samples of its own.
 //
 // History belongs to scene points, not to layers: a pixel's samples are those traced at its
-// own pixel centre by whichever layer traced it (the sparse layers' lattices shift every
+// own pixel centre by the layer shown there (the sparse layers' lattices shift every
 // frame, render/history.rs, so every pixel is traced in turn), and history is carried
 // between frames by reprojection: the pixel's surface (its own, or the nearest lattice
 // point's of the layer shown there) gives its scene point, the point's place in the earlier
