@@ -27,6 +27,8 @@ pub enum RefineArg {
     Foveated,
     /// Regular frames after the first: converges to the reference everywhere.
     Regular,
+    /// The temporal history instead of a running mean: follows the view as it moves.
+    Temporal,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -84,7 +86,8 @@ pub struct ViewArgs {
     #[arg(long, value_enum)]
     pub debug: Option<ViewDebugArg>,
     /// What still frames add to the running mean: foveated frames (the mean converges to
-    /// the foveated image) or, after the first, regular ones (it converges to the reference).
+    /// the foveated image) or, after the first, regular ones (it converges to the reference);
+    /// or no mean but the temporal history, moving or not (the image view).
     #[arg(long, value_enum, default_value_t = RefineArg::Foveated)]
     pub refine: RefineArg,
     /// End after this many frames.
@@ -160,6 +163,7 @@ impl ViewArgs {
             refine: match self.refine {
                 RefineArg::Foveated => Refine::Foveated,
                 RefineArg::Regular => Refine::Regular,
+                RefineArg::Temporal => Refine::Temporal,
             },
             frames: self.frames,
             script,

@@ -87,6 +87,10 @@ pub enum Refine {
     /// Regular frames (the fovea's samples per pixel everywhere): the mean converges to the
     /// reference everywhere; the first frame after a move is still foveated, fast.
     Regular,
+    /// No running mean: every frame keeps the temporal history (`fovea render
+    /// --camera-path`'s), which follows the view as it moves and converges to the reference
+    /// when it stands still (the image view only; the debug views use the running mean).
+    Temporal,
 }
 
 /// Everything `fovea view` is asked for.

@@ -8,6 +8,7 @@ use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
 use crate::render::{
     output, DebugView, EyeView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer,
+    TemporalSettings,
 };
 use crate::scene::{CpuRaycaster, Scene};
 use std::path::{Path, PathBuf};
@@ -17,6 +18,8 @@ pub struct Session {
     // Field order is drop order: GPU resources before the context.
     renderer: Renderer,
     accumulator: Accumulator,
+    /// Frames rendered with the temporal history (its seeds: the settings' seed + this).
+    temporal_frames: u32,
     pub raycaster: CpuRaycaster,
     pub scene: Scene,
     pub ctx: Arc<GpuContext>,
@@ -61,6 +64,7 @@ impl Session {
         Ok(Self {
             renderer,
             accumulator: Accumulator::new(ctx)?,
+            temporal_frames: 0,
             raycaster: CpuRaycaster::new(&scene),
             scene,
             ctx: ctx.clone(),
@@ -95,6 +99,12 @@ impl Session {
             ..p.settings
         };
         let base_seed = p.settings.seed;
+        let temporal = p.refine == Refine::Temporal && p.debug == DebugMode::Image;
+        self.renderer
+            .set_temporal(temporal.then(TemporalSettings::default))?;
+        if temporal {
+            return self.temporal_frame(p, settings);
+        }
         // Refining with regular frames: every frame of the image view after a mean's first.
         let refining = FoveationConfig::regular(settings.spp);
         let foveation = match p.refine == Refine::Regular
@@ -158,6 +168,29 @@ impl Session {
             rays: stats.iter().map(|s| s.rays).sum(),
             nonfinite_samples: stats.iter().map(|s| s.nonfinite_samples).sum(),
             stack_overflows: stats.iter().map(|s| s.stack_overflows).sum(),
+        })
+    }
+
+    /// A frame of the image view with the temporal history: shown as rendered, no mean.
+    fn temporal_frame(
+        &mut self,
+        p: &FrameParams,
+        settings: RenderSettings,
+    ) -> Result<FrameCost, ViewError> {
+        let seed = settings.seed.wrapping_add(self.temporal_frames);
+        self.temporal_frames = self.temporal_frames.wrapping_add(1);
+        let frame = self.renderer.measure_frame(&FrameRequest {
+            settings: RenderSettings { seed, ..settings },
+            foveation: p.foveation,
+            eyes: p.eyes,
+            debug: DebugView::None,
+        })?;
+        let s = frame.stats;
+        Ok(FrameCost {
+            passes: s.pass_ms,
+            rays: s.rays,
+            nonfinite_samples: s.nonfinite_samples,
+            stack_overflows: s.stack_overflows,
         })
     }
 
