@@ -8,11 +8,7 @@ use super::quality::{eye_image, Point};
 use crate::metrics::magma_rgb8;
 use crate::render::output::linear_to_srgb8;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-
-pub fn strip_path(dir: &Path, scene: &str) -> PathBuf {
-    dir.join("images").join(format!("{scene}.png"))
-}
+use std::path::Path;
 
 /// Writes the strip; `reference` is the side-by-side reference of both eyes, `shown` the
 /// protocol-spp point of every mode.

@@ -2,9 +2,14 @@
 //! pass of both eyes, frame-rate statistics and impact factors, image error against a
 //! converged reference, and run time against error, written to a results directory as CSV,
 //! JSON, Markdown, SVG/PNG plots and a Perfetto trace.
+//!
+//! One direction: `runner` runs the frames and calls the measuring (`quality`, `images`) and
+//! then the report (`summary`, `report`, `plots`); nothing imports the stage before it. What
+//! they share is below them: `protocol` (the plan), `rows` (what is recorded), `files` (where).
 
 pub mod csv_log;
 pub mod error;
+pub mod files;
 pub mod images;
 pub mod perfetto;
 pub mod plots;

@@ -272,6 +272,14 @@ impl BenchPlan {
     }
 }
 
+/// A value as its command-line spelling (the serde name, e.g. "vive-pro-eye").
+pub fn flag_value<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_value(v)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,8 +29,8 @@ pub fn settings(plan: &BenchPlan, spp: u32) -> RenderSettings {
 /// Where the reference of `scene` under `plan` is cached: every parameter that changes the
 /// converged image is in the name.
 pub fn reference_path(cache: &Path, plan: &BenchPlan, scene: &str) -> PathBuf {
-    let fov = super::report::flag_value(&plan.fov);
-    let integrator = super::report::flag_value(&plan.integrator);
+    let fov = super::protocol::flag_value(&plan.fov);
+    let integrator = super::protocol::flag_value(&plan.integrator);
     cache.join(format!(
         "{scene}-{}x{}-stereo-{fov}-{integrator}-b{}-seed{}-{}spp.exr",
         plan.width, plan.height, plan.max_bounces, plan.seed, plan.reference_spp

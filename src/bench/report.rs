@@ -1,11 +1,12 @@
 //! summary.json, report.md and the plots of a run, all from its rows.
 
 use super::error::BenchError;
+use super::files::{strip_path, COMMANDS_FILE, FRAMES_FILE, PLAN_FILE, QUALITY_FILE, TRACE_FILE};
 use super::plots::{self, Curve, CurvePoint, DotWhisker, Series};
+use super::protocol::flag_value;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{FrameRow, QualityRow};
 use super::summary::{summarize_run, ModeSummary, SceneSummary, Summary};
-use super::{images, runner};
 use crate::gpu::DeviceInfo;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -122,14 +123,6 @@ fn write_plots(
     Ok(())
 }
 
-/// A value as its command-line spelling (the serde name, e.g. "vive-pro-eye").
-pub fn flag_value<T: serde::Serialize>(v: &T) -> String {
-    serde_json::to_value(v)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_string))
-        .unwrap_or_default()
-}
-
 fn fmt_impact(m: &ModeSummary) -> String {
     match m.impact {
         Some(i) if i.max.is_finite() => format!("{:.2} ({:.2}–{:.2})", i.factor, i.min, i.max),
@@ -244,11 +237,11 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         "`{}` (a row per frame and eye), `{}` (a row per scene, mode, spp, eye and region), `summary.json` \
          (these statistics, the device and every parameter), `{}` (open in ui.perfetto.dev), `{}` (the plan; \
          `fovea bench --resume DIR` completes an interrupted run), `{}` (every command that measured here).",
-        runner::FRAMES_FILE,
-        runner::QUALITY_FILE,
-        runner::TRACE_FILE,
-        runner::PLAN_FILE,
-        runner::COMMANDS_FILE
+        FRAMES_FILE,
+        QUALITY_FILE,
+        TRACE_FILE,
+        PLAN_FILE,
+        COMMANDS_FILE
     );
     md
 }
@@ -345,7 +338,7 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
         md,
         "![whole image](plots/{name}-error-time-whole.png) ![fovea](plots/{name}-error-time-fovea.png)\n"
     );
-    let strip = images::strip_path(Path::new(""), name);
+    let strip = strip_path(Path::new(""), name);
     let _ = writeln!(
         md,
         "![reference, regular, forward, corner, FLIP]({})\n",

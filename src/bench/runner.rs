@@ -5,6 +5,7 @@
 
 use super::csv_log::CsvLog;
 use super::error::BenchError;
+use super::files::{strip_path, COMMANDS_FILE, FRAMES_FILE, PLAN_FILE, QUALITY_FILE, TRACE_FILE};
 use super::perfetto::TraceWriter;
 use super::protocol::{BenchPlan, FrameKey, Mode, EYES};
 use super::quality::{self, Point};
@@ -19,14 +20,6 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
-
-pub const PLAN_FILE: &str = "plan.json";
-pub const FRAMES_FILE: &str = "frames.csv";
-pub const QUALITY_FILE: &str = "quality.csv";
-pub const TRACE_FILE: &str = "trace.json";
-/// Every command line that measured into the directory, one per line: the first one started
-/// the run, later ones resumed it.
-pub const COMMANDS_FILE: &str = "commands.txt";
 
 pub struct RunOptions {
     /// Where converged references are cached, shared between runs.
@@ -200,7 +193,7 @@ pub fn run(
     let mut measured = 0u64;
 
     for scene_name in &plan.scenes {
-        let strip = images::strip_path(dir, scene_name);
+        let strip = strip_path(dir, scene_name);
         let frames: Vec<&FrameKey> = pending_frames
             .iter()
             .filter(|k| k.scene == *scene_name)

@@ -1,0 +1,17 @@
+//! The results directory's layout: what every stage of the bench (run → measure → report)
+//! writes where, in one place, so that no stage has to import another for a file name.
+
+use std::path::{Path, PathBuf};
+
+pub const PLAN_FILE: &str = "plan.json";
+pub const FRAMES_FILE: &str = "frames.csv";
+pub const QUALITY_FILE: &str = "quality.csv";
+pub const TRACE_FILE: &str = "trace.json";
+/// Every command line that measured into the directory, one per line: the first one started
+/// the run, later ones resumed it.
+pub const COMMANDS_FILE: &str = "commands.txt";
+
+/// Where a scene's side-by-side pictures go.
+pub fn strip_path(dir: &Path, scene: &str) -> PathBuf {
+    dir.join("images").join(format!("{scene}.png"))
+}
