@@ -7,6 +7,8 @@ pub const PLAN_FILE: &str = "plan.json";
 pub const FRAMES_FILE: &str = "frames.csv";
 pub const QUALITY_FILE: &str = "quality.csv";
 pub const TRACE_FILE: &str = "trace.json";
+/// A motion run's rows (one per scene, sequence, frame, eye and region).
+pub const MOTION_FILE: &str = "motion.csv";
 /// Every command line that measured into the directory, one per line: the first one started
 /// the run, later ones resumed it.
 pub const COMMANDS_FILE: &str = "commands.txt";
@@ -14,4 +16,9 @@ pub const COMMANDS_FILE: &str = "commands.txt";
 /// Where a scene's side-by-side pictures go.
 pub fn strip_path(dir: &Path, scene: &str) -> PathBuf {
     dir.join("images").join(format!("{scene}.png"))
+}
+
+/// Where a scene's motion sequences play side by side with the reference (animated PNG).
+pub fn animation_path(dir: &Path, scene: &str) -> PathBuf {
+    dir.join("images").join(format!("{scene}-motion.png"))
 }

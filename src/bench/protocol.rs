@@ -2,6 +2,7 @@
 //! forward gaze, corner gaze) × frames × repeats, both eyes, plus the quality sweep. A run's
 //! plan is written to `plan.json` first, so `--resume` repeats it exactly.
 
+use super::motion::MotionScript;
 use crate::foveation::FoveationConfig;
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
@@ -92,6 +93,11 @@ pub struct BenchPlan {
     /// started on). Plans written before it existed were software.
     #[serde(default)]
     pub traversal: Traversal,
+    /// `--motion`: the run measures sequences that follow this script (temporal history on
+    /// and off, error per frame against per-frame references, flicker) instead of the still
+    /// protocol. Absent from plan.json for still runs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionScript>,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -139,6 +145,7 @@ impl BenchPlan {
             sweep_frames: 3,
             gaze_trace: None,
             traversal: Traversal::Software,
+            motion: None,
         }
     }
 
@@ -180,6 +187,19 @@ impl BenchPlan {
         }
         if self.sweep_spp.contains(&0) {
             return Err("--sweep-spp values must be at least 1".into());
+        }
+        if let Some(script) = &self.motion {
+            script.validate()?;
+            if self.frames < 2 {
+                return Err(
+                    "--motion needs --frames of at least 2 (flicker compares a frame \
+                            with the one before)"
+                        .into(),
+                );
+            }
+            if self.gaze_trace.is_some() {
+                return Err("--motion follows its own gaze script; drop --gaze-trace".into());
+            }
         }
         if self.foveation.is_regular() {
             return Err(

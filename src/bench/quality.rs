@@ -5,7 +5,7 @@
 use super::error::BenchError;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{QualityRow, EYE_NAMES};
-use crate::foveation::FoveationConfig;
+use crate::foveation::{FoveationConfig, ImageGeometry};
 use crate::metrics::{self, BANDS};
 use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
 use std::path::{Path, PathBuf};
@@ -37,19 +37,19 @@ pub fn reference_path(cache: &Path, plan: &BenchPlan, scene: &str) -> PathBuf {
     ))
 }
 
-/// The converged image of both eyes (side by side, linear RGB): read from the cache, or
-/// rendered and written there. `progress` hears about each pass rendered.
+/// The converged image of `eyes` (side by side, linear RGB): read from `path` (in the cache,
+/// see [`reference_path`]), or rendered and written there. `progress` hears about each pass
+/// rendered.
 pub fn reference_image(
     renderer: &mut Renderer,
     plan: &BenchPlan,
     scene: &str,
     eyes: &[EyeView],
-    cache: &Path,
+    path: &Path,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Vec<f32>, BenchError> {
-    let path = reference_path(cache, plan, scene);
     let (width, height) = (plan.width * eyes.len() as u32, plan.height);
-    if let Some(rgb) = read_exr(&path, width, height) {
+    if let Some(rgb) = read_exr(path, width, height) {
         return Ok(rgb);
     }
     let passes = plan.reference_spp.div_ceil(REFERENCE_CHUNK_SPP);
@@ -80,7 +80,9 @@ pub fn reference_image(
         .iter()
         .map(|s| (s / plan.reference_spp as f64) as f32)
         .collect();
-    std::fs::create_dir_all(cache).map_err(|e| BenchError::file(cache, e))?;
+    if let Some(cache) = path.parent() {
+        std::fs::create_dir_all(cache).map_err(|e| BenchError::file(cache, e))?;
+    }
     // Written under a temporary name and moved, so a kill never leaves half a reference.
     let partial = path.with_extension("partial.exr");
     let (w, h) = (width as usize, height as usize);
@@ -89,7 +91,7 @@ pub fn reference_image(
         (rgb[i], rgb[i + 1], rgb[i + 2])
     })
     .map_err(|e| BenchError::file(&partial, e))?;
-    std::fs::rename(&partial, &path).map_err(|e| BenchError::file(&path, e))?;
+    std::fs::rename(&partial, path).map_err(|e| BenchError::file(path, e))?;
     Ok(rgb)
 }
 
@@ -134,6 +136,18 @@ pub fn eye_image(rgb: &[f32], eyes: u32, width: u32, height: u32, eye: u32) -> V
     (0..height as usize)
         .flat_map(|y| rgb[y * row + start..y * row + start + len].iter().copied())
         .collect()
+}
+
+/// The pixels an eye can see: pixels outside the occlusion mask are hidden by the lens,
+/// foveated frames leave them black, and no mode is judged on them.
+pub fn visible_pixels(plan: &BenchPlan, image: &ImageGeometry) -> Vec<bool> {
+    match plan.foveation.occlusion_deg {
+        Some(deg) => metrics::eccentricity_deg(image, image.axis_pixel())
+            .iter()
+            .map(|&e| e <= deg)
+            .collect(),
+        None => vec![true; (plan.width * plan.height) as usize],
+    }
 }
 
 /// What one (scene, mode, spp) point of the sweep measured.
@@ -184,15 +198,7 @@ pub fn measure_point(
         let image = eye.image(plan.width, plan.height);
         let mut test = eye_image(&frame.rgb, n, plan.width, plan.height, e as u32);
         let mut truth = eye_image(reference, n, plan.width, plan.height, e as u32);
-        // Pixels outside the occlusion mask are hidden by the lens: foveated frames leave
-        // them black, and no mode is judged on them.
-        let visible: Vec<bool> = match plan.foveation.occlusion_deg {
-            Some(deg) => metrics::eccentricity_deg(&image, image.axis_pixel())
-                .iter()
-                .map(|&e| e <= deg)
-                .collect(),
-            None => vec![true; (plan.width * plan.height) as usize],
-        };
+        let visible = visible_pixels(plan, &image);
         // Black there in both images, so that FLIP's edge filters do not see the mask's rim
         // as an error of the foveated image.
         for (i, _) in visible.iter().enumerate().filter(|(_, v)| !**v) {

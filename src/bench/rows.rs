@@ -190,3 +190,33 @@ pub struct QualityRow {
     /// Median GPU milliseconds of the frame (both eyes) at this spp.
     pub frame_gpu_ms: f64,
 }
+
+/// One eye's image region in one frame of a motion sequence (motion.csv), against the
+/// converged reference of the same frame's pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionRow {
+    pub scene: String,
+    /// The sequence's name, e.g. "temporal-on-4spp" (see `motion::Sequence`).
+    pub sequence: String,
+    pub temporal: bool,
+    pub spp: u32,
+    pub frame: u32,
+    /// The frame's time in the script, milliseconds (frame / display rate).
+    pub time_ms: f64,
+    pub eye: String,
+    /// "whole", or an eccentricity band around this frame's gaze (as in quality.csv).
+    pub region: String,
+    pub pixels: u64,
+    pub rel_mse: f64,
+    pub mse: f64,
+    /// Frame-to-frame change beyond the reference's own (`metrics::flicker`); empty for
+    /// the first frame and for a region with no pixels.
+    pub flicker: Option<f64>,
+    /// GPU milliseconds of the frame (both eyes), and of its temporal and denoise passes.
+    pub frame_gpu_ms: f64,
+    pub temporal_ms: f64,
+    pub gaze_x: f64,
+    pub gaze_y: f64,
+    /// Whether the eye was mid-saccade.
+    pub saccade: bool,
+}

@@ -103,13 +103,9 @@ fn read_trace(plan: &BenchPlan) -> Result<Option<GazeTrace>, BenchError> {
     Ok(Some(trace))
 }
 
-/// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
-pub fn run(
-    ctx: &Arc<GpuContext>,
-    plan: &BenchPlan,
-    dir: &Path,
-    options: &RunOptions,
-) -> Result<(), BenchError> {
+/// Checks the plan and its scenes, writes plan.json (or checks that the directory's is the
+/// same) and adds this command line to commands.txt. Returns every command line so far.
+fn open_run_dir(plan: &BenchPlan, dir: &Path, options: &RunOptions) -> Result<String, BenchError> {
     plan.validate().map_err(BenchError::Plan)?;
     // Every scene must load before anything is written: a typo should not leave a run
     // directory behind that can only fail again on resume.
@@ -117,7 +113,6 @@ pub fn run(
     for name in &plan.scenes {
         scene::load(name, aspect)?;
     }
-    let gaze_trace = read_trace(plan)?;
     std::fs::create_dir_all(dir).map_err(|e| BenchError::file(dir, e))?;
     let plan_path = dir.join(PLAN_FILE);
     if plan_path.exists() {
@@ -139,6 +134,23 @@ pub fn run(
     commands.push_str(&options.command_line);
     commands.push('\n');
     std::fs::write(&commands_path, &commands).map_err(|e| BenchError::file(&commands_path, e))?;
+
+    Ok(commands)
+}
+
+/// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
+pub fn run(
+    ctx: &Arc<GpuContext>,
+    plan: &BenchPlan,
+    dir: &Path,
+    options: &RunOptions,
+) -> Result<(), BenchError> {
+    let gaze_trace = read_trace(plan)?;
+    let commands = open_run_dir(plan, dir, options)?;
+    if let Some(script) = &plan.motion {
+        return super::motion_run::run(ctx, plan, script, dir, options, &commands);
+    }
+    let aspect = plan.width as f32 / plan.height as f32;
 
     // Frames whose two eye rows are both there are done; a lone eye row is measured again.
     let (mut frames_log, frame_rows) =
@@ -296,7 +308,7 @@ pub fn run(
             plan,
             scene_name,
             &eyes[&Mode::Regular],
-            &options.reference_cache,
+            &quality::reference_path(&options.reference_cache, plan, scene_name),
             &mut |done, all| bar.set_message(format!("{scene_name}: reference {done}/{all}")),
         )?;
         let mut shown: BTreeMap<Mode, Point> = BTreeMap::new();

@@ -16,6 +16,17 @@ pub struct Device {
     pub api_version: String,
 }
 
+impl From<&DeviceInfo> for Device {
+    fn from(d: &DeviceInfo) -> Self {
+        Self {
+            name: d.name.clone(),
+            kind: d.kind.clone(),
+            driver: d.driver.clone(),
+            api_version: d.api_version.clone(),
+        }
+    }
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     pub fovea_version: String,
@@ -160,12 +171,7 @@ pub fn summarize_run(
         complete: frames.len() as u64 == expected,
         frame_rows: frames.len() as u64,
         expected_frame_rows: expected,
-        device: Device {
-            name: device.name.clone(),
-            kind: device.kind.clone(),
-            driver: device.driver.clone(),
-            api_version: device.api_version.clone(),
-        },
+        device: Device::from(device),
         parameters: plan.clone(),
         scenes,
     }

@@ -7,6 +7,6 @@ pub mod closed_meshes;
 pub mod convergence;
 pub mod materials;
 pub mod report;
-mod rng;
+pub(crate) mod rng;
 pub mod scale;
 pub mod watertight;

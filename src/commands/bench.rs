@@ -4,6 +4,7 @@
 use super::{check_validation, gpu_context, GpuArgs};
 use anyhow::{Context, Result};
 use clap::Args;
+use fovea::bench::motion::{MotionChoice, Sequence};
 use fovea::bench::summary::utc_stamp;
 use fovea::bench::{self, BenchPlan, RunOptions};
 use fovea::foveation::{FoveationConfig, GazeTrace};
@@ -11,7 +12,7 @@ use fovea::render::{FovChoice, Integrator, Traversal};
 use std::path::PathBuf;
 
 /// Flags that set the plan; none may be given with --resume.
-const PLAN_FLAGS: [&str; 18] = [
+const PLAN_FLAGS: [&str; 19] = [
     "quick",
     "scenes",
     "frames",
@@ -30,6 +31,7 @@ const PLAN_FLAGS: [&str; 18] = [
     "sweep_frames",
     "gaze_trace",
     "traversal",
+    "motion",
 ];
 
 #[derive(Args)]
@@ -84,6 +86,13 @@ pub struct BenchArgs {
     /// `--record-gaze` writes): frame k of each repeat takes row k.
     #[arg(long, value_name = "FILE")]
     pub gaze_trace: Option<PathBuf>,
+    /// Measure sequences instead of still frames: the head turns and the eye fixates and
+    /// saccades (head-and-saccades, the default script) or both stay still (still); each scene
+    /// is rendered with the temporal history off, on, and off at twice the spp, every frame
+    /// against its own reference, per eccentricity band, with flicker. --frames is the
+    /// sequence's length at 90 Hz (default 100; 45 with --quick).
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "head-and-saccades", value_name = "SCRIPT")]
+    pub motion: Option<MotionChoice>,
     /// Directory under which each run gets its own bench-results/<UTC time>/.
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
@@ -127,6 +136,13 @@ impl BenchArgs {
                 )
             })?;
         }
+        if let Some(choice) = self.motion {
+            plan.motion = Some(choice.script());
+            if self.quick && self.frames.is_none() {
+                // Half a second: two fixations and the saccade between them.
+                plan.frames = 45;
+            }
+        }
         if let Some(path) = &self.gaze_trace {
             // Checked now, before any GPU work; stored absolute so --resume finds it anywhere.
             GazeTrace::read(path)?;
@@ -169,15 +185,27 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
     if args.resume.is_none() {
         plan.traversal = Traversal::preferred(&ctx);
     }
-    println!(
-        "fovea bench: {} scene(s), {} frame rows and {} sweep points on {} ({} traversal) into {}",
-        plan.scenes.len(),
-        plan.expected_frame_rows(),
-        plan.scenes.len() * plan.sweep().len() * 3,
-        ctx.info.name,
-        plan.traversal.name(),
-        dir.display()
-    );
+    match plan.motion {
+        Some(_) => println!(
+            "fovea bench --motion: {} scene(s) × {} sequences ({}) of {} frames on {} ({} traversal) into {}",
+            plan.scenes.len(),
+            Sequence::all(plan.spp).len(),
+            Sequence::all(plan.spp).map(|s| s.name()).join(", "),
+            plan.frames,
+            ctx.info.name,
+            plan.traversal.name(),
+            dir.display()
+        ),
+        None => println!(
+            "fovea bench: {} scene(s), {} frame rows and {} sweep points on {} ({} traversal) into {}",
+            plan.scenes.len(),
+            plan.expected_frame_rows(),
+            plan.scenes.len() * plan.sweep().len() * 3,
+            ctx.info.name,
+            plan.traversal.name(),
+            dir.display()
+        ),
+    }
     let options = RunOptions {
         reference_cache: args
             .reference_cache
@@ -189,7 +217,45 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
     bench::run(&ctx, &plan, &dir, &options)
         .with_context(|| format!("bench run in {} (finish it with --resume)", dir.display()))?;
     check_validation(&ctx)?;
-    print_impacts(&dir)?;
+    match plan.motion {
+        Some(_) => print_motion(&dir),
+        None => print_impacts(&dir),
+    }
+}
+
+/// Per scene and sequence of the finished motion run: GPU ms, whole-image and peripheral
+/// (20°+) error and flicker, read back from its summary.
+fn print_motion(dir: &std::path::Path) -> Result<()> {
+    let text = std::fs::read_to_string(dir.join("summary.json"))?;
+    let summary: serde_json::Value = serde_json::from_str(&text)?;
+    println!(
+        "{:<14} {:<20} {:>9} {:>12} {:>12} {:>12} {:>12}",
+        "scene", "sequence", "GPU ms", "relMSE", "relMSE 20+", "flicker", "flicker 20+"
+    );
+    for scene in summary["scenes"].as_array().into_iter().flatten() {
+        for seq in scene["sequences"].as_array().into_iter().flatten() {
+            let region = |name: &str, field: &str| {
+                seq["regions"]
+                    .as_array()
+                    .into_iter()
+                    .flatten()
+                    .find(|r| r["region"] == name)
+                    .and_then(|r| r[field].as_f64())
+                    .map_or("-".to_string(), |v| format!("{v:.3e}"))
+            };
+            println!(
+                "{:<14} {:<20} {:>9.2} {:>12} {:>12} {:>12} {:>12}",
+                scene["scene"].as_str().unwrap_or("?"),
+                seq["sequence"].as_str().unwrap_or("?"),
+                seq["gpu_ms"].as_f64().unwrap_or(f64::NAN),
+                region("whole", "rel_mse"),
+                region("20+", "rel_mse"),
+                region("whole", "flicker"),
+                region("20+", "flicker"),
+            );
+        }
+    }
+    println!("report: {}", dir.join("report.md").display());
     Ok(())
 }
 

@@ -8,10 +8,12 @@
 
 pub mod bands;
 pub mod error;
+pub mod flicker;
 pub mod flip;
 
 pub use bands::{band_errors, band_masks, eccentricity_deg, Band, BandError, BANDS, BANDS_DEG};
 pub use error::{image_error, ImageError};
+pub use flicker::flicker;
 pub use flip::{
     flip, flip_masked_mean, magma_rgb8, pixels_per_degree, pixels_per_degree_at, FlipResult,
 };

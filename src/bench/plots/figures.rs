@@ -14,6 +14,7 @@ use super::{
 
 pub(super) struct LinesFig<'a> {
     pub(super) title: &'a str,
+    pub(super) y_label: &'a str,
     pub(super) series: &'a [Series],
 }
 
@@ -46,7 +47,7 @@ impl Figure for LinesFig<'_> {
         chart
             .configure_mesh()
             .x_desc("frame")
-            .y_desc("fps")
+            .y_desc(self.y_label)
             .x_label_formatter(&|x| format!("{x:.0}"))
             .label_style(axis_font())
             .axis_desc_style(axis_font())

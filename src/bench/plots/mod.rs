@@ -29,7 +29,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{register_font, FontStyle};
 
 use figures::{DotsFig, ErrorFig, LinesFig};
-pub use strip::image_strip;
+pub use strip::{animated_strip, image_strip};
 
 /// Pixel size of every chart.
 const SIZE: (u32, u32) = (900, 500);
@@ -139,7 +139,25 @@ pub fn frame_rate_lines(
     title: &str,
     series: &[Series],
 ) -> Result<Vec<PathBuf>, PlotError> {
-    write_both(stem, &LinesFig { title, series })
+    per_frame_lines(stem, title, "fps", series)
+}
+
+/// [`frame_rate_lines`] with another quantity on the y axis (`y_label`), linear: a value
+/// per frame of each series, e.g. a motion sequence's error or flicker.
+pub fn per_frame_lines(
+    stem: &Path,
+    title: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<Vec<PathBuf>, PlotError> {
+    write_both(
+        stem,
+        &LinesFig {
+            title,
+            y_label,
+            series,
+        },
+    )
 }
 
 /// The thesis' dot-and-whisker plot: one row per item (first on top, labels on

@@ -15,6 +15,58 @@ use super::{create_parent, ensure_font, Panel, PlotError, FONT, STRIP_CAPTION_HE
 /// white). Errors: no panels, an `rgb8` length ≠ width·height·3, or an empty
 /// or oversized (> u32 pixels) result.
 pub fn image_strip(path: &Path, panels: &[Panel]) -> Result<PathBuf, PlotError> {
+    let (buf, size) = compose(path, panels)?;
+    create_parent(path)?;
+    encode_png(path, &buf, size)?;
+    Ok(path.into())
+}
+
+/// Writes an animated PNG (APNG; a viewer without APNG shows the first frame) at `path`:
+/// frame `k` is the strip of `frames[k]`, as [`image_strip`] draws it, shown for
+/// `delay_ms` milliseconds; it loops forever. Every frame must have panels of the same
+/// sizes (the strip's size is the first frame's).
+pub fn animated_strip(
+    path: &Path,
+    frames: &[Vec<Panel>],
+    delay_ms: u16,
+) -> Result<PathBuf, PlotError> {
+    let Some(first) = frames.first() else {
+        return Err(PlotError::NoPanels { path: path.into() });
+    };
+    let size = strip_size(path, first)?;
+    create_parent(path)?;
+    let io = |source| PlotError::Io {
+        path: path.into(),
+        source,
+    };
+    let encode = |source| PlotError::Encode {
+        path: path.into(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(io)?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), size.0, size.1);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_animated(frames.len() as u32, 0).map_err(encode)?;
+    enc.set_frame_delay(delay_ms, 1000).map_err(encode)?;
+    let mut writer = enc.write_header().map_err(encode)?;
+    for panels in frames {
+        let (buf, this_size) = compose(path, panels)?;
+        if this_size != size {
+            return Err(PlotError::BadSize {
+                path: path.into(),
+                width: this_size.0.into(),
+                height: this_size.1.into(),
+            });
+        }
+        writer.write_image_data(&buf).map_err(encode)?;
+    }
+    writer.finish().map_err(encode)?;
+    Ok(path.into())
+}
+
+/// The strip's pixels and size: panels blitted side by side under their captions.
+fn compose(path: &Path, panels: &[Panel]) -> Result<(Vec<u8>, (u32, u32)), PlotError> {
     if panels.is_empty() {
         return Err(PlotError::NoPanels { path: path.into() });
     }
@@ -31,9 +83,7 @@ pub fn image_strip(path: &Path, panels: &[Panel]) -> Result<PathBuf, PlotError> 
         path: path.into(),
         message,
     })?;
-    create_parent(path)?;
-    encode_png(path, &buf, (w, h))?;
-    Ok(path.into())
+    Ok((buf, (w, h)))
 }
 
 fn check_panels(path: &Path, panels: &[Panel]) -> Result<(), PlotError> {
