@@ -14,7 +14,9 @@
 // disoccluded or occluded and rejected. While the camera stands still nothing is resampled
 // and nothing is capped: the history is the plain mean of every sample the pixel got, which
 // converges to the unbiased image. In motion taps are bilinear and the count is capped, so
-// history follows (exponentially) what the pixel sees now.
+// history follows (exponentially) what the pixel sees now, and a sparse layer's pixel that
+// has no sample of its own this frame adds resolve's spatial estimate to its history, so
+// that the periphery does not show a fresh noisy fill every frame.
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
 // like resolve.comp.
@@ -32,8 +34,11 @@ layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 const float SAME_NORMAL_COS = 0.9;
 const float SAME_DISTANCE = 0.05;
 // In motion, a pixel next to an edge between surfaces keeps at most this many frames' worth
-// of its own samples.
+// of its layer's samples (own, or spatial ones, see SPATIAL_SHARE).
 const float EDGE_CAP = 2.0;
+// In motion, a frame's spatial estimate at a pixel without own samples counts as this share
+// of the layer's spp in the history (see main).
+const float SPATIAL_SHARE = 1.0;
 
 struct Surface {
     float dist; // < 0: nothing (the sky)
@@ -57,10 +62,22 @@ Surface decode(uvec4 s) {
     return r;
 }
 
-bool same_surface(Surface a, Surface b) {
-    if (a.object != b.object || a.material != b.material) return false;
+// Whether a history tap's surface `a` may be this pixel's surface `b` seen from the earlier
+// camera. `spread` is how much the distance varies across the pixel's 3x3 lattice
+// neighbourhood: a surface seen at a grazing angle (a floor towards the horizon) changes
+// distance by more than 5% from pixel to pixel. In a sparse layer (spacing > 1) `b` is
+// mostly the nearest lattice point's surface, which changes as the lattice shifts every
+// frame: there the tap's object and material need only be among the neighbourhood's
+// (`near`), and its normal is not compared. A test as tight as the fovea's rejected nearly
+// all peripheral history in motion (bench --motion: as much flicker beyond 20° with history
+// as without); what the looser test lets through is bounded by the neighbourhood clamp and,
+// next to edges, by EDGE_CAP.
+bool same_surface(Surface a, Surface b, int spacing, float spread, bool near) {
+    bool same_kind = (a.object == b.object && a.material == b.material) || (spacing > 1 && near);
+    if (!same_kind) return false;
     if (a.dist < 0.0 || b.dist < 0.0) return a.dist < 0.0 && b.dist < 0.0;
-    return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= SAME_DISTANCE * b.dist + 1e-3;
+    float tolerance = max(SAME_DISTANCE * b.dist, spread) + 1e-3;
+    return (spacing > 1 || dot(a.n, b.n) > SAME_NORMAL_COS) && abs(a.dist - b.dist) <= tolerance;
 }
 
 uint history_index(ivec2 p) {
@@ -133,6 +150,25 @@ void main() {
             carried = history_load(read_plane, history_index(p));
             carried_packed = history_surface_load(read_plane, history_index(p));
         } else {
+            // This frame's 3x3 nearest lattice points around the pixel: the range of their
+            // radiance (the clamp below), whether another surface is among them (an edge), and
+            // how far the distance to this surface varies across them.
+            vec3 lo = vec3(1e30);
+            vec3 hi = vec3(-1e30);
+            bool edge = false;
+            float spread = 0.0;
+            uvec2 kinds[9];
+            for (int i = 0; i < 9; ++i) {
+                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_lo, box_hi));
+                vec3 v = lattice[entry].rgb;
+                lo = min(lo, v);
+                hi = max(hi, v);
+                Surface s = decode(lattice_surface[entry]);
+                kinds[i] = uvec2(s.object, s.material);
+                bool other = s.object != now.object || s.material != now.material;
+                edge = edge || other;
+                if ((!other || spacing > 1) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
+            }
             vec3 d = view_dir(pc.cam_tan, pc.cam_right.xyz, pc.cam_up.xyz, pc.cam_forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
             vec3 seen = now.dist < 0.0 ? d : pc.cam_position.xyz + now.dist * d - view.position.xyz;
@@ -152,7 +188,9 @@ void main() {
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
                     vec4 h = history_load(read_plane, history_index(t));
                     uvec4 hs = history_surface_load(read_plane, history_index(t));
-                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected)) continue;
+                    bool near = false;
+                    for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
+                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, spacing, spread, near)) continue;
                     carried += w * h;
                     weights += w;
                     if (w > best) {
@@ -169,22 +207,11 @@ void main() {
             // around the pixel (its layer's 3x3 nearest lattice points). A pixel an edge
             // crossed held a mix of both sides that its centre's surface test cannot see
             // (the sky does not move when the camera steps); this frame's samples can.
-            vec3 lo = vec3(1e30);
-            vec3 hi = vec3(-1e30);
-            bool edge = false;
-            for (int i = 0; i < 9; ++i) {
-                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_lo, box_hi));
-                vec3 v = lattice[entry].rgb;
-                lo = min(lo, v);
-                hi = max(hi, v);
-                uvec4 s = lattice_surface[entry];
-                edge = edge || s.z != now.object || s.w != now.material;
-            }
             carried.rgb = clamp(carried.rgb, lo, hi);
             // Near an edge between surfaces the part of the pixel each covers changes as the
             // view moves, which no surface test of its centre sees: there history counts
             // for little, and this frame's samples (which do see it) soon take over.
-            if (edge) carried.w = min(carried.w, EDGE_CAP * float(max(own_spp, 1u)));
+            if (edge) carried.w = min(carried.w, EDGE_CAP * shown_spp);
         }
     }
 
@@ -192,18 +219,30 @@ void main() {
     vec3 mean = carried.rgb;
     float n = carried.w;
     uvec4 surface = n > 0.0 ? carried_packed : now_packed;
+    vec3 spatial = pixels[out_index].rgb;
     if (own_spp > 0u) {
         vec3 own = lattice[own_entry].rgb;
         mean = (mean * n + own * float(own_spp)) / (n + float(own_spp));
         n += float(own_spp);
         surface = now_packed;
+    } else if (view.valid != 0u && view.moved != 0u) {
+        // In motion a sparse layer's pixel gets its own samples only every spacing^2 frames,
+        // and reprojection keeps history capped (exponential, so biased) anyway: there
+        // resolve's spatial estimate goes into the history too, worth SPATIAL_SHARE of the
+        // layer's spp. Shown fresh every frame instead, its noise would change every frame:
+        // the periphery would shimmer (bench --motion measured as much flicker beyond 20°
+        // with history as without). Standing still it stays out: the mean of own samples
+        // converges unbiased (what motion left in the history is diluted as they come).
+        float w = SPATIAL_SHARE * shown_spp;
+        mean = (mean * n + spatial * w) / (n + w);
+        n += w;
+        if (carried.w <= 0.0) surface = now_packed;
     }
     history_store(write_plane, history_index(p), vec4(mean, n), surface);
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
-    // the shown layer's spp, halving with every spp-worth of own samples the pixel has.
+    // the shown layer's spp, halving with every spp-worth of samples the pixel has.
     if (pc.debug == DEBUG_LAYERS) return; // the layer tints stay as resolve made them
-    vec3 spatial = pixels[out_index].rgb;
     float w_spatial = shown_spp * exp2(-n / shown_spp);
     pixels[out_index] = vec4((mean * n + spatial * w_spatial) / (n + w_spatial), 1.0);
 }
