@@ -57,7 +57,9 @@ impl Animation {
     }
 
     /// Sequence `index`'s frame, its gaze (pixels of the full image) marked; the history-on
-    /// sequence also gives the error panel against `reference`.
+    /// sequence also gives the error panel against `reference`, over the `visible` pixels
+    /// (the lens hides the others: no error is shown there).
+    #[allow(clippy::too_many_arguments)]
     pub fn add_sequence(
         &mut self,
         frame: u32,
@@ -65,6 +67,7 @@ impl Animation {
         sequence: &Sequence,
         rgb: &[f32],
         reference: &[f32],
+        visible: &[bool],
         gaze: [f64; 2],
     ) -> Result<(), BenchError> {
         let small = self.shrink(rgb);
@@ -77,7 +80,11 @@ impl Animation {
             let error: Vec<f32> = rgb
                 .chunks_exact(3)
                 .zip(reference.chunks_exact(3))
-                .map(|(t, r)| {
+                .zip(visible)
+                .map(|((t, r), &seen)| {
+                    if !seen {
+                        return 0.0;
+                    }
                     let sum: f32 = (0..3)
                         .map(|c| (t[c] - r[c]).powi(2) / (r[c] * r[c] + 0.01))
                         .sum();
@@ -174,12 +181,13 @@ mod tests {
         // 500 px wide panels are shrunk 3× to 166 px.
         assert_eq!(a.size(), (166, 13));
         let grey = vec![0.5f32; (w * h * 3) as usize];
+        let all = vec![true; (w * h) as usize];
         let dir = std::env::temp_dir().join(format!("fovea-anim-{}", std::process::id()));
         let path = dir.join("a.png");
         for k in 0..3 {
             a.add_reference(k, &grey);
             for (i, s) in sequences.iter().enumerate() {
-                a.add_sequence(k, i, s, &grey, &grey, [250.0, 20.0])
+                a.add_sequence(k, i, s, &grey, &grey, &all, [250.0, 20.0])
                     .unwrap();
             }
             if k < 2 {

@@ -193,6 +193,7 @@ pub fn run(
                     sequence,
                     &eye_image(&frame.rgb, EYES, w, h, 0),
                     &eye_image(&truth, EYES, w, h, 0),
+                    &visible_pixels(plan, &eyes[k as usize][0].image(w, h)),
                     frame.gazes[0].0,
                 )?;
                 before = Some((truth, frame.rgb));
