@@ -13,7 +13,7 @@
 //!   the "main sequence" of Carpenter (Movements of the Eyes, 1988): a 15° saccade takes 54 ms,
 //!   about 5 frames at 90 Hz, peaking near 440°/s.
 
-use crate::foveation::ImageGeometry;
+use crate::foveation::{FoveationConfig, ImageGeometry};
 use crate::scene::{Camera, CameraPose};
 use serde::{Deserialize, Serialize};
 
@@ -226,6 +226,19 @@ impl Sequence {
         let history = if self.temporal { "on" } else { "off" };
         format!("temporal-{history}-{}spp", self.spp)
     }
+
+    /// The plan's layers as this sequence renders them: at its spp, and without the
+    /// periphery denoiser when the history is off (the denoiser is guided by the history's
+    /// surfaces, so a denoising config measures "off" as its layers unfiltered).
+    pub fn config(&self, layers: &FoveationConfig) -> FoveationConfig {
+        let mut config = layers.clone().with_spp(self.spp);
+        if !self.temporal {
+            for layer in &mut config.layers {
+                layer.denoise = 0;
+            }
+        }
+        config
+    }
 }
 
 #[cfg(test)]
@@ -302,6 +315,29 @@ mod tests {
         let (r, u, f) = head.basis();
         let seen = (r * t[0] as f32 + u * t[1] as f32 + f).normalize();
         assert!(seen.angle_between(scene.forward) < 1e-4);
+    }
+
+    #[test]
+    fn sequences_without_history_render_the_layers_unfiltered() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/foveation/thesis-denoised.toml"
+        );
+        let denoised = FoveationConfig::from_arg(path).unwrap().unwrap();
+        assert!(denoised.layers.iter().any(|l| l.denoise > 0));
+        let [off, on, off_2x] = Sequence::all(4);
+        assert_eq!(on.config(&denoised), denoised.clone().with_spp(4));
+        for s in [off, off_2x] {
+            let config = s.config(&denoised);
+            assert!(config
+                .layers
+                .iter()
+                .all(|l| l.denoise == 0 && l.spp == s.spp));
+        }
+        assert_eq!(
+            [off, on, off_2x].map(|s| s.name()),
+            ["temporal-off-4spp", "temporal-on-4spp", "temporal-off-8spp"]
+        );
     }
 
     #[test]

@@ -152,7 +152,7 @@ pub fn run(
             renderer
                 .set_temporal(sequence.temporal.then(TemporalSettings::default))
                 .map_err(BenchError::render(scene_name))?;
-            let config = plan.foveation.clone().with_spp(sequence.spp);
+            let config = sequence.config(&plan.foveation);
             let request = |k: u32| FrameRequest {
                 settings: RenderSettings {
                     seed: frame_seed(plan.seed, k),
