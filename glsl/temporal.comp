@@ -35,7 +35,7 @@ const float SAME_NORMAL_COS = 0.9;
 const float SAME_DISTANCE = 0.05;
 // In motion, a pixel next to an edge between surfaces keeps at most this many frames' worth
 // of its layer's samples (own, or spatial ones, see SPATIAL_SHARE).
-const float EDGE_CAP = 2.0;
+const float EDGE_CAP = 4.0;
 // In motion, a frame's spatial estimate at a pixel without own samples counts as this share
 // of the layer's spp in the history (see main).
 const float SPATIAL_SHARE = 1.0;
@@ -73,11 +73,19 @@ Surface decode(uvec4 s) {
 // as without); what the looser test lets through is bounded by the neighbourhood clamp and,
 // next to edges, by EDGE_CAP.
 bool same_surface(Surface a, Surface b, int spacing, float spread, bool near) {
-    bool same_kind = (a.object == b.object && a.material == b.material) || (spacing > 1 && near);
+    bool same_kind = a.object == b.object && a.material == b.material;
+    float tolerance = max(SAME_DISTANCE * b.dist, spread) + 1e-3;
+    if (spacing > 1) {
+        if (!near) return false;
+        // Another surface of the neighbourhood, or the sky on one side: which one the
+        // nearest lattice point hit is a coin toss along an edge (a horizon), so the tap
+        // is kept, bounded by the clamp and the edge cap.
+        if (!same_kind || a.dist < 0.0 || b.dist < 0.0) return true;
+        return abs(a.dist - b.dist) <= tolerance;
+    }
     if (!same_kind) return false;
     if (a.dist < 0.0 || b.dist < 0.0) return a.dist < 0.0 && b.dist < 0.0;
-    float tolerance = max(SAME_DISTANCE * b.dist, spread) + 1e-3;
-    return (spacing > 1 || dot(a.n, b.n) > SAME_NORMAL_COS) && abs(a.dist - b.dist) <= tolerance;
+    return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= tolerance;
 }
 
 uint history_index(ivec2 p) {

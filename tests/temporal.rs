@@ -238,6 +238,60 @@ fn an_uncovered_background_keeps_no_ghost_of_what_covered_it() {
     common::assert_no_validation_messages(&ctx);
 }
 
+/// The same in a sparse layer: there a pixel's surface is its nearest lattice point's, the
+/// surface test keeps taps whose object is anywhere in the pixel's 3x3 lattice neighbourhood
+/// (a lattice shift moves which one is nearest), and the box must still leave no ghost in the
+/// sky beyond that neighbourhood.
+#[test]
+fn an_uncovered_background_keeps_no_ghost_in_a_sparse_layer() {
+    const SPACING: i32 = 4;
+    let ctx = common::context();
+    let scene = box_against_the_sky();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let mut sparse = FoveationConfig::regular(2);
+    sparse.layers[0].spacing = SPACING as u32;
+    let stepped = CameraPose {
+        offset: [0.25, 0.0, 0.0],
+        ..Default::default()
+    };
+    // Moving before the step too, so the history holds the box's spatial estimates.
+    let mut poses: Vec<CameraPose> = (0..24)
+        .map(|k| CameraPose {
+            turn_deg: [0.05 * k as f32, 0.0, 0.0],
+            ..Default::default()
+        })
+        .collect();
+    poses.push(stepped);
+    let frames = sequence(&mut renderer, &scene, &sparse, &poses, true);
+    let before = &frames[23];
+    let after = &frames[24];
+    let reference = regular(&mut renderer, &stepped.apply(&scene.camera), 64, 99);
+    let sky = |f: &Frame, x: i32, y: i32| {
+        let (x, y) = (x.clamp(0, SIZE as i32 - 1), y.clamp(0, SIZE as i32 - 1));
+        f.pixel(x as u32, y as u32) == [1.0; 3]
+    };
+    // The 3x3 lattice points nearest a pixel lie within 1.5 spacings of it.
+    let reach = 3 * SPACING / 2 + 1;
+    let mut uncovered = 0;
+    for y in 0..SIZE as i32 {
+        for x in 0..SIZE as i32 {
+            let deep = (-reach..=reach)
+                .all(|dy| (-reach..=reach).all(|dx| sky(&reference, x + dx, y + dy)));
+            if !deep || sky(before, x, y) {
+                continue;
+            }
+            uncovered += 1;
+            let shown = after.pixel(x as u32, y as u32);
+            assert!(
+                shown.iter().all(|c| (c - 1.0).abs() < 1e-3),
+                "pixel ({x}, {y}) was box, is sky now, shows {shown:?}"
+            );
+        }
+    }
+    assert!(uncovered > 10, "only {uncovered} pixels uncovered");
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// One layer at `spp` with `denoise` iterations of the denoiser.
 fn denoised(spp: u32, denoise: u32) -> FoveationConfig {
     let mut config = FoveationConfig::regular(spp);

@@ -47,6 +47,10 @@ pub fn animated_strip(
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), size.0, size.1);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    // Rendered noise compresses poorly: the best deflate and per-row filters make the
+    // animation about a quarter smaller than the defaults, for a moment's more CPU.
+    enc.set_compression(png::Compression::Best);
+    enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
     enc.set_animated(frames.len() as u32, 0).map_err(encode)?;
     enc.set_frame_delay(delay_ms, 1000).map_err(encode)?;
     let mut writer = enc.write_header().map_err(encode)?;
