@@ -6,6 +6,7 @@ use super::motion::{MotionScript, Sequence};
 use super::motion_images::FRAME_DELAY_MS;
 use super::plots::{per_frame_lines, Series};
 use super::protocol::{flag_value, BenchPlan, EYES};
+use super::report::{header, layers_text, ReportHead};
 use super::rows::MotionRow;
 use super::summary::{utc_now, Device};
 use crate::gpu::DeviceInfo;
@@ -239,30 +240,19 @@ fn fmt(v: f64) -> String {
 pub fn markdown(dir: &Path, script: &MotionScript, s: &MotionSummary) -> String {
     let p = &s.parameters;
     let mut md = String::new();
-    let _ = writeln!(md, "# fovea bench report: motion\n");
-    let _ = writeln!(
-        md,
-        "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
-        s.written_at,
-        s.fovea_version,
-        s.device.name,
-        s.device.kind,
-        s.device.driver,
-        s.device.api_version
+    header(
+        &mut md,
+        &ReportHead {
+            title: "fovea bench report: motion",
+            written_at: &s.written_at,
+            fovea_version: &s.fovea_version,
+            device: &s.device,
+            commands: &s.commands,
+            missing: (!s.complete)
+                .then(|| format!("{} of {} rows measured", s.rows, s.expected_rows)),
+        },
+        dir,
     );
-    for (i, command) in s.commands.iter().enumerate() {
-        let what = if i == 0 { "Command" } else { "Resumed by" };
-        let _ = writeln!(md, "{what}: `{command}`\n");
-    }
-    if !s.complete {
-        let _ = writeln!(
-            md,
-            "**Incomplete run**: {} of {} rows measured. Complete it with `fovea bench --resume {}`.\n",
-            s.rows,
-            s.expected_rows,
-            dir.display()
-        );
-    }
     let _ = writeln!(
         md,
         "Protocol: {} frames at {} Hz ({:.0} ms), both eyes at {}×{} per eye, field of view {}, {} bounces, \
@@ -289,15 +279,7 @@ pub fn markdown(dir: &Path, script: &MotionScript, s: &MotionSummary) -> String 
         std::f64::consts::TAU * script.head_yaw_deg / script.head_period_s,
         script.fixation_ms,
         script.targets_deg,
-        p.foveation
-            .layers
-            .iter()
-            .map(|l| match l.radius_deg {
-                Some(r) => format!("{r}°/{}", l.spacing),
-                None => format!("background/{}", l.spacing),
-            })
-            .collect::<Vec<_>>()
-            .join(", "),
+        layers_text(&p.foveation),
         p.spp,
         2 * p.spp,
         p.reference_spp

@@ -6,7 +6,8 @@ use super::plots::{self, Curve, CurvePoint, DotWhisker, Series};
 use super::protocol::flag_value;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{FrameRow, QualityRow};
-use super::summary::{summarize_run, ModeSummary, SceneSummary, Summary};
+use super::summary::{summarize_run, Device, ModeSummary, SceneSummary, Summary};
+use crate::foveation::FoveationConfig;
 use crate::gpu::DeviceInfo;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -123,6 +124,52 @@ fn write_plots(
     Ok(())
 }
 
+/// What heads every report: its title, when and by which fovea on which device it was
+/// written, the commands that measured, and what is missing from an incomplete run.
+pub struct ReportHead<'a> {
+    pub title: &'a str,
+    pub written_at: &'a str,
+    pub fovea_version: &'a str,
+    pub device: &'a Device,
+    pub commands: &'a [String],
+    /// `Some("N of M rows measured")` for an incomplete run.
+    pub missing: Option<String>,
+}
+
+pub fn header(md: &mut String, head: &ReportHead, dir: &Path) {
+    let d = head.device;
+    let _ = writeln!(md, "# {}\n", head.title);
+    let _ = writeln!(
+        md,
+        "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
+        head.written_at, head.fovea_version, d.name, d.kind, d.driver, d.api_version
+    );
+    for (i, command) in head.commands.iter().enumerate() {
+        let what = if i == 0 { "Command" } else { "Resumed by" };
+        let _ = writeln!(md, "{what}: `{command}`\n");
+    }
+    if let Some(missing) = &head.missing {
+        let _ = writeln!(
+            md,
+            "**Incomplete run**: {missing}. Complete it with `fovea bench --resume {}`.\n",
+            dir.display()
+        );
+    }
+}
+
+/// The layers as the reports name them: radius°/spacing, outermost "background/spacing".
+pub fn layers_text(config: &FoveationConfig) -> String {
+    config
+        .layers
+        .iter()
+        .map(|l| match l.radius_deg {
+            Some(r) => format!("{r}°/{}", l.spacing),
+            None => format!("background/{}", l.spacing),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn fmt_impact(m: &ModeSummary) -> String {
     match m.impact {
         Some(i) if i.max.is_finite() => format!("{:.2} ({:.2}–{:.2})", i.factor, i.min, i.max),
@@ -140,30 +187,23 @@ fn ms(s: Option<super::stats::Summary>) -> String {
 pub fn markdown(dir: &Path, s: &Summary) -> String {
     let p = &s.parameters;
     let mut md = String::new();
-    let _ = writeln!(md, "# fovea bench report\n");
-    let _ = writeln!(
-        md,
-        "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
-        s.written_at,
-        s.fovea_version,
-        s.device.name,
-        s.device.kind,
-        s.device.driver,
-        s.device.api_version
+    header(
+        &mut md,
+        &ReportHead {
+            title: "fovea bench report",
+            written_at: &s.written_at,
+            fovea_version: &s.fovea_version,
+            device: &s.device,
+            commands: &s.commands,
+            missing: (!s.complete).then(|| {
+                format!(
+                    "{} of {} frame rows measured",
+                    s.frame_rows, s.expected_frame_rows
+                )
+            }),
+        },
+        dir,
     );
-    for (i, command) in s.commands.iter().enumerate() {
-        let what = if i == 0 { "Command" } else { "Resumed by" };
-        let _ = writeln!(md, "{what}: `{command}`\n");
-    }
-    if !s.complete {
-        let _ = writeln!(
-            md,
-            "**Incomplete run**: {} of {} frame rows measured. Complete it with `fovea bench --resume {}`.\n",
-            s.frame_rows,
-            s.expected_frame_rows,
-            dir.display()
-        );
-    }
     let _ = writeln!(
         md,
         "Protocol (thesis §3.1): {} frames × {} repeats foveated, {} regular, both eyes at {}×{} per eye, \
@@ -180,15 +220,7 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         p.spp,
         flag_value(&p.integrator),
         p.max_bounces,
-        p.foveation
-            .layers
-            .iter()
-            .map(|l| match l.radius_deg {
-                Some(r) => format!("{r}°/{}", l.spacing),
-                None => format!("background/{}", l.spacing),
-            })
-            .collect::<Vec<_>>()
-            .join(", "),
+        layers_text(&p.foveation),
         p.foveation
             .occlusion_deg
             .map_or("none".to_string(), |d| format!("{d}° (error is measured inside it only)")),
