@@ -90,7 +90,8 @@ pub struct BenchArgs {
     /// saccades (head-and-saccades, the default script) or both stay still (still); each scene
     /// is rendered with the temporal history off, on, and off at twice the spp, every frame
     /// against its own reference, per eccentricity band, with flicker. --frames is the
-    /// sequence's length at 90 Hz (default 100; 45 with --quick).
+    /// sequence's length at 90 Hz (default 100; with --quick 45 frames at 180x200 per eye
+    /// against 128-spp references).
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "head-and-saccades", value_name = "SCRIPT")]
     pub motion: Option<MotionChoice>,
     /// Directory under which each run gets its own bench-results/<UTC time>/.
@@ -138,9 +139,14 @@ impl BenchArgs {
         }
         if let Some(choice) = self.motion {
             plan.motion = Some(choice.script());
-            if self.quick && self.frames.is_none() {
-                // Half a second: two fixations and the saccade between them.
-                plan.frames = 45;
+            if self.quick {
+                // A reference per frame makes a sequence costly on lavapipe: half a second
+                // (two fixations and the saccade between them) at 180x200 with 128-spp
+                // references, about 2 minutes a scene once, seconds once they are cached.
+                plan.frames = self.frames.unwrap_or(45);
+                plan.width = self.width.unwrap_or(180);
+                plan.height = self.height.unwrap_or(200);
+                plan.reference_spp = self.reference_spp.unwrap_or(128);
             }
         }
         if let Some(path) = &self.gaze_trace {
