@@ -18,6 +18,10 @@ pub fn strip_path(dir: &Path, scene: &str) -> PathBuf {
     dir.join("images").join(format!("{scene}.png"))
 }
 
+/// Each frame of the motion animation is shown this long: a 90 Hz sequence at a third of its
+/// speed, slow enough to see a saccade's few frames (browsers stretch delays under 20 ms).
+pub const ANIMATION_FRAME_MS: u16 = 33;
+
 /// Where a scene's motion sequences play side by side with the reference (animated PNG).
 pub fn animation_path(dir: &Path, scene: &str) -> PathBuf {
     dir.join("images").join(format!("{scene}-motion.png"))

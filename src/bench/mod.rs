@@ -4,8 +4,10 @@
 //! JSON, Markdown, SVG/PNG plots and a Perfetto trace.
 //!
 //! One direction: `runner` runs the frames and calls the measuring (`quality`, `images`) and
-//! then the report (`summary`, `report`, `plots`); nothing imports the stage before it. What
-//! they share is below them: `protocol` (the plan), `rows` (what is recorded), `files` (where).
+//! then the report (`summary`, `report`, `plots`); nothing imports the stage before it. A
+//! `--motion` run (`motion` is its script) goes the same way through `motion_run`,
+//! `motion_images` and `motion_report`. What they share is below them: `protocol` (the
+//! plan), `rows` (what is recorded), `files` (where).
 
 pub mod csv_log;
 pub mod error;
@@ -26,5 +28,5 @@ pub mod stats;
 pub mod summary;
 
 pub use error::BenchError;
-pub use protocol::{BenchPlan, Mode};
-pub use runner::{read_plan, run, RunOptions};
+pub use protocol::{BenchPlan, Mode, RunOptions};
+pub use runner::{read_plan, run};

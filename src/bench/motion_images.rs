@@ -3,6 +3,7 @@
 //! stays a file one opens in a browser, with each sequence's gaze marked.
 
 use super::error::BenchError;
+use super::files::ANIMATION_FRAME_MS;
 use super::motion::Sequence;
 use super::plots::{animated_strip, Panel};
 use crate::metrics::magma_rgb8;
@@ -12,9 +13,6 @@ use std::path::Path;
 
 /// Panels are at most this wide: box-filtered down by a whole factor.
 const PANEL_MAX_WIDTH: u32 = 240;
-/// Shown for 33 ms each: a 90 Hz sequence plays at a third of its speed, slow enough to see
-/// a saccade's few frames (browsers stretch delays under 20 ms anyway).
-pub const FRAME_DELAY_MS: u16 = 33;
 
 /// The frames of one scene's animation as they are rendered, in any order.
 pub struct Animation {
@@ -119,7 +117,7 @@ impl Animation {
             }
             all.push(row);
         }
-        animated_strip(path, &all, FRAME_DELAY_MS)?;
+        animated_strip(path, &all, ANIMATION_FRAME_MS)?;
         Ok(true)
     }
 

@@ -1,9 +1,8 @@
 //! A motion run's summary.json, report.md and plots, from its rows (motion.csv) alone.
 
 use super::error::BenchError;
-use super::files::{animation_path, COMMANDS_FILE, MOTION_FILE, PLAN_FILE};
+use super::files::{animation_path, ANIMATION_FRAME_MS, COMMANDS_FILE, MOTION_FILE, PLAN_FILE};
 use super::motion::{MotionScript, Sequence};
-use super::motion_images::FRAME_DELAY_MS;
 use super::plots::{per_frame_lines, Series};
 use super::protocol::{flag_value, BenchPlan, EYES};
 use super::report::{header, layers_text, ReportHead};
@@ -293,7 +292,7 @@ pub fn markdown(dir: &Path, script: &MotionScript, s: &MotionSummary) -> String 
         "`{MOTION_FILE}` (a row per scene, sequence, frame, eye and region), `summary.json` (these means, the \
          device and every parameter), `{PLAN_FILE}` (`fovea bench --resume DIR` completes an interrupted run; \
          a sequence is its unit), `{COMMANDS_FILE}`, `plots/` (error and flicker per frame, per region), \
-         `images/*-motion.png` (animated PNG, the left eye, {FRAME_DELAY_MS} ms a frame: a third of real time)."
+         `images/*-motion.png` (animated PNG, the left eye, {ANIMATION_FRAME_MS} ms a frame: a third of real time)."
     );
     md
 }

@@ -292,6 +292,16 @@ impl BenchPlan {
     }
 }
 
+/// How a run is carried out, beside what it measures (not in plan.json).
+pub struct RunOptions {
+    /// Where converged references are cached, shared between runs.
+    pub reference_cache: std::path::PathBuf,
+    /// Abort the process, as a kill would, after this many measured frames (tests resume).
+    pub abort_after_frames: Option<u64>,
+    /// The command line, recorded in summary.json.
+    pub command_line: String,
+}
+
 /// A value as its command-line spelling (the serde name, e.g. "vive-pro-eye").
 pub fn flag_value<T: serde::Serialize>(v: &T) -> String {
     serde_json::to_value(v)

@@ -7,7 +7,7 @@ use super::csv_log::CsvLog;
 use super::error::BenchError;
 use super::files::{strip_path, COMMANDS_FILE, FRAMES_FILE, PLAN_FILE, QUALITY_FILE, TRACE_FILE};
 use super::perfetto::TraceWriter;
-use super::protocol::{BenchPlan, FrameKey, Mode, EYES};
+use super::protocol::{BenchPlan, FrameKey, Mode, RunOptions, EYES};
 use super::quality::{self, Point};
 use super::rows::{FrameRow, QualityRow};
 use super::{images, report};
@@ -17,18 +17,9 @@ use crate::render::{eye_views, DebugView, EyeView, FrameRequest, Renderer};
 use crate::scene::{self, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::{BTreeMap, HashMap, HashSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
-
-pub struct RunOptions {
-    /// Where converged references are cached, shared between runs.
-    pub reference_cache: PathBuf,
-    /// Abort the process, as a kill would, after this many measured frames (tests resume).
-    pub abort_after_frames: Option<u64>,
-    /// The command line, recorded in summary.json.
-    pub command_line: String,
-}
 
 /// Reads the plan of an existing results directory (for `--resume`).
 pub fn read_plan(dir: &Path) -> Result<BenchPlan, BenchError> {
