@@ -7,7 +7,7 @@ use super::plots::{per_frame_lines, Series};
 use super::protocol::{flag_value, BenchPlan, EYES};
 use super::report::{header, layers_text, ReportHead};
 use super::rows::MotionRow;
-use super::summary::{utc_now, Device};
+use super::summary::{mean, utc_now, Device};
 use crate::gpu::DeviceInfo;
 use crate::metrics::BANDS;
 use serde::Serialize;
@@ -56,15 +56,6 @@ pub struct RegionSummary {
     pub rel_mse_settled: f64,
     /// Over frames 1 onwards (frame 0 has no frame before it).
     pub flicker: f64,
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = values.fold((0.0, 0u32), |(s, n), v| (s + v, n + 1));
-    if n == 0 {
-        f64::NAN
-    } else {
-        sum / n as f64
-    }
 }
 
 /// Regions in reading order: the whole image, then the bands outward.
