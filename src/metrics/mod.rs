@@ -10,6 +10,7 @@ pub mod bands;
 pub mod error;
 pub mod flicker;
 pub mod flip;
+pub mod jod;
 
 pub use bands::{band_errors, band_masks, eccentricity_deg, Band, BandError, BANDS, BANDS_DEG};
 pub use error::{image_error, ImageError};

@@ -1,0 +1,311 @@
+//! FovVideoVDP's JOD score (Mantiuk et al. 2021): how a foveated viewer judges an image or a
+//! video against its reference, 10 = indistinguishable. The metric is pyfvvdp, a peer tool
+//! like Mitsuba: `tools/setup-fvvdp.sh` makes a venv with it, and [`Fvvdp`] runs
+//! `tools/fvvdp/jod_server.py` (built into the binary) with that venv's Python, once per run,
+//! speaking one JSON line per request. Images travel as raw float files in a private
+//! temporary directory.
+//!
+//! What fovea hands the metric is what the headset shows: the linear image clamped to [0, 1]
+//! and sRGB-encoded, on the HTC Vive Pro's display photometry (pyfvvdp's `htc_vive_pro`:
+//! 133 cd/m² peak, 0.1 black), at the eye image's own resolution and horizontal field of
+//! view, foveated around the gaze pixel.
+
+use crate::foveation::ImageGeometry;
+use crate::render::output::linear_to_srgb;
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+/// The venv `tools/setup-fvvdp.sh` makes, at the repository root.
+pub const VENV_DIR: &str = ".venv-fvvdp";
+/// Overrides where the venv is looked for.
+pub const VENV_ENV: &str = "FOVEA_FVVDP_VENV";
+/// pyfvvdp's display model whose photometry the metric uses.
+pub const DISPLAY: &str = "htc_vive_pro";
+/// The best score: the test cannot be told from the reference.
+pub const JOD_MAX: f64 = 10.0;
+
+const SERVER: &str = include_str!("../../tools/fvvdp/jod_server.py");
+const HOW_TO_GET_IT: &str = "run `bash tools/setup-fvvdp.sh` in fovea's repository (it makes \
+     .venv-fvvdp/ with pyfvvdp from the Python package index), or set FOVEA_FVVDP_VENV to a \
+     venv that has pyfvvdp";
+
+/// Why no JOD score came back.
+#[derive(Debug, thiserror::Error)]
+pub enum JodError {
+    #[error("FovVideoVDP's venv not found (looked for {}); {HOW_TO_GET_IT}", searched.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "))]
+    NotFound { searched: Vec<PathBuf> },
+    #[error("cannot start FovVideoVDP with {}: {source}; {HOW_TO_GET_IT}", python.display())]
+    Start {
+        python: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("FovVideoVDP ({}) failed: {message}{}; if the venv is broken, delete it and {HOW_TO_GET_IT}", python.display(), stderr_tail(stderr))]
+    Server {
+        python: PathBuf,
+        message: String,
+        stderr: String,
+    },
+    #[error("FovVideoVDP's input file {}: {source}", path.display())]
+    File {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("FovVideoVDP input: {0}")]
+    Input(String),
+}
+
+fn stderr_tail(stderr: &str) -> String {
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    match lines.len() {
+        0 => String::new(),
+        n => format!(
+            " (its last words: {})",
+            lines[n.saturating_sub(3)..].join(" | ")
+        ),
+    }
+}
+
+/// The venv's Python: `$FOVEA_FVVDP_VENV`, else `.venv-fvvdp` in the working directory or one
+/// above it, or above fovea's executable (`target/release/fovea` inside the repository).
+pub fn locate_python() -> Result<PathBuf, JodError> {
+    let mut roots: Vec<PathBuf> = Vec::new();
+    if let Some(venv) = std::env::var_os(VENV_ENV) {
+        roots.push(PathBuf::from(venv));
+    } else {
+        let starts = [
+            std::env::current_dir().ok(),
+            std::env::current_exe()
+                .ok()
+                .and_then(|e| e.parent().map(Path::to_path_buf)),
+        ];
+        for start in starts.into_iter().flatten() {
+            roots.extend(start.ancestors().map(|a| a.join(VENV_DIR)));
+        }
+    }
+    let pythons = |root: &PathBuf| [root.join("bin/python"), root.join("Scripts/python.exe")];
+    roots
+        .iter()
+        .flat_map(pythons)
+        .find(|p| p.is_file())
+        .ok_or(JodError::NotFound { searched: roots })
+}
+
+/// The horizontal field of view, in degrees, of a symmetric image with `image`'s pixel size at
+/// its axis: what pyfvvdp's display geometry takes (it assumes a centred, square-pixel view).
+pub fn fov_horizontal_deg(image: &ImageGeometry) -> f64 {
+    (2.0 * ((image.tan_right - image.tan_left) / 2.0).atan()).to_degrees()
+}
+
+/// One comparison: `frames` images of `image`'s size, each linear RGB (3 floats a pixel),
+/// with the gaze pixel of each frame.
+pub struct JodInput<'a> {
+    pub test: &'a [Vec<f32>],
+    pub reference: &'a [Vec<f32>],
+    pub image: &'a ImageGeometry,
+    pub fixation: &'a [[f64; 2]],
+    /// Frames per second of a video (ignored for one frame).
+    pub fps: f64,
+}
+
+/// A running FovVideoVDP: start once, score many.
+pub struct Fvvdp {
+    python: PathBuf,
+    child: Child,
+    stdin: ChildStdin,
+    stdout: BufReader<ChildStdout>,
+    dir: PathBuf,
+    /// torch's version, as the server reported it.
+    pub torch: String,
+}
+
+impl Fvvdp {
+    /// Finds the venv ([`locate_python`]) and starts the metric.
+    pub fn start() -> Result<Self, JodError> {
+        let python = locate_python()?;
+        static RUNS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("fovea-jod-{}-{run}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|source| JodError::File {
+            path: dir.clone(),
+            source,
+        })?;
+        let stderr_path = dir.join("stderr.txt");
+        let stderr = std::fs::File::create(&stderr_path).map_err(|source| JodError::File {
+            path: stderr_path,
+            source,
+        })?;
+        let mut child = Command::new(&python)
+            .args(["-u", "-c", SERVER])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(stderr)
+            .spawn()
+            .map_err(|source| JodError::Start {
+                python: python.clone(),
+                source,
+            })?;
+        let (stdin, stdout) = match (child.stdin.take(), child.stdout.take()) {
+            (Some(i), Some(o)) => (i, BufReader::new(o)),
+            _ => unreachable!("both pipes were asked for"),
+        };
+        let mut metric = Self {
+            python,
+            child,
+            stdin,
+            stdout,
+            dir,
+            torch: String::new(),
+        };
+        let hello = metric.answer()?;
+        metric.torch = hello["torch"].as_str().unwrap_or("?").to_string();
+        Ok(metric)
+    }
+
+    /// The JOD of one image against its reference, foveated at `fixation`.
+    pub fn image(
+        &mut self,
+        test: &[f32],
+        reference: &[f32],
+        image: &ImageGeometry,
+        fixation: [f64; 2],
+    ) -> Result<f64, JodError> {
+        self.score(&JodInput {
+            test: &[test.to_vec()],
+            reference: &[reference.to_vec()],
+            image,
+            fixation: &[fixation],
+            fps: 0.0,
+        })
+    }
+
+    /// The JOD of an image or a video (FovVideoVDP's temporal channels see flicker).
+    pub fn score(&mut self, input: &JodInput) -> Result<f64, JodError> {
+        let frames = input.test.len();
+        let (w, h) = (input.image.width, input.image.height);
+        let need = w as usize * h as usize * 3;
+        if frames == 0 || input.reference.len() != frames || input.fixation.len() != frames {
+            return Err(JodError::Input(format!(
+                "{frames} test frames, {} reference frames and {} fixations; give the same \
+                 number (at least one) of each",
+                input.reference.len(),
+                input.fixation.len()
+            )));
+        }
+        if let Some(bad) = input
+            .test
+            .iter()
+            .chain(input.reference)
+            .find(|f| f.len() != need)
+        {
+            return Err(JodError::Input(format!(
+                "a frame has {} floats, a {w}x{h} RGB image needs {need}",
+                bad.len()
+            )));
+        }
+        if input.fixation.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(JodError::Input(
+                "a fixation is not a finite pixel position".into(),
+            ));
+        }
+        let test = self.dir.join("test.f32");
+        let reference = self.dir.join("reference.f32");
+        write_display_encoded(&test, input.test)?;
+        write_display_encoded(&reference, input.reference)?;
+        let request = serde_json::json!({
+            "width": w,
+            "height": h,
+            "frames": frames,
+            "fps": if frames > 1 { input.fps } else { 0.0 },
+            "test": test,
+            "reference": reference,
+            "fixation": input.fixation,
+            "display": DISPLAY,
+            "fov_horizontal_deg": fov_horizontal_deg(input.image),
+        });
+        let line = format!("{request}\n");
+        if let Err(e) = self.stdin.write_all(line.as_bytes()) {
+            return Err(self.failed(format!("it stopped reading requests ({e})")));
+        }
+        let answer = self.answer()?;
+        answer["jod"]
+            .as_f64()
+            .ok_or_else(|| self.failed(format!("answer without a score: {answer}")))
+    }
+
+    /// The next answer line; an `error` in it, or no line at all, is an error.
+    fn answer(&mut self) -> Result<serde_json::Value, JodError> {
+        let mut line = String::new();
+        match self.stdout.read_line(&mut line) {
+            Ok(0) | Err(_) => return Err(self.failed("it exited".into())),
+            Ok(_) => {}
+        }
+        let value: serde_json::Value = serde_json::from_str(&line)
+            .map_err(|e| self.failed(format!("unreadable answer {line:?} ({e})")))?;
+        match value["error"].as_str() {
+            Some(message) => Err(self.failed(message.to_string())),
+            None => Ok(value),
+        }
+    }
+
+    fn failed(&mut self, message: String) -> JodError {
+        if message == "it exited" {
+            // Its exit status and last words tell more than the closed pipe.
+            let _ = self.child.wait();
+        }
+        JodError::Server {
+            python: self.python.clone(),
+            message,
+            stderr: std::fs::read_to_string(self.dir.join("stderr.txt")).unwrap_or_default(),
+        }
+    }
+}
+
+impl Drop for Fvvdp {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// Frames as the display shows them (sRGB-encoded, clamped), little-endian f32, one after
+/// the other.
+fn write_display_encoded(path: &Path, frames: &[Vec<f32>]) -> Result<(), JodError> {
+    let bytes: Vec<u8> = frames
+        .iter()
+        .flatten()
+        .flat_map(|&v| linear_to_srgb(v).to_le_bytes())
+        .collect();
+    std::fs::write(path, bytes).map_err(|source| JodError::File {
+        path: path.into(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_symmetric_field_of_view_is_passed_as_it_is() {
+        let fov = crate::foveation::view::EyeFov {
+            left: (-45f32).to_radians(),
+            right: 45f32.to_radians(),
+            up: 45f32.to_radians(),
+            down: (-45f32).to_radians(),
+        };
+        let image = ImageGeometry::new(100, 100, fov);
+        assert!((fov_horizontal_deg(&image) - 90.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_missing_venv_says_how_to_make_one() {
+        let e = JodError::NotFound {
+            searched: vec![PathBuf::from("/x/.venv-fvvdp")],
+        };
+        let msg = e.to_string();
+        assert!(msg.contains("/x/.venv-fvvdp"), "{msg}");
+        assert!(msg.contains("tools/setup-fvvdp.sh"), "{msg}");
+    }
+}

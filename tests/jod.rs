@@ -1,0 +1,149 @@
+//! The perceptual metric is wired right: FovVideoVDP (through `tools/setup-fvvdp.sh`'s venv,
+//! as bench and tune call it) scores an image against itself 10 JOD, scores lower the more
+//! noise is added, sees flicker in a video, and a missing venv gets a message that says how
+//! to make one.
+
+use fovea::foveation::{EyeFov, ImageGeometry};
+use fovea::metrics::jod::{Fvvdp, JodInput, JOD_MAX};
+
+const W: u32 = 96;
+const H: u32 = 108;
+
+fn geometry() -> ImageGeometry {
+    ImageGeometry::new(W, H, EyeFov::VIVE_PRO_EYE_LEFT)
+}
+
+/// A test picture with edges, gradients and texture at several scales, linear RGB.
+fn picture() -> Vec<f32> {
+    let mut rgb = Vec::new();
+    for y in 0..H {
+        for x in 0..W {
+            let checker = if (x / 12 + y / 12) % 2 == 0 {
+                0.6
+            } else {
+                0.15
+            };
+            let ramp = x as f32 / W as f32;
+            let wave = 0.5 + 0.5 * ((x as f32 * 0.7).sin() * (y as f32 * 0.4).cos());
+            rgb.extend([
+                checker * (0.5 + 0.5 * ramp),
+                0.3 * wave + 0.1,
+                0.25 + 0.5 * ramp,
+            ]);
+        }
+    }
+    rgb
+}
+
+/// Deterministic Gaussian-ish noise (sum of uniforms) of standard deviation `sigma`.
+fn noisy(rgb: &[f32], sigma: f32, seed: u64) -> Vec<f32> {
+    let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    rgb.iter()
+        .map(|&v| {
+            let n: f32 = (0..4).map(|_| uniform()).sum::<f32>() - 2.0;
+            v + sigma * n * 3f32.sqrt()
+        })
+        .collect()
+}
+
+fn centre() -> [f64; 2] {
+    [W as f64 / 2.0, H as f64 / 2.0]
+}
+
+#[test]
+fn an_image_against_itself_scores_ten_and_noise_lowers_the_score() {
+    let mut metric = Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
+    let reference = picture();
+    let image = geometry();
+    let same = metric
+        .image(&reference, &reference, &image, centre())
+        .unwrap();
+    assert!((same - JOD_MAX).abs() <= 0.01, "self JOD {same}");
+
+    let sigmas = [0.003, 0.01, 0.03, 0.1, 0.3];
+    let scores: Vec<f64> = sigmas
+        .iter()
+        .map(|&s| {
+            let test = noisy(&reference, s, 7);
+            metric.image(&test, &reference, &image, centre()).unwrap()
+        })
+        .collect();
+    for (pair, s) in scores.windows(2).zip(sigmas.windows(2)) {
+        assert!(
+            pair[1] < pair[0],
+            "noise {s:?} scored {pair:?}: all {scores:?}"
+        );
+    }
+    assert!(scores[0] < JOD_MAX, "{scores:?}");
+    assert!(scores[4] < 8.0, "strong noise scored {scores:?}");
+}
+
+#[test]
+fn the_gaze_matters_and_a_video_sees_flicker() {
+    let mut metric = Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
+    let reference = picture();
+    let image = geometry();
+    // Noise only in the left third: judged worse looking at it than looking away.
+    let mut test = reference.clone();
+    let noise = noisy(&reference, 0.05, 3);
+    for y in 0..H as usize {
+        for x in 0..(W / 3) as usize {
+            let i = 3 * (y * W as usize + x);
+            test[i..i + 3].copy_from_slice(&noise[i..i + 3]);
+        }
+    }
+    let at = metric
+        .image(&test, &reference, &image, [10.0, 54.0])
+        .unwrap();
+    let away = metric
+        .image(&test, &reference, &image, [90.0, 54.0])
+        .unwrap();
+    assert!(at < away, "looking at the noise {at}, away {away}");
+
+    // Eight frames: the same noise every frame (a still error) against fresh noise each
+    // frame (the same error per frame, flickering).
+    let frames = 8;
+    let refs = vec![reference.clone(); frames];
+    let still = vec![noisy(&reference, 0.03, 11); frames];
+    let flicker: Vec<Vec<f32>> = (0..frames)
+        .map(|k| noisy(&reference, 0.03, 11 + k as u64))
+        .collect();
+    let video = |metric: &mut Fvvdp, test: &[Vec<f32>]| {
+        metric
+            .score(&JodInput {
+                test,
+                reference: &refs,
+                image: &image,
+                fixation: &vec![centre(); frames],
+                fps: 90.0,
+            })
+            .unwrap()
+    };
+    let (still, flicker) = (video(&mut metric, &still), video(&mut metric, &flicker));
+    assert!(flicker < still, "flickering {flicker}, still {still}");
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_score() {
+    let mut metric = Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
+    let image = geometry();
+    let e = metric
+        .image(&[0.5; 12], &picture(), &image, centre())
+        .unwrap_err();
+    assert!(e.to_string().contains("needs"), "{e}");
+    let e = metric
+        .image(&picture(), &picture(), &image, [f64::NAN, 1.0])
+        .unwrap_err();
+    assert!(e.to_string().contains("fixation"), "{e}");
+    // The metric still answers after rejected input.
+    let same = metric
+        .image(&picture(), &picture(), &image, centre())
+        .unwrap();
+    assert!((same - JOD_MAX).abs() <= 0.01);
+}
