@@ -9,5 +9,6 @@ pub mod gpu;
 pub mod metrics;
 pub mod render;
 pub mod scene;
+pub mod tune;
 pub mod viewer;
 pub mod xr;

@@ -1,6 +1,6 @@
 //! The `fovea` command line: `render` one frame (mono or stereo, regular or foveated), `bench`
 //! the thesis' evaluation, `check` the numerics, `view` in a window, `xr` in a headset, list
-//! `scenes`. Each command lives in commands/.
+//! `scenes`, `tune` the foveation layers. Each command lives in commands/.
 
 mod commands;
 
@@ -34,6 +34,9 @@ enum Command {
     /// An OpenXR headset session (SteamVR, Vive Pro Eye): the eye tracker moves each eye's
     /// foveation; --simulated runs it on the built-in simulated headset.
     Xr(Box<commands::xr::XrArgs>),
+    /// Search foveation layers for the best perceptual quality (FovVideoVDP JOD) within a GPU
+    /// time budget; writes the winner as a foveation TOML and the Pareto front (CSV, plot).
+    Tune(Box<commands::tune::TuneArgs>),
 }
 
 fn main() {
@@ -57,6 +60,7 @@ fn main() {
         Command::Scenes => commands::scenes::run(),
         Command::View(args) => commands::view::run(args),
         Command::Xr(args) => commands::xr::run(args),
+        Command::Tune(args) => commands::tune::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

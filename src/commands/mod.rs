@@ -6,6 +6,7 @@ pub mod render;
 pub mod render_bench;
 pub mod render_sequence;
 pub mod scenes;
+pub mod tune;
 pub mod view;
 pub mod xr;
 

@@ -16,6 +16,7 @@
 //! "sans-serif", so PNGs do not depend on system fonts.
 
 mod figures;
+mod jod_fig;
 mod strip;
 #[cfg(test)]
 mod tests;
@@ -29,6 +30,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{register_font, FontStyle};
 
 use figures::{DotsFig, ErrorFig, LinesFig};
+use jod_fig::JodFig;
 pub use strip::{animated_strip, image_strip};
 
 /// Pixel size of every chart.
@@ -198,6 +200,26 @@ pub fn error_vs_time(
             curves,
         },
     )
+}
+
+/// What [`jod_vs_time`] draws.
+pub struct JodChart<'a> {
+    pub title: &'a str,
+    /// Lines through labelled points (`spp` written beside each, none when 0); `error` is
+    /// the JOD. The label's first word picks the colour as in [`error_vs_time`].
+    pub curves: &'a [Curve],
+    /// Other measured points, (ms, JOD), drawn as grey dots.
+    pub scatter: &'a [(f64, f64)],
+    /// A vertical line at this GPU time.
+    pub budget_ms: Option<f64>,
+    /// A point to ring, (ms, JOD).
+    pub chosen: Option<(f64, f64)>,
+}
+
+/// Perceptual quality against run time: x = GPU ms, y = JOD, both linear. Returns the
+/// files written.
+pub fn jod_vs_time(stem: &Path, chart: &JodChart) -> Result<Vec<PathBuf>, PlotError> {
+    write_both(stem, &JodFig(chart))
 }
 
 /// Registers DejaVu Sans as "sans-serif" once per process.

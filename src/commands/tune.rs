@@ -1,0 +1,146 @@
+//! `fovea tune`: picks the foveation layers with the best perceptual quality (FovVideoVDP)
+//! within a GPU time budget, and writes them as a foveation TOML beside the Pareto front.
+
+use super::{check_validation, gpu_context, GpuArgs};
+use anyhow::Result;
+use clap::{Args, ValueEnum};
+use fovea::render::{FovChoice, Integrator, Traversal};
+use fovea::tune::files::TuneFiles;
+use fovea::tune::run::TuneOptions;
+use fovea::tune::space::Space;
+use fovea::tune::{self, Budget, TunePlan};
+use std::path::PathBuf;
+
+/// Which grid the search draws configs from.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SpaceChoice {
+    /// Up to 3 layers and a background: radii 3-40 deg, spacings 1-6, 1-8 spp, 0-3 denoiser
+    /// iterations.
+    Standard,
+    /// One layer and a background, radii 6/15 deg, spacings 1/2/4, 1-2 spp, no denoiser.
+    Small,
+}
+
+#[derive(Args)]
+pub struct TuneArgs {
+    /// Scene(s) to judge configs on, comma-separated (JOD is averaged, the budget must hold
+    /// on the slowest).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub scene: Vec<String>,
+    /// One eye's field of view.
+    #[arg(long, value_enum, default_value_t = FovChoice::ViveProEye)]
+    pub fov: FovChoice,
+    /// One eye's image size.
+    #[arg(long, default_value_t = 1440)]
+    pub width: u32,
+    #[arg(long, default_value_t = 1600)]
+    pub height: u32,
+    /// GPU milliseconds one eye's frame may take (median of the timed frames).
+    #[arg(
+        long,
+        required_unless_present = "budget_of_regular",
+        conflicts_with = "budget_of_regular"
+    )]
+    pub budget_ms: Option<f64>,
+    /// The budget is whatever regular rendering at this spp takes, measured in the same run
+    /// (robust to a machine's speed).
+    #[arg(long, value_name = "SPP")]
+    pub budget_of_regular: Option<u32>,
+    /// Where the chosen config goes; FILE-candidates.csv, FILE-front.csv, FILE-front.svg/.png
+    /// and FILE-tune.json are written beside it. Running again with the same flags resumes.
+    #[arg(long, value_name = "FILE.toml")]
+    pub out: PathBuf,
+    /// Configs to measure, the baselines (regular and the thesis' layers at each spp) included.
+    #[arg(long, default_value_t = 48)]
+    pub candidates: u32,
+    #[arg(long, value_enum, default_value_t = SpaceChoice::Standard)]
+    pub space: SpaceChoice,
+    /// Seeds the search: the same seed draws the same configs.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Timed frames per gaze after the judged one.
+    #[arg(long, default_value_t = 3)]
+    pub frames: u32,
+    /// Samples per pixel of the converged reference.
+    #[arg(long, default_value_t = 256)]
+    pub reference_spp: u32,
+    #[arg(long, value_enum, default_value_t = Integrator::Pt)]
+    pub integrator: Integrator,
+    #[arg(long, default_value_t = 8)]
+    pub max_bounces: u32,
+    /// Where converged references are cached (default: beside --out, in references/).
+    #[arg(long)]
+    pub reference_cache: Option<PathBuf>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+pub fn run(args: &TuneArgs) -> Result<()> {
+    let ctx = gpu_context(&args.gpu)?;
+    let space = match args.space {
+        SpaceChoice::Standard => Space::standard(),
+        SpaceChoice::Small => Space::small(),
+    };
+    let plan = TunePlan {
+        scenes: args.scene.clone(),
+        width: args.width,
+        height: args.height,
+        fov: args.fov,
+        budget: match (args.budget_ms, args.budget_of_regular) {
+            (_, Some(spp)) => Budget::Regular(spp),
+            (Some(ms), None) => Budget::Ms(ms),
+            (None, None) => unreachable!("clap requires one of the two"),
+        },
+        candidates: args.candidates,
+        seed: args.seed,
+        frames: args.frames,
+        reference_spp: args.reference_spp,
+        integrator: args.integrator,
+        max_bounces: args.max_bounces,
+        traversal: Traversal::preferred(&ctx),
+        space,
+    };
+    let files = TuneFiles::new(&args.out);
+    let cache = args.reference_cache.clone().unwrap_or_else(|| {
+        (args.out.parent())
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("references"), |p| p.join("references"))
+    });
+    println!(
+        "fovea tune: {} configs on {} at {}x{} per eye, {} on {}",
+        plan.candidates,
+        plan.scenes.join(", "),
+        plan.width,
+        plan.height,
+        match plan.budget {
+            Budget::Ms(ms) => format!("budget {ms} ms"),
+            Budget::Regular(spp) => format!("budget = regular {spp} spp's time"),
+        },
+        ctx.info.name
+    );
+    let outcome = tune::run(
+        &ctx,
+        &plan,
+        &files,
+        &TuneOptions {
+            reference_cache: cache,
+            command_line: std::env::args().collect::<Vec<_>>().join(" "),
+        },
+    )?;
+    check_validation(&ctx)?;
+    let c = &outcome.chosen;
+    println!(
+        "chosen: {} — JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms per eye (budget {:.2} ms)",
+        c.config, c.jod, c.jod_forward, c.jod_off_axis, c.jod_corner, c.gpu_ms, outcome.budget_ms
+    );
+    println!(
+        "wrote {} (the front: {} of {} configs in {}, plot {}.svg/.png; every config in {})",
+        files.config.display(),
+        outcome.front.len(),
+        outcome.rows.len(),
+        files.front.display(),
+        files.plot.display(),
+        files.candidates.display()
+    );
+    Ok(())
+}

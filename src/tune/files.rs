@@ -1,0 +1,132 @@
+//! What a tune run writes, beside `--out FILE.toml` (the chosen config): `FILE-candidates.csv`
+//! (every measured config, appended as measured: the run's memory when it resumes),
+//! `FILE-front.csv` (the Pareto front, fastest first), `FILE-front.svg`/`.png` (JOD against
+//! GPU ms) and `FILE-tune.json` (the plan).
+
+use super::plan::TuneGaze;
+use crate::foveation::FoveationConfig;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// One measured config: a row of `-candidates.csv` and `-front.csv`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateRow {
+    /// Its place in the search (the same seed gives the same sequence).
+    pub index: u32,
+    /// "baseline", "random", or "mutation of N".
+    pub origin: String,
+    /// `space::describe`: each layer as RADIUS:SPACINGxSPP, dN for denoising.
+    pub config: String,
+    /// One eye's GPU ms: median over the timed frames of every gaze, slowest scene.
+    pub gpu_ms: f64,
+    /// FovVideoVDP JOD: mean over scenes and gazes; then per gaze (mean over scenes).
+    pub jod: f64,
+    pub jod_forward: f64,
+    pub jod_off_axis: f64,
+    pub jod_corner: f64,
+    /// Camera paths traced per visible pixel (forward gaze, first scene): the rays' share.
+    pub paths_per_pixel: f64,
+    /// The config itself, as JSON.
+    pub config_json: String,
+}
+
+impl CandidateRow {
+    pub fn jod_at(&self, gaze: TuneGaze) -> f64 {
+        match gaze {
+            TuneGaze::Forward => self.jod_forward,
+            TuneGaze::OffAxis => self.jod_off_axis,
+            TuneGaze::Corner => self.jod_corner,
+        }
+    }
+
+    pub fn foveation(&self) -> Result<FoveationConfig, String> {
+        serde_json::from_str(&self.config_json)
+            .map_err(|e| format!("candidate {} has an unreadable config ({e})", self.index))
+    }
+}
+
+impl super::front::Measured for CandidateRow {
+    fn ms(&self) -> f64 {
+        self.gpu_ms
+    }
+    fn jod(&self) -> f64 {
+        self.jod
+    }
+}
+
+/// The files of a run whose chosen config goes to `out`.
+pub struct TuneFiles {
+    pub config: PathBuf,
+    pub candidates: PathBuf,
+    pub front: PathBuf,
+    /// Stem of the plot (`.svg` and `.png` are appended).
+    pub plot: PathBuf,
+    pub plan: PathBuf,
+}
+
+impl TuneFiles {
+    pub fn new(out: &Path) -> Self {
+        let stem = out.with_extension("");
+        let with = |suffix: &str| {
+            let mut s = stem.as_os_str().to_owned();
+            s.push(suffix);
+            PathBuf::from(s)
+        };
+        Self {
+            config: out.to_path_buf(),
+            candidates: with("-candidates.csv"),
+            front: with("-front.csv"),
+            plot: with("-front"),
+            plan: with("-tune.json"),
+        }
+    }
+}
+
+/// The chosen config as a foveation TOML with a header saying how it was chosen.
+pub fn config_toml(config: &FoveationConfig, header: &[String]) -> String {
+    let mut text: String = header.iter().map(|l| format!("# {l}\n")).collect();
+    text.push('\n');
+    text.push_str(&config.to_toml());
+    text
+}
+
+/// Writes `rows` as a CSV file (whole, replacing what was there).
+pub fn write_rows(path: &Path, rows: &[&CandidateRow]) -> Result<(), String> {
+    let mut writer =
+        csv::Writer::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    for row in rows {
+        writer
+            .serialize(row)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    writer
+        .flush()
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn files_sit_beside_the_chosen_config() {
+        let f = TuneFiles::new(Path::new("out/vive-90hz.toml"));
+        assert_eq!(f.candidates, Path::new("out/vive-90hz-candidates.csv"));
+        assert_eq!(f.front, Path::new("out/vive-90hz-front.csv"));
+        assert_eq!(f.plot, Path::new("out/vive-90hz-front"));
+        assert_eq!(f.plan, Path::new("out/vive-90hz-tune.json"));
+    }
+
+    #[test]
+    fn the_written_config_reads_back() {
+        let config = FoveationConfig::thesis().with_spp(2);
+        let text = config_toml(&config, &["tuned by a test".into(), "JOD 9".into()]);
+        assert!(text.starts_with("# tuned by a test\n# JOD 9\n"), "{text}");
+        let dir = std::env::temp_dir().join(format!("fovea-tune-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.toml");
+        std::fs::write(&path, text).unwrap();
+        assert_eq!(FoveationConfig::load(&path).unwrap(), config);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,180 @@
+//! Judging one config: per scene and gaze, a first frame (no history: what the eye sees when
+//! it lands somewhere new) scored by FovVideoVDP against the scene's converged reference,
+//! then the timed frames whose median GPU time is the config's cost.
+
+use super::plan::{TuneGaze, TunePlan};
+use super::TuneError;
+use crate::bench::{quality, BenchPlan};
+use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
+use crate::gpu::GpuContext;
+use crate::metrics::jod::Fvvdp;
+use crate::render::{
+    eye_views, DebugView, EyeView, FrameRequest, RenderSettings, Renderer, TemporalSettings,
+};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The seed of the judged frames (the reference takes seeds far from it).
+const RENDER_SEED: u32 = 1;
+
+/// One scene, ready to judge configs on.
+pub struct SceneJudge {
+    pub name: String,
+    renderer: Renderer,
+    /// One eye per gaze of [`TuneGaze::ALL`].
+    eyes: Vec<EyeView>,
+    image: ImageGeometry,
+    reference: Vec<f32>,
+    /// Pixels the lens shows (the space's occlusion mask); the rest is black in both images.
+    visible: Vec<bool>,
+}
+
+/// What one config measured on one scene.
+pub struct SceneScore {
+    /// Per gaze of [`TuneGaze::ALL`].
+    pub jod: Vec<f64>,
+    pub median_ms: f64,
+    pub paths_per_pixel: f64,
+}
+
+/// The bench's plan for the same image, which the reference is rendered from.
+fn reference_plan(plan: &TunePlan) -> BenchPlan {
+    BenchPlan {
+        scenes: plan.scenes.clone(),
+        width: plan.width,
+        height: plan.height,
+        fov: plan.fov,
+        reference_spp: plan.reference_spp,
+        integrator: plan.integrator,
+        max_bounces: plan.max_bounces,
+        seed: RENDER_SEED,
+        traversal: plan.traversal,
+        ..BenchPlan::quick()
+    }
+}
+
+impl SceneJudge {
+    /// Loads `name`, and its reference (from `cache`, or rendered into it).
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        plan: &TunePlan,
+        name: &str,
+        cache: &Path,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<Self, TuneError> {
+        let scene = crate::scene::load(name, plan.width as f32 / plan.height as f32)
+            .map_err(crate::bench::BenchError::from)?;
+        let mut renderer = Renderer::new(ctx, &scene).map_err(TuneError::render(name))?;
+        renderer
+            .set_traversal(plan.traversal)
+            .map_err(TuneError::render(name))?;
+        let forward = GazeChoice {
+            left: Gaze::Forward,
+            right: Gaze::Forward,
+        };
+        let aspect = plan.width as f32 / plan.height as f32;
+        let mono = eye_views(&scene.camera, aspect, plan.fov, false, forward)[0];
+        let image = mono.image(plan.width, plan.height);
+        let eyes: Vec<EyeView> = TuneGaze::ALL
+            .iter()
+            .map(|g| EyeView {
+                gaze: g.gaze(&image),
+                ..mono
+            })
+            .collect();
+        let bench = reference_plan(plan);
+        let fov = crate::bench::protocol::flag_value(&plan.fov);
+        let integrator = crate::bench::protocol::flag_value(&plan.integrator);
+        let path = cache.join(format!(
+            "{name}-{}x{}-mono-{fov}-{integrator}-b{}-seed{RENDER_SEED}-{}spp.exr",
+            plan.width, plan.height, plan.max_bounces, plan.reference_spp
+        ));
+        let reference =
+            quality::reference_image(&mut renderer, &bench, name, &eyes[..1], &path, progress)?;
+        let visible = match plan.space.occlusion_deg {
+            Some(deg) => crate::metrics::eccentricity_deg(&image, image.axis_pixel())
+                .iter()
+                .map(|&e| e <= deg)
+                .collect(),
+            None => vec![true; (plan.width * plan.height) as usize],
+        };
+        Ok(Self {
+            name: name.to_string(),
+            renderer,
+            eyes,
+            image,
+            reference: masked(reference, &visible),
+            visible,
+        })
+    }
+
+    /// Scores `config` at every gaze and times it.
+    pub fn judge(
+        &mut self,
+        plan: &TunePlan,
+        config: &FoveationConfig,
+        metric: &mut Fvvdp,
+    ) -> Result<SceneScore, TuneError> {
+        let name = self.name.clone();
+        // The denoiser is guided by the history's surfaces, so configs that denoise keep one;
+        // it starts empty for every judged frame.
+        let temporal = (config.denoise_iterations() > 0).then(TemporalSettings::default);
+        self.renderer
+            .set_temporal(temporal)
+            .map_err(TuneError::render(&name))?;
+        let settings = RenderSettings {
+            width: plan.width,
+            height: plan.height,
+            spp: 1,
+            seed: RENDER_SEED,
+            integrator: plan.integrator,
+            max_bounces: plan.max_bounces,
+        };
+        let mut score = SceneScore {
+            jod: Vec::new(),
+            median_ms: f64::NAN,
+            paths_per_pixel: f64::NAN,
+        };
+        let mut ms = Vec::new();
+        for (g, eye) in self.eyes.iter().enumerate() {
+            let request = FrameRequest {
+                settings,
+                foveation: config,
+                eyes: std::slice::from_ref(eye),
+                debug: DebugView::None,
+            };
+            self.renderer.reset_history();
+            let frame = self
+                .renderer
+                .render_frame(&request)
+                .map_err(TuneError::render(&name))?;
+            if g == 0 {
+                let visible = self.visible.iter().filter(|v| **v).count().max(1);
+                let paths = frame.stats.eyes.first().map_or(0, |c| c.paths);
+                score.paths_per_pixel = paths as f64 / visible as f64;
+            }
+            let test = masked(frame.rgb, &self.visible);
+            let gaze = frame.gazes[0].0;
+            score
+                .jod
+                .push(metric.image(&test, &self.reference, &self.image, gaze)?);
+            for _ in 0..plan.frames {
+                let timed = self
+                    .renderer
+                    .measure_frame(&request)
+                    .map_err(TuneError::render(&name))?;
+                ms.push(timed.stats.gpu_ms());
+            }
+        }
+        score.median_ms = crate::bench::stats::summarize(&ms).map_or(f64::NAN, |s| s.median);
+        Ok(score)
+    }
+}
+
+/// `rgb` with the pixels outside `visible` black.
+fn masked(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
+    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
+        px.fill(0.0);
+    }
+    rgb
+}

@@ -1,0 +1,59 @@
+//! `fovea tune`: searches foveation configs (layer count, radii, spacings, spp, denoising per
+//! layer) for the best perceptual quality (FovVideoVDP JOD, mean over scenes and gazes)
+//! within a GPU time budget, and writes the winner as a foveation TOML with the whole Pareto
+//! front. One direction: `space` proposes, `measure` judges, `front` chooses, `files` writes.
+
+pub mod files;
+pub mod front;
+pub mod measure;
+pub mod plan;
+pub mod run;
+pub mod space;
+
+pub use plan::{Budget, TuneGaze, TunePlan};
+pub use run::{run, TuneOutcome};
+
+use crate::bench::BenchError;
+use crate::metrics::jod::JodError;
+use crate::render::RenderError;
+
+/// Why a tune run stopped. Every message says what was wrong and what to do.
+#[derive(Debug, thiserror::Error)]
+pub enum TuneError {
+    #[error("{0}")]
+    Plan(String),
+    #[error("{scene}: {source}")]
+    Render {
+        scene: String,
+        #[source]
+        source: RenderError,
+    },
+    #[error(transparent)]
+    Bench(#[from] BenchError),
+    #[error("perceptual metric: {0}")]
+    Jod(#[from] JodError),
+    #[error(transparent)]
+    Log(#[from] crate::bench::csv_log::CsvLogError),
+    #[error(transparent)]
+    Plot(#[from] crate::bench::plots::PlotError),
+    #[error("{0}")]
+    File(String),
+    #[error(
+        "no config fits in the budget of {budget_ms:.3} ms per eye: the fastest measured took \
+         {fastest_ms:.3} ms; raise --budget-ms (the front is in {front})"
+    )]
+    NothingWithin {
+        budget_ms: f64,
+        fastest_ms: f64,
+        front: String,
+    },
+}
+
+impl TuneError {
+    pub fn render(scene: &str) -> impl FnOnce(RenderError) -> TuneError + '_ {
+        move |source| TuneError::Render {
+            scene: scene.to_string(),
+            source,
+        }
+    }
+}

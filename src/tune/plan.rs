@@ -1,0 +1,130 @@
+//! What a `fovea tune` run searches and measures, as data: written next to its results
+//! (`<out>-tune.json`) so that an interrupted run resumes only with the same plan.
+
+use super::space::Space;
+use crate::foveation::{Gaze, ImageGeometry};
+use crate::render::{FovChoice, Integrator, Traversal};
+use serde::{Deserialize, Serialize};
+
+/// The GPU time a config may take.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Budget {
+    /// Milliseconds of one eye's frame.
+    Ms(f64),
+    /// Whatever regular rendering at this spp measures in the same run.
+    Regular(u32),
+}
+
+/// Where the eye looks while a config is judged: the issue's three positions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TuneGaze {
+    /// The view axis.
+    Forward,
+    /// 15° right of and 10° below the view axis: a typical look away from the centre.
+    OffAxis,
+    /// The top-left pixel (the thesis' corner gaze; the lens hides it on a headset).
+    Corner,
+}
+
+impl TuneGaze {
+    pub const ALL: [TuneGaze; 3] = [TuneGaze::Forward, TuneGaze::OffAxis, TuneGaze::Corner];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TuneGaze::Forward => "forward",
+            TuneGaze::OffAxis => "off-axis",
+            TuneGaze::Corner => "corner",
+        }
+    }
+
+    /// The gaze on `image`.
+    pub fn gaze(self, image: &ImageGeometry) -> Gaze {
+        match self {
+            TuneGaze::Forward => Gaze::Forward,
+            TuneGaze::Corner => Gaze::Corner,
+            TuneGaze::OffAxis => {
+                let [x, y] =
+                    image.pixel_of([15f64.to_radians().tan(), -(10f64.to_radians().tan())]);
+                Gaze::Pixel(x, y)
+            }
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TunePlan {
+    /// Scenes every config is judged on: JOD is the mean over scenes and gazes, GPU time the
+    /// slowest scene's median (the budget must hold on each).
+    pub scenes: Vec<String>,
+    /// One eye's image size and field of view.
+    pub width: u32,
+    pub height: u32,
+    pub fov: FovChoice,
+    pub budget: Budget,
+    /// Configs measured, the baselines included.
+    pub candidates: u32,
+    /// Seeds the search (which configs are drawn and mutated).
+    pub seed: u64,
+    /// Timed frames per gaze after the judged one (their median is the config's time).
+    pub frames: u32,
+    pub reference_spp: u32,
+    pub integrator: Integrator,
+    pub max_bounces: u32,
+    pub traversal: Traversal,
+    pub space: Space,
+}
+
+impl TunePlan {
+    /// Rejects plans that cannot run, saying which flag to change.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.scenes.is_empty() {
+            return Err(
+                "no scene to tune on; give --scene NAME (or several, comma-separated)".into(),
+            );
+        }
+        if self.width < 16 || self.height < 16 {
+            return Err(format!(
+                "{}x{} is too small to judge foveation; give --width and --height of at least 16",
+                self.width, self.height
+            ));
+        }
+        if self.frames == 0 || self.reference_spp == 0 {
+            return Err("--frames and --reference-spp must be at least 1".into());
+        }
+        let largest = self.space.spp.iter().copied().max().unwrap_or(1);
+        if self.reference_spp < 8 * largest {
+            return Err(format!(
+                "--reference-spp {} is not converged enough to judge configs of up to {largest} \
+                 spp; give at least {}",
+                self.reference_spp,
+                8 * largest
+            ));
+        }
+        match self.budget {
+            Budget::Ms(ms) if !(ms.is_finite() && ms > 0.0) => {
+                return Err(format!(
+                    "--budget-ms {ms} must be a positive number of milliseconds"
+                ))
+            }
+            Budget::Regular(spp) if !self.space.spp.contains(&spp) => {
+                return Err(format!(
+                    "--budget-of-regular {spp}: the search measures regular rendering at {:?} \
+                     spp only; give one of those",
+                    self.space.spp
+                ))
+            }
+            _ => {}
+        }
+        let baselines = self.space.baselines().len() as u32;
+        if self.candidates < baselines {
+            return Err(format!(
+                "--candidates {} is fewer than the {baselines} baselines every search measures \
+                 (regular and the thesis' layers at each spp); give at least {baselines}",
+                self.candidates
+            ));
+        }
+        Ok(())
+    }
+}

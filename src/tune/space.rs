@@ -1,0 +1,267 @@
+//! What `fovea tune` searches: foveation configs built from a few layers (count, radii,
+//! lattice spacings, spp, denoising per layer), drawn at random from a seed and then mutated
+//! around the best ones found. Everything here is pure: the same seed and the same measured
+//! scores give the same candidates.
+
+use crate::check::rng::Rng;
+use crate::foveation::{FoveationConfig, Layer, THESIS_OCCLUSION_DEG};
+
+/// The grid the search draws from (and moves on when it mutates).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Space {
+    /// Most finite layers before the background one.
+    pub max_inner_layers: usize,
+    /// Layer radii, degrees from the gaze, ascending.
+    pub radii_deg: Vec<f32>,
+    /// Lattice spacings, ascending.
+    pub spacings: Vec<u32>,
+    /// Samples per target pixel, ascending.
+    pub spp: Vec<u32>,
+    /// Denoiser iterations a sparse layer may take (0 = none), ascending.
+    pub denoise: Vec<u32>,
+    /// Blend band width of every candidate, degrees.
+    pub blend_deg: f32,
+    /// Occlusion mask of every candidate (the headset's lens), degrees from the view axis.
+    pub occlusion_deg: Option<f32>,
+}
+
+impl Space {
+    /// The search `fovea tune` runs by default: up to three layers and a background, radii
+    /// from 3° to 40°, spacings 1–6, 1–8 spp, up to 3 denoiser iterations.
+    pub fn standard() -> Self {
+        Self {
+            max_inner_layers: 3,
+            radii_deg: vec![
+                3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0, 40.0,
+            ],
+            spacings: vec![1, 2, 3, 4, 5, 6],
+            spp: vec![1, 2, 4, 8],
+            denoise: vec![0, 1, 2, 3],
+            blend_deg: 1.0,
+            occlusion_deg: Some(THESIS_OCCLUSION_DEG),
+        }
+    }
+
+    /// A small search (`--space small`): one layer and a background, few values of each.
+    pub fn small() -> Self {
+        Self {
+            max_inner_layers: 1,
+            radii_deg: vec![6.0, 15.0],
+            spacings: vec![1, 2, 4],
+            spp: vec![1, 2],
+            denoise: vec![0],
+            ..Self::standard()
+        }
+    }
+
+    /// The configs every search measures first, whatever the seed: regular rendering at each
+    /// spp of the space (the baseline curve) and the thesis' layers at each spp.
+    pub fn baselines(&self) -> Vec<FoveationConfig> {
+        let regular = self.spp.iter().map(|&s| FoveationConfig::regular(s));
+        let thesis = self
+            .spp
+            .iter()
+            .map(|&s| FoveationConfig::thesis().with_spp(s));
+        regular.chain(thesis).collect()
+    }
+
+    /// A random config of the space, valid by construction.
+    pub fn random(&self, rng: &mut Rng) -> FoveationConfig {
+        loop {
+            let inner = rng.below(self.max_inner_layers + 1);
+            let mut radii: Vec<usize> = Vec::new();
+            while radii.len() < inner.min(self.radii_deg.len()) {
+                let r = rng.below(self.radii_deg.len());
+                if !radii.contains(&r) {
+                    radii.push(r);
+                }
+            }
+            radii.sort_unstable();
+            let mut layers = Vec::new();
+            let (mut spacing, mut spp) = (0usize, self.spp.len() - 1);
+            for k in 0..=inner {
+                // Spacing never falls outward, spp never rises; the fovea starts fine.
+                spacing = match k {
+                    0 => rng.below(2.min(self.spacings.len())),
+                    _ => (spacing + rng.below(3)).min(self.spacings.len() - 1),
+                };
+                spp = rng.below(spp + 1);
+                layers.push(Layer {
+                    radius_deg: radii.get(k).map(|&r| self.radii_deg[r]),
+                    spacing: self.spacings[spacing],
+                    spp: self.spp[spp],
+                    denoise: self.random_denoise(rng, self.spacings[spacing]),
+                });
+            }
+            let config = self.config(layers);
+            if config.validate().is_ok() {
+                return config;
+            }
+        }
+    }
+
+    /// Denoising for a layer of `spacing`: only sparse layers, and only one time in three.
+    fn random_denoise(&self, rng: &mut Rng, spacing: u32) -> u32 {
+        if spacing == 1 || self.denoise.len() < 2 || rng.below(3) != 0 {
+            return 0;
+        }
+        self.denoise[1 + rng.below(self.denoise.len() - 1)]
+    }
+
+    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, a layer added
+    /// or removed), valid; the parent itself when no change the space allows is valid.
+    pub fn mutate(&self, parent: &FoveationConfig, rng: &mut Rng) -> FoveationConfig {
+        for _ in 0..64 {
+            let mut layers = parent.layers.clone();
+            let k = rng.below(layers.len());
+            let step = |values: &[u32], v: u32, up: bool| -> u32 {
+                let i = values
+                    .iter()
+                    .position(|&x| x >= v)
+                    .unwrap_or(values.len() - 1);
+                match up {
+                    true => values[(i + 1).min(values.len() - 1)],
+                    false => values[i.saturating_sub(1)],
+                }
+            };
+            let up = rng.below(2) == 0;
+            match rng.below(6) {
+                0 => {
+                    let Some(r) = layers[k].radius_deg else {
+                        continue;
+                    };
+                    let i = self.radii_deg.iter().position(|&x| x >= r).unwrap_or(0);
+                    let j = match up {
+                        true => (i + 1).min(self.radii_deg.len() - 1),
+                        false => i.saturating_sub(1),
+                    };
+                    layers[k].radius_deg = Some(self.radii_deg[j]);
+                }
+                1 => layers[k].spacing = step(&self.spacings, layers[k].spacing, up),
+                2 => layers[k].spp = step(&self.spp, layers[k].spp, up),
+                3 => layers[k].denoise = step(&self.denoise, layers[k].denoise, up),
+                4 if layers.len() <= self.max_inner_layers => {
+                    // Split layer k at a radius inside it: the new inner part one spacing finer.
+                    let outer = layers[k].radius_deg.unwrap_or(f32::INFINITY);
+                    let inner = match k {
+                        0 => 0.0,
+                        _ => layers[k - 1].radius_deg.unwrap_or(0.0),
+                    };
+                    let inside: Vec<f32> = (self.radii_deg.iter().copied())
+                        .filter(|&r| r > inner && r < outer)
+                        .collect();
+                    if inside.is_empty() {
+                        continue;
+                    }
+                    let mut split = layers[k].clone();
+                    split.radius_deg = Some(inside[rng.below(inside.len())]);
+                    split.spacing = step(&self.spacings, split.spacing, false);
+                    layers.insert(k, split);
+                }
+                5 if layers.len() > 1 => {
+                    // Merge layer k into the next one out.
+                    let k = k.min(layers.len() - 2);
+                    layers.remove(k);
+                }
+                _ => continue,
+            }
+            let child = self.config(layers);
+            if child != *parent && child.validate().is_ok() {
+                return child;
+            }
+        }
+        parent.clone()
+    }
+
+    fn config(&self, layers: Vec<Layer>) -> FoveationConfig {
+        FoveationConfig {
+            layers,
+            blend_deg: self.blend_deg,
+            occlusion_deg: self.occlusion_deg,
+        }
+    }
+}
+
+/// A config in one short line, its identity in the tune's files: each layer as
+/// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, then the
+/// occlusion mask; e.g. `6:1x4 10:2x4 20:3x4d1 bg:4x4 occ56`.
+pub fn describe(config: &FoveationConfig) -> String {
+    let mut parts: Vec<String> = config
+        .layers
+        .iter()
+        .map(|l| {
+            let radius = l.radius_deg.map_or("bg".to_string(), |r| format!("{r}"));
+            let denoise = match l.denoise {
+                0 => String::new(),
+                n => format!("d{n}"),
+            };
+            format!("{radius}:{}x{}{denoise}", l.spacing, l.spp)
+        })
+        .collect();
+    if let Some(occ) = config.occlusion_deg {
+        parts.push(format!("occ{occ}"));
+    }
+    if config.layers.len() > 1 {
+        parts.push(format!("blend{}", config.blend_deg));
+    }
+    parts.join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn random_configs_are_valid_varied_and_reproducible() {
+        let space = Space::standard();
+        let draw = |seed| {
+            let mut rng = Rng::new(seed);
+            (0..200).map(|_| space.random(&mut rng)).collect::<Vec<_>>()
+        };
+        let a = draw(1);
+        assert_eq!(a, draw(1));
+        assert_ne!(a, draw(2));
+        assert!(a.iter().all(|c| c.validate().is_ok()));
+        for inner in 0..=space.max_inner_layers {
+            assert!(a.iter().any(|c| c.layers.len() == inner + 1), "{inner}");
+        }
+        assert!(a.iter().any(|c| c.layers.iter().any(|l| l.denoise > 0)));
+        assert!(a.iter().all(|c| c.layers[0].spacing <= 2));
+        let distinct: std::collections::HashSet<String> = a.iter().map(describe).collect();
+        assert!(distinct.len() > 150, "{}", distinct.len());
+    }
+
+    #[test]
+    fn a_mutation_changes_one_thing_and_stays_valid() {
+        let space = Space::standard();
+        let mut rng = Rng::new(5);
+        // Two layers and a background: a mutation may add one or merge two.
+        let mut parent = FoveationConfig::thesis();
+        parent.layers.remove(1);
+        let mut layer_counts = std::collections::HashSet::new();
+        for _ in 0..200 {
+            let child = space.mutate(&parent, &mut rng);
+            assert!(child.validate().is_ok());
+            assert_ne!(child, parent);
+            layer_counts.insert(child.layers.len());
+            if child.layers.len() == parent.layers.len() {
+                let differing = (child.layers.iter().zip(&parent.layers))
+                    .filter(|(c, p)| c != p)
+                    .count();
+                assert_eq!(differing, 1, "{}", describe(&child));
+            }
+        }
+        assert_eq!(layer_counts.len(), 3, "{layer_counts:?}");
+    }
+
+    #[test]
+    fn descriptions_name_every_knob() {
+        let mut config = FoveationConfig::thesis();
+        config.layers[2].denoise = 2;
+        assert_eq!(
+            describe(&config),
+            "6:1x4 10:2x4 20:3x4d2 bg:4x4 occ56 blend1"
+        );
+        assert_eq!(describe(&FoveationConfig::regular(2)), "bg:1x2");
+    }
+}

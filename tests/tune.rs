@@ -1,0 +1,205 @@
+//! `fovea tune` as a user runs it, on a tiny image with the small search space (lavapipe,
+//! validation on): the written TOML renders, its measured time is within the budget and it
+//! is the best point within the budget, on the front; a second run resumes instead of
+//! measuring again; a torn log line is measured again; a changed plan and a missing venv
+//! get messages.
+
+mod common;
+
+use common::{fovea, fovea_with_env};
+use fovea::foveation::FoveationConfig;
+use std::path::{Path, PathBuf};
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fovea-tune-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn tune_args(out: &str, budget: &[&'static str]) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "tune",
+        "--scene",
+        "cornell",
+        "--width",
+        "48",
+        "--height",
+        "54",
+        "--space",
+        "small",
+        "--candidates",
+        "7",
+        "--frames",
+        "2",
+        "--reference-spp",
+        "32",
+        "--out",
+        out,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    args.extend(budget.iter().map(|s| s.to_string()));
+    args
+}
+
+fn run(args: &[String]) -> (bool, String) {
+    fovea(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+#[derive(Debug, serde::Deserialize)]
+struct Row {
+    index: u32,
+    config: String,
+    gpu_ms: f64,
+    jod: f64,
+    config_json: String,
+}
+
+fn rows(path: &Path) -> Vec<Row> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    reader.deserialize().map(|r| r.unwrap()).collect()
+}
+
+#[test]
+fn the_chosen_config_is_the_best_within_the_budget_and_renders() {
+    let dir = temp_dir("chosen");
+    let out = dir.join("tuned.toml");
+    let args = tune_args(out.to_str().unwrap(), &["--budget-of-regular", "1"]);
+    let (ok, text) = run(&args);
+    assert!(ok, "{text}");
+
+    let all = rows(&dir.join("tuned-candidates.csv"));
+    assert_eq!(all.len(), 7, "{all:?}");
+    let names: std::collections::HashSet<&str> = all.iter().map(|r| r.config.as_str()).collect();
+    assert_eq!(names.len(), 7, "a config was measured twice: {all:?}");
+    assert!(all
+        .iter()
+        .all(|r| r.jod.is_finite() && r.jod <= 10.0 && r.jod > 0.0));
+    let budget = all.iter().find(|r| r.config == "bg:1x1").unwrap().gpu_ms;
+
+    let chosen = FoveationConfig::load(&out).unwrap();
+    let chosen_row = all
+        .iter()
+        .find(|r| serde_json::from_str::<FoveationConfig>(&r.config_json).unwrap() == chosen)
+        .expect("the TOML is one of the measured configs");
+    assert!(chosen_row.gpu_ms <= budget, "{chosen_row:?} over {budget}");
+    let best = all
+        .iter()
+        .filter(|r| r.gpu_ms <= budget)
+        .map(|r| r.jod)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(chosen_row.jod, best, "{all:?}");
+
+    // On the front, which is fastest first with JOD rising.
+    let front = rows(&dir.join("tuned-front.csv"));
+    assert!(
+        front.iter().any(|r| r.index == chosen_row.index),
+        "{front:?}"
+    );
+    for pair in front.windows(2) {
+        assert!(
+            pair[0].gpu_ms <= pair[1].gpu_ms && pair[0].jod < pair[1].jod,
+            "{front:?}"
+        );
+    }
+    for file in ["tuned-front.svg", "tuned-front.png", "tuned-tune.json"] {
+        assert!(dir.join(file).metadata().unwrap().len() > 0, "{file}");
+    }
+
+    // The TOML renders with the headset's field of view.
+    let png = dir.join("chosen.png");
+    let (ok, text) = fovea(&[
+        "render",
+        "--scene",
+        "cornell",
+        "--fov",
+        "vive-pro-eye",
+        "--width",
+        "48",
+        "--height",
+        "54",
+        "--foveation",
+        out.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(png.metadata().unwrap().len() > 0);
+
+    // Running again resumes: nothing is measured twice and the same config is chosen.
+    let before = std::fs::read_to_string(dir.join("tuned-candidates.csv")).unwrap();
+    let (ok, text) = run(&args);
+    assert!(ok, "{text}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("tuned-candidates.csv")).unwrap(),
+        before
+    );
+    assert_eq!(FoveationConfig::load(&out).unwrap(), chosen);
+
+    // A torn last line (a kill mid-write) is dropped and that config measured again.
+    let mut lines: Vec<&str> = before.lines().collect();
+    let last = lines.pop().unwrap();
+    let torn = format!("{}\n{}", lines.join("\n"), &last[..last.len() / 2]);
+    std::fs::write(dir.join("tuned-candidates.csv"), torn).unwrap();
+    let (ok, text) = run(&args);
+    assert!(ok, "{text}");
+    let again = rows(&dir.join("tuned-candidates.csv"));
+    assert_eq!(again.len(), 7);
+    assert_eq!(again.last().unwrap().config, all.last().unwrap().config);
+
+    // Another plan into the same files is refused, saying what to do.
+    let (ok, text) = run(&tune_args(out.to_str().unwrap(), &["--budget-ms", "5"]));
+    assert!(!ok);
+    assert!(text.contains("another --out"), "{text}");
+}
+
+#[test]
+fn bad_input_gets_a_message() {
+    let dir = temp_dir("bad");
+    let out = dir.join("t.toml");
+    let out = out.to_str().unwrap();
+    let cases: [(Vec<String>, &str); 4] = [
+        (tune_args(out, &["--budget-ms", "0"]), "--budget-ms 0"),
+        (
+            tune_args(out, &["--budget-of-regular", "3"]),
+            "--budget-of-regular 3",
+        ),
+        (
+            {
+                let mut a = tune_args(out, &["--budget-ms", "5"]);
+                a[10] = "2".into(); // --candidates 2: fewer than the baselines
+                a
+            },
+            "baselines",
+        ),
+        (
+            {
+                let mut a = tune_args(out, &["--budget-ms", "0.001"]);
+                a[10] = "4".into();
+                a
+            },
+            "raise --budget-ms",
+        ),
+    ];
+    for (args, expected) in cases {
+        let _ = std::fs::remove_dir_all(&dir);
+        let (ok, text) = run(&args);
+        assert!(!ok, "{args:?}");
+        assert!(text.contains(expected), "{args:?}: {text}");
+    }
+    // Without the venv: a message that says how to get it, before any rendering.
+    let _ = std::fs::remove_dir_all(&dir);
+    let args = tune_args(out, &["--budget-ms", "5"]);
+    let (ok, text) = fovea_with_env(
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+        &[("FOVEA_FVVDP_VENV", "/nonexistent/venv")],
+    );
+    assert!(!ok);
+    assert!(text.contains("tools/setup-fvvdp.sh"), "{text}");
+    assert!(
+        !dir.join("references").exists(),
+        "rendered before finding the metric"
+    );
+}
