@@ -116,6 +116,29 @@ fn a_quick_run_writes_every_file_and_they_parse() {
     // quality.csv: every sweep point, eye and region; finite errors, identical-free.
     let quality = csv_rows(&run.join("quality.csv"));
     assert_eq!(quality.len() as u64, QUALITY_ROWS);
+    // JOD (tools/setup-fvvdp.sh's venv): on every whole-image row, none on the bands; the
+    // background-only scene is noise-free, so every mode scores 10 there.
+    let header = csv::Reader::from_path(run.join("quality.csv"))
+        .unwrap()
+        .headers()
+        .unwrap()
+        .clone();
+    let q = |name: &str| header.iter().position(|h| h == name).unwrap();
+    for r in &quality {
+        let jod = &r[q("jod")];
+        match &r[q("region")] {
+            "whole" => {
+                let jod: f64 = jod.parse().unwrap_or_else(|_| panic!("{r:?}"));
+                assert!(jod > 0.0 && jod <= 10.0, "{r:?}");
+                if &r[q("scene")] == "control" {
+                    assert!((jod - 10.0).abs() < 0.01, "{r:?}");
+                } else {
+                    assert!(jod < 10.0, "a noisy image scored 10: {r:?}");
+                }
+            }
+            _ => assert_eq!(jod, "", "{r:?}"),
+        }
+    }
 
     // summary.json: complete, with device, parameters and an impact factor per foveated mode.
     let summary: serde_json::Value =
@@ -159,7 +182,13 @@ fn a_quick_run_writes_every_file_and_they_parse() {
     let report = std::fs::read_to_string(run.join("report.md")).unwrap();
     for scene in ["control", "bunny-low"] {
         assert!(report.contains(&format!("## {scene}")), "{report}");
-        for plot in ["frames", "mean-std", "error-time-whole", "error-time-fovea"] {
+        for plot in [
+            "frames",
+            "mean-std",
+            "error-time-whole",
+            "error-time-fovea",
+            "jod-time",
+        ] {
             for ext in ["svg", "png"] {
                 let path = run.join(format!("plots/{scene}-{plot}.{ext}"));
                 assert!(path.exists(), "{} missing", path.display());

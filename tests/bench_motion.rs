@@ -102,8 +102,23 @@ fn a_moving_run_writes_every_file_and_history_calms_the_periphery() {
     );
     assert!(on < 0.7 * off, "flicker beyond 20°: on {on}, off {off}");
 
+    // FovVideoVDP judged every sequence and eye as a video.
+    let jods = rows(&run.join("motion-jod.csv"));
+    assert_eq!(jods.len(), 3 * 2, "{jods:?}");
+    for r in &jods {
+        assert_eq!(&r[3], FRAMES.to_string().as_str(), "{r:?}");
+        let jod: f64 = r[4].parse().unwrap();
+        assert!(jod > 0.0 && jod < 10.0, "{r:?}");
+    }
+    let sequences = s["scenes"][0]["sequences"].as_array().unwrap();
+    assert!(
+        sequences.iter().all(|q| q["jod"].as_f64().is_some()),
+        "{sequences:?}"
+    );
+
     let report = std::fs::read_to_string(run.join("report.md")).unwrap();
     assert!(report.contains("History on against off"), "{report}");
+    assert!(report.contains("JOD (video)"), "{report}");
     for region in ["whole", "0-6", "6-10", "10-20", "20+"] {
         for what in ["error", "flicker"] {
             let plot = run.join(format!("plots/cubes-441-motion-{what}-{region}.png"));

@@ -25,6 +25,8 @@ pub enum BenchError {
     Plot(#[from] super::plots::PlotError),
     #[error("{path}: {problem}")]
     File { path: String, problem: String },
+    #[error("perceptual metric: {0}")]
+    Jod(#[from] crate::metrics::jod::JodError),
 }
 
 impl BenchError {

@@ -9,6 +9,9 @@ pub const QUALITY_FILE: &str = "quality.csv";
 pub const TRACE_FILE: &str = "trace.json";
 /// A motion run's rows (one per scene, sequence, frame, eye and region).
 pub const MOTION_FILE: &str = "motion.csv";
+/// A motion run's FovVideoVDP scores: one per scene, sequence and eye, the sequence judged as
+/// a video (so flicker counts).
+pub const MOTION_JOD_FILE: &str = "motion-jod.csv";
 /// Every command line that measured into the directory, one per line: the first one started
 /// the run, later ones resumed it.
 pub const COMMANDS_FILE: &str = "commands.txt";

@@ -6,7 +6,7 @@ use super::motion::{MotionScript, Sequence};
 use super::plots::{per_frame_lines, Series};
 use super::protocol::{flag_value, BenchPlan, EYES};
 use super::report::{header, layers_text, ReportHead};
-use super::rows::MotionRow;
+use super::rows::{MotionJodRow, MotionRow};
 use super::summary::{mean, utc_now, Device};
 use crate::gpu::DeviceInfo;
 use crate::metrics::BANDS;
@@ -45,6 +45,9 @@ pub struct SequenceSummary {
     pub gpu_ms: f64,
     pub temporal_ms: f64,
     pub regions: Vec<RegionSummary>,
+    /// FovVideoVDP's JOD of the sequence as a video, mean of both eyes (None where it was
+    /// not measured: no venv).
+    pub jod: Option<f64>,
 }
 
 /// Means over the sequence's frames and both eyes; a region no frame saw is left out.
@@ -70,6 +73,7 @@ pub fn summarize(
     device: &DeviceInfo,
     commands: &[&str],
     rows: &[MotionRow],
+    jods: &[MotionJodRow],
 ) -> MotionSummary {
     let sequences = Sequence::all(plan.spp);
     let scenes = plan
@@ -85,7 +89,14 @@ pub fn summarize(
                         .iter()
                         .filter(|r| r.scene == *scene && r.sequence == name)
                         .collect();
-                    (!mine.is_empty()).then(|| sequence_summary(s, plan.frames, &mine))
+                    let jod: Vec<f64> = (jods.iter())
+                        .filter(|j| j.scene == *scene && j.sequence == name)
+                        .map(|j| j.jod)
+                        .collect();
+                    (!mine.is_empty()).then(|| SequenceSummary {
+                        jod: (jod.len() as u32 == EYES).then(|| mean(jod.iter().copied())),
+                        ..sequence_summary(s, plan.frames, &mine)
+                    })
                 })
                 .collect(),
         })
@@ -140,6 +151,7 @@ fn sequence_summary(s: &Sequence, frames: u32, rows: &[&MotionRow]) -> SequenceS
         gpu_ms: mean(per_frame.iter().map(|r| r.frame_gpu_ms)),
         temporal_ms: mean(per_frame.iter().map(|r| r.temporal_ms)),
         regions,
+        jod: None,
     }
 }
 
@@ -151,8 +163,9 @@ pub fn write_all(
     device: &DeviceInfo,
     commands: &[&str],
     rows: &[MotionRow],
+    jods: &[MotionJodRow],
 ) -> Result<(), BenchError> {
-    let summary = summarize(plan, device, commands, rows);
+    let summary = summarize(plan, device, commands, rows, jods);
     let path = dir.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).expect("summaries serialize");
     std::fs::write(&path, json).map_err(|e| BenchError::file(&path, e))?;
@@ -294,7 +307,7 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
     let regions = region_names();
     let _ = writeln!(
         md,
-        "| sequence | GPU ms | of it temporal ms | {} | {} |",
+        "| sequence | GPU ms | of it temporal ms | JOD (video) | {} | {} |",
         regions
             .iter()
             .map(|r| format!("relMSE {r}"))
@@ -306,7 +319,7 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
             .collect::<Vec<_>>()
             .join(" | ")
     );
-    let _ = writeln!(md, "|---|---|---|{}", "---|".repeat(2 * regions.len()));
+    let _ = writeln!(md, "|---|---|---|---|{}", "---|".repeat(2 * regions.len()));
     let value = |seq: &SequenceSummary, region: &str, f: fn(&RegionSummary) -> f64| {
         seq.regions
             .iter()
@@ -324,10 +337,11 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
             .collect();
         let _ = writeln!(
             md,
-            "| {} | {:.2} | {:.2} | {} | {} |",
+            "| {} | {:.2} | {:.2} | {} | {} | {} |",
             seq.sequence,
             seq.gpu_ms,
             seq.temporal_ms,
+            seq.jod.map_or("–".to_string(), |j| format!("{j:.2}")),
             errors.join(" | "),
             flickers.join(" | ")
         );

@@ -8,14 +8,15 @@
 
 use super::csv_log::CsvLog;
 use super::error::BenchError;
-use super::files::{animation_path, MOTION_FILE};
+use super::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
 use super::motion::{MotionScript, Sequence};
 use super::motion_images::Animation;
 use super::protocol::{BenchPlan, RunOptions, EYES};
 use super::quality::{self, eye_image, visible_pixels};
-use super::rows::{MotionRow, EYE_NAMES};
+use super::rows::{MotionJodRow, MotionRow, EYE_NAMES};
 use crate::foveation::{Gaze, GazeChoice};
 use crate::gpu::GpuContext;
+use crate::metrics::jod::VideoJod;
 use crate::metrics::{self, BANDS};
 use crate::render::accumulate::frame_seed;
 use crate::render::{
@@ -104,6 +105,8 @@ pub fn run(
         .iter()
         .map(|r| (r.scene.clone(), r.sequence.clone()))
         .collect();
+    let (mut jod_log, _) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
+    let mut metric = super::runner::perceptual_metric()?;
     let sequences = Sequence::all(plan.spp);
     let bar = ProgressBar::new(plan.scenes.len() as u64 * 4 * plan.frames as u64);
     bar.set_style(
@@ -168,6 +171,13 @@ pub fn run(
                 .map_err(BenchError::render(scene_name))?;
             renderer.reset_history();
             let mut before: Option<(Vec<f32>, Vec<f32>)> = None;
+            // Each eye's sequence as a video for FovVideoVDP (when its venv is there).
+            let mut videos: Vec<VideoJod> = match (&metric, measured) {
+                (Some(_), false) => (eyes[0].iter())
+                    .map(|e| VideoJod::new(e.image(plan.width, plan.height)))
+                    .collect::<Result<_, _>>()?,
+                _ => Vec::new(),
+            };
             for k in 0..plan.frames {
                 bar.set_message(format!("{scene_name}: {} frame {k}", sequence.name()));
                 let truth = reference(&mut renderer, k)?;
@@ -186,6 +196,12 @@ pub fn run(
                     }
                 }
                 let (w, h) = (plan.width, plan.height);
+                for (e, video) in videos.iter_mut().enumerate() {
+                    let visible = visible_pixels(plan, &eyes[k as usize][e].image(w, h));
+                    let eye_of =
+                        |rgb: &[f32]| masked(eye_image(rgb, EYES, w, h, e as u32), &visible);
+                    video.push(&eye_of(&frame.rgb), &eye_of(&truth), frame.gazes[e].0)?;
+                }
                 animation.add_sequence(
                     k,
                     index,
@@ -198,12 +214,26 @@ pub fn run(
                 before = Some((truth, frame.rgb));
                 bar.inc(1);
             }
+            if let Some(metric) = metric.as_mut() {
+                for (e, video) in videos.iter().enumerate() {
+                    bar.set_message(format!("{scene_name}: {} JOD", sequence.name()));
+                    jod_log.append(&MotionJodRow {
+                        scene: scene_name.clone(),
+                        sequence: sequence.name(),
+                        eye: EYE_NAMES[e].to_string(),
+                        frames: video.frames() as u32,
+                        jod: video.score(metric, script.frame_rate_hz)?,
+                    })?;
+                }
+            }
         }
         animation.write(&animation_file, plan.frames)?;
     }
     bar.finish_and_clear();
     drop(log);
+    drop(jod_log);
     let (_, rows) = CsvLog::<MotionRow>::open(&dir.join(MOTION_FILE))?;
+    let (_, jods) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
     super::motion_report::write_all(
         dir,
         plan,
@@ -211,7 +241,17 @@ pub fn run(
         &ctx.info,
         &commands.lines().collect::<Vec<_>>(),
         &rows,
+        &jods,
     )
+}
+
+/// `rgb` with the pixels the lens hides black (as the reference and the test both are for
+/// the other metrics).
+fn masked(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
+    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
+        px.fill(0.0);
+    }
+    rgb
 }
 
 /// Which frame of which sequence a measurement belongs to.

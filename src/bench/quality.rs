@@ -6,6 +6,7 @@ use super::error::BenchError;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{QualityRow, EYE_NAMES};
 use crate::foveation::{FoveationConfig, ImageGeometry};
+use crate::metrics::jod::Fvvdp;
 use crate::metrics::{self, BANDS};
 use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
 use std::path::{Path, PathBuf};
@@ -159,7 +160,8 @@ pub struct Point {
 }
 
 /// Times `mode` at `spp` (median frame GPU ms over the plan's sweep frames) and compares one
-/// image of it with the reference, eye by eye.
+/// image of it with the reference, eye by eye (and with FovVideoVDP, when given `metric`).
+#[allow(clippy::too_many_arguments)]
 pub fn measure_point(
     renderer: &mut Renderer,
     plan: &BenchPlan,
@@ -168,6 +170,7 @@ pub fn measure_point(
     spp: u32,
     eyes: &[EyeView],
     reference: &[f32],
+    mut metric: Option<&mut Fvvdp>,
 ) -> Result<Point, BenchError> {
     let config = plan.config(mode, spp);
     let request = FrameRequest {
@@ -213,6 +216,11 @@ pub fn measure_point(
             metrics::pixels_per_degree(&image),
         )?;
         let whole = metrics::image_error(&truth, &test, plan.width, plan.height, Some(&visible))?;
+        let gaze = frame.gazes[e].0;
+        let jod = match metric.as_deref_mut() {
+            Some(m) => Some(m.image(&test, &truth, &image, gaze)?),
+            None => None,
+        };
         let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {
             scene: scene.to_string(),
             mode,
@@ -225,15 +233,19 @@ pub fn measure_point(
             psnr_db: error.psnr_db,
             flip,
             frame_gpu_ms,
+            jod: None,
         };
-        point.rows.push(row(
-            "whole",
-            whole,
-            metrics::flip_masked_mean(&flip.map, &visible)?,
-        ));
+        point.rows.push(QualityRow {
+            jod,
+            ..row(
+                "whole",
+                whole,
+                metrics::flip_masked_mean(&flip.map, &visible)?,
+            )
+        });
         // Regular frames are foveated around the view axis too (their gaze is "forward"),
         // so their bands are the forward mode's.
-        let masks = metrics::band_masks(&image, frame.gazes[e].0)?;
+        let masks = metrics::band_masks(&image, gaze)?;
         for (band, mut mask) in BANDS.iter().zip(masks) {
             for (m, v) in mask.iter_mut().zip(&visible) {
                 *m &= v;

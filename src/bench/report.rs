@@ -120,7 +120,42 @@ fn write_plots(
                 &curves,
             )?;
         }
+        jod_plot(&plots_dir, plan, scene)?;
     }
+    Ok(())
+}
+
+/// Perceptual quality against GPU time: regular rendering over the sweep's spp is the
+/// baseline curve, each foveated mode a curve of points beside it.
+fn jod_plot(plots_dir: &Path, plan: &BenchPlan, scene: &SceneSummary) -> Result<(), BenchError> {
+    let curves: Vec<Curve> = plan
+        .modes()
+        .into_iter()
+        .map(|mode| Curve {
+            label: mode.name().to_string(),
+            points: (scene.quality.iter())
+                .filter(|q| q.mode == mode && q.region == "whole")
+                .filter_map(|q| {
+                    q.jod.map(|jod| CurvePoint {
+                        ms: q.frame_gpu_ms,
+                        error: jod,
+                        spp: q.spp,
+                    })
+                })
+                .collect(),
+        })
+        .collect();
+    let name = &scene.scene;
+    plots::jod_vs_time(
+        &plots_dir.join(format!("{name}-jod-time")),
+        &plots::JodChart {
+            title: &format!("{name}: FovVideoVDP JOD against GPU time (spp at each point)"),
+            curves: &curves,
+            scatter: &[],
+            budget_ms: None,
+            chosen: None,
+        },
+    )?;
     Ok(())
 }
 
@@ -331,19 +366,20 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
     let _ = writeln!(
         md,
         "Error against a {}-spp reference at {spp} spp (mean of both eyes; bands are degrees from each eye's gaze; \
-         relMSE = (x − r)² / (r² + 0.01); PSNR and FLIP on the sRGB image):\n",
+         relMSE = (x − r)² / (r² + 0.01); PSNR and FLIP on the sRGB image; JOD: FovVideoVDP, foveated \
+         at the gaze, on the Vive Pro's photometry, whole image only, 10 = as the reference):\n",
         s.parameters.reference_spp
     );
     let _ = writeln!(
         md,
-        "| mode | region | pixels | relMSE | MSE | PSNR dB | FLIP |"
+        "| mode | region | pixels | relMSE | MSE | PSNR dB | FLIP | JOD |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
     for q in scene.quality.iter().filter(|q| q.spp == spp) {
         if q.pixels == 0 {
             let _ = writeln!(
                 md,
-                "| {} | {} | 0 (none visible) | – | – | – | – |",
+                "| {} | {} | 0 (none visible) | – | – | – | – | – |",
                 q.mode.name(),
                 q.region
             );
@@ -351,14 +387,15 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
         }
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.3e} | {:.3e} | {:.2} | {:.4} |",
+            "| {} | {} | {} | {:.3e} | {:.3e} | {:.2} | {:.4} | {} |",
             q.mode.name(),
             q.region,
             q.pixels,
             q.rel_mse,
             q.mse,
             q.psnr_db,
-            q.flip
+            q.flip,
+            q.jod.map_or("–".to_string(), |j| format!("{j:.2}"))
         );
     }
     let _ = writeln!(
@@ -368,7 +405,8 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
     );
     let _ = writeln!(
         md,
-        "![whole image](plots/{name}-error-time-whole.png) ![fovea](plots/{name}-error-time-fovea.png)\n"
+        "![whole image](plots/{name}-error-time-whole.png) ![fovea](plots/{name}-error-time-fovea.png) \
+         ![perceptual quality](plots/{name}-jod-time.png)\n"
     );
     let strip = strip_path(Path::new(""), name);
     let _ = writeln!(

@@ -189,6 +189,10 @@ pub struct QualityRow {
     pub flip: f64,
     /// Median GPU milliseconds of the frame (both eyes) at this spp.
     pub frame_gpu_ms: f64,
+    /// FovVideoVDP's JOD of the eye's visible image, foveated at its gaze (10 = as the
+    /// reference): "whole" rows only, and only where its venv is (tools/setup-fvvdp.sh).
+    #[serde(default)]
+    pub jod: Option<f64>,
 }
 
 /// One eye's image region in one frame of a motion sequence (motion.csv), against the
@@ -219,4 +223,15 @@ pub struct MotionRow {
     pub gaze_y: f64,
     /// Whether the eye was mid-saccade.
     pub saccade: bool,
+}
+
+/// One eye's whole motion sequence judged as a video by FovVideoVDP (motion-jod.csv),
+/// foveated at each frame's gaze, shown at the script's display rate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionJodRow {
+    pub scene: String,
+    pub sequence: String,
+    pub eye: String,
+    pub frames: u32,
+    pub jod: f64,
 }

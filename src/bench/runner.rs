@@ -13,6 +13,7 @@ use super::rows::{FrameRow, QualityRow};
 use super::{images, report};
 use crate::foveation::{Gaze, GazeChoice, GazeTrace};
 use crate::gpu::GpuContext;
+use crate::metrics::jod::{Fvvdp, JodError};
 use crate::render::{eye_views, DebugView, EyeView, FrameRequest, Renderer};
 use crate::scene::{self, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -129,6 +130,19 @@ fn open_run_dir(plan: &BenchPlan, dir: &Path, options: &RunOptions) -> Result<St
     Ok(commands)
 }
 
+/// FovVideoVDP, started once for the run; without its venv the run goes on without JOD
+/// scores and says how to get them.
+pub fn perceptual_metric() -> Result<Option<Fvvdp>, BenchError> {
+    match Fvvdp::start() {
+        Ok(metric) => Ok(Some(metric)),
+        Err(e @ JodError::NotFound { .. }) => {
+            eprintln!("fovea bench: no JOD scores in this run: {e}");
+            Ok(None)
+        }
+        Err(e) => Err(e.into()),
+    }
+}
+
 /// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
 pub fn run(
     ctx: &Arc<GpuContext>,
@@ -170,6 +184,7 @@ pub fn run(
         .iter()
         .map(|r| (r.scene.clone(), r.mode, r.spp))
         .collect();
+    let mut metric = perceptual_metric()?;
     let trace_path = dir.join(TRACE_FILE);
     let mut trace = TraceWriter::open(&trace_path).map_err(|e| BenchError::file(&trace_path, e))?;
 
@@ -313,6 +328,7 @@ pub fn run(
                 *spp,
                 &eyes[mode],
                 &reference,
+                metric.as_mut(),
             )?;
             for row in &point.rows {
                 quality_log.append(row)?;
@@ -335,6 +351,7 @@ pub fn run(
                         plan.spp,
                         &eyes[&mode],
                         &reference,
+                        None,
                     )?);
                 }
             }

@@ -86,6 +86,8 @@ pub struct QualitySummary {
     pub psnr_db: f64,
     pub flip: f64,
     pub frame_gpu_ms: f64,
+    /// Mean of both eyes' JOD (whole image only; None where it was not measured).
+    pub jod: Option<f64>,
 }
 
 /// The mean of `values`; NaN when there are none.
@@ -206,6 +208,11 @@ fn quality_summary(scene: &str, rows: &[QualityRow]) -> Vec<QualitySummary> {
             psnr_db: mean(g.iter().map(|r| r.psnr_db)),
             flip: mean(g.iter().map(|r| r.flip)),
             frame_gpu_ms: g[0].frame_gpu_ms,
+            jod: g
+                .iter()
+                .map(|r| r.jod)
+                .sum::<Option<f64>>()
+                .map(|sum| sum / g.len() as f64),
         })
         .collect()
 }

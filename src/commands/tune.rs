@@ -4,6 +4,7 @@
 use super::{check_validation, gpu_context, GpuArgs};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
+use fovea::foveation::FoveationConfig;
 use fovea::render::{FovChoice, Integrator, Traversal};
 use fovea::tune::files::TuneFiles;
 use fovea::tune::run::TuneOptions;
@@ -14,8 +15,8 @@ use std::path::PathBuf;
 /// Which grid the search draws configs from.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum SpaceChoice {
-    /// Up to 3 layers and a background: radii 3-40 deg, spacings 1-6, 1-8 spp, 0-3 denoiser
-    /// iterations.
+    /// Up to 3 layers and a background: radii 3-40 deg, spacings 1-6, 1-16 spp, 0-3 denoiser
+    /// iterations; baselines at 1, 2 and 4 spp.
     Standard,
     /// One layer and a background, radii 6/15 deg, spacings 1/2/4, 1-2 spp, no denoiser.
     Small,
@@ -55,6 +56,11 @@ pub struct TuneArgs {
     pub candidates: u32,
     #[arg(long, value_enum, default_value_t = SpaceChoice::Standard)]
     pub space: SpaceChoice,
+    /// Foveation TOML(s) measured right after the baselines, comma-separated: your own
+    /// starting points, or configs to compare without a search (--candidates = baselines +
+    /// these).
+    #[arg(long, value_delimiter = ',', value_name = "FILE.toml")]
+    pub include: Vec<PathBuf>,
     /// Seeds the search: the same seed draws the same configs.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -99,6 +105,9 @@ pub fn run(args: &TuneArgs) -> Result<()> {
         max_bounces: args.max_bounces,
         traversal: Traversal::preferred(&ctx),
         space,
+        include: (args.include.iter())
+            .map(|p| FoveationConfig::load(p))
+            .collect::<Result<_, _>>()?,
     };
     let files = TuneFiles::new(&args.out);
     let cache = args.reference_cache.clone().unwrap_or_else(|| {
@@ -131,7 +140,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
     let c = &outcome.chosen;
     println!(
         "chosen: {} — JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms per eye (budget {:.2} ms)",
-        c.config, c.jod, c.jod_forward, c.jod_off_axis, c.jod_corner, c.gpu_ms, outcome.budget_ms
+        c.config, c.jod, c.jod_forward, c.jod_off_axis, c.jod_corner, c.cost_ms, outcome.budget_ms
     );
     println!(
         "wrote {} (the front: {} of {} configs in {}, plot {}.svg/.png; every config in {})",

@@ -210,18 +210,31 @@ impl Fvvdp {
         }
         let test = self.dir.join("test.f32");
         let reference = self.dir.join("reference.f32");
-        write_display_encoded(&test, input.test)?;
-        write_display_encoded(&reference, input.reference)?;
+        write_display_encoded(&test, input.test.iter(), false)?;
+        write_display_encoded(&reference, input.reference.iter(), false)?;
+        self.request(&test, &reference, input.image, input.fixation, input.fps)
+    }
+
+    /// Scores the frames in two files of display-encoded floats (see [`VideoJod`]).
+    fn request(
+        &mut self,
+        test: &Path,
+        reference: &Path,
+        image: &ImageGeometry,
+        fixation: &[[f64; 2]],
+        fps: f64,
+    ) -> Result<f64, JodError> {
+        let frames = fixation.len();
         let request = serde_json::json!({
-            "width": w,
-            "height": h,
+            "width": image.width,
+            "height": image.height,
             "frames": frames,
-            "fps": if frames > 1 { input.fps } else { 0.0 },
+            "fps": if frames > 1 { fps } else { 0.0 },
             "test": test,
             "reference": reference,
-            "fixation": input.fixation,
+            "fixation": fixation,
             "display": DISPLAY,
-            "fov_horizontal_deg": fov_horizontal_deg(input.image),
+            "fov_horizontal_deg": fov_horizontal_deg(image),
         });
         let line = format!("{request}\n");
         if let Err(e) = self.stdin.write_all(line.as_bytes()) {
@@ -270,17 +283,113 @@ impl Drop for Fvvdp {
 }
 
 /// Frames as the display shows them (sRGB-encoded, clamped), little-endian f32, one after
-/// the other.
-fn write_display_encoded(path: &Path, frames: &[Vec<f32>]) -> Result<(), JodError> {
+/// the other; appended to the file, or replacing it.
+fn write_display_encoded<'a>(
+    path: &Path,
+    frames: impl Iterator<Item = &'a Vec<f32>>,
+    append: bool,
+) -> Result<(), JodError> {
     let bytes: Vec<u8> = frames
-        .iter()
         .flatten()
         .flat_map(|&v| linear_to_srgb(v).to_le_bytes())
         .collect();
-    std::fs::write(path, bytes).map_err(|source| JodError::File {
+    let file_error = |source| JodError::File {
         path: path.into(),
         source,
-    })
+    };
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .write(true)
+        .append(append)
+        .truncate(!append)
+        .open(path)
+        .map_err(file_error)?;
+    file.write_all(&bytes).map_err(file_error)
+}
+
+/// A video scored as it is rendered: frames go to files as they come (a long sequence at the
+/// headset's size need not fit in memory), and [`VideoJod::score`] judges them all at once,
+/// so FovVideoVDP's temporal channels see the flicker between them.
+pub struct VideoJod {
+    dir: PathBuf,
+    image: ImageGeometry,
+    fixation: Vec<[f64; 2]>,
+}
+
+impl VideoJod {
+    pub fn new(image: ImageGeometry) -> Result<Self, JodError> {
+        static VIDEOS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = VIDEOS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("fovea-jod-video-{}-{n}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|source| JodError::File {
+            path: dir.clone(),
+            source,
+        })?;
+        for f in ["test.f32", "reference.f32"] {
+            write_display_encoded(&dir.join(f), std::iter::empty(), false)?;
+        }
+        Ok(Self {
+            dir,
+            image,
+            fixation: Vec::new(),
+        })
+    }
+
+    /// Adds a frame (linear RGB of the image's size) with its gaze pixel.
+    pub fn push(
+        &mut self,
+        test: &[f32],
+        reference: &[f32],
+        fixation: [f64; 2],
+    ) -> Result<(), JodError> {
+        let need = self.image.width as usize * self.image.height as usize * 3;
+        if test.len() != need || reference.len() != need {
+            return Err(JodError::Input(format!(
+                "a video frame has {} and {} floats, a {}x{} RGB image needs {need}",
+                test.len(),
+                reference.len(),
+                self.image.width,
+                self.image.height
+            )));
+        }
+        if !(fixation[0].is_finite() && fixation[1].is_finite()) {
+            return Err(JodError::Input(
+                "a fixation is not a finite pixel position".into(),
+            ));
+        }
+        write_display_encoded(&self.dir.join("test.f32"), [test.to_vec()].iter(), true)?;
+        write_display_encoded(
+            &self.dir.join("reference.f32"),
+            [reference.to_vec()].iter(),
+            true,
+        )?;
+        self.fixation.push(fixation);
+        Ok(())
+    }
+
+    pub fn frames(&self) -> usize {
+        self.fixation.len()
+    }
+
+    /// The JOD of the frames so far, shown at `fps`.
+    pub fn score(&self, metric: &mut Fvvdp, fps: f64) -> Result<f64, JodError> {
+        if self.fixation.is_empty() {
+            return Err(JodError::Input("a video with no frames".into()));
+        }
+        metric.request(
+            &self.dir.join("test.f32"),
+            &self.dir.join("reference.f32"),
+            &self.image,
+            &self.fixation,
+            fps,
+        )
+    }
+}
+
+impl Drop for VideoJod {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
 }
 
 #[cfg(test)]

@@ -19,6 +19,11 @@ pub struct CandidateRow {
     pub config: String,
     /// One eye's GPU ms: median over the timed frames of every gaze, slowest scene.
     pub gpu_ms: f64,
+    /// With a budget of regular rendering's time: the config's median over the median of
+    /// the regular frames timed between its frames, on the scene where it is highest (NaN
+    /// with a budget in ms). At most 1 is within the budget, however the machine's speed
+    /// drifted during the run.
+    pub pace_ratio: f64,
     /// FovVideoVDP JOD: mean over scenes and gazes; then per gaze (mean over scenes).
     pub jod: f64,
     pub jod_forward: f64,
@@ -26,6 +31,10 @@ pub struct CandidateRow {
     pub jod_corner: f64,
     /// Camera paths traced per visible pixel (forward gaze, first scene): the rays' share.
     pub paths_per_pixel: f64,
+    /// Per scene, its median GPU ms and JOD per gaze, as JSON:
+    /// `{"cornell": {"gpu_ms": 310.2, "jod": [8.1, 8.3, 8.9]}, ...}`.
+    #[serde(default)]
+    pub scenes_json: String,
     /// The config itself, as JSON.
     pub config_json: String,
 }
@@ -45,12 +54,37 @@ impl CandidateRow {
     }
 }
 
-impl super::front::Measured for CandidateRow {
-    fn ms(&self) -> f64 {
-        self.gpu_ms
-    }
-    fn jod(&self) -> f64 {
-        self.jod
+/// A row of `-front.csv`: a config on the Pareto front, with the cost it was judged by.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrontRow {
+    pub index: u32,
+    pub config: String,
+    /// The GPU ms the front and the budget compare: `gpu_ms`, or with a regular budget
+    /// `pace_ratio` × regular rendering's measured ms.
+    pub cost_ms: f64,
+    pub gpu_ms: f64,
+    pub pace_ratio: f64,
+    pub jod: f64,
+    pub jod_forward: f64,
+    pub jod_off_axis: f64,
+    pub jod_corner: f64,
+    pub config_json: String,
+}
+
+impl FrontRow {
+    pub fn new(row: &CandidateRow, cost_ms: f64) -> Self {
+        Self {
+            index: row.index,
+            config: row.config.clone(),
+            cost_ms,
+            gpu_ms: row.gpu_ms,
+            pace_ratio: row.pace_ratio,
+            jod: row.jod,
+            jod_forward: row.jod_forward,
+            jod_off_axis: row.jod_off_axis,
+            jod_corner: row.jod_corner,
+            config_json: row.config_json.clone(),
+        }
     }
 }
 
@@ -91,7 +125,7 @@ pub fn config_toml(config: &FoveationConfig, header: &[String]) -> String {
 }
 
 /// Writes `rows` as a CSV file (whole, replacing what was there).
-pub fn write_rows(path: &Path, rows: &[&CandidateRow]) -> Result<(), String> {
+pub fn write_rows<T: Serialize>(path: &Path, rows: &[T]) -> Result<(), String> {
     let mut writer =
         csv::Writer::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
     for row in rows {

@@ -21,6 +21,8 @@ const RENDER_SEED: u32 = 1;
 pub struct SceneJudge {
     pub name: String,
     renderer: Renderer,
+    /// Renders the pace frames (see [`SceneJudge::judge`]), without history.
+    pacer: Renderer,
     /// One eye per gaze of [`TuneGaze::ALL`].
     eyes: Vec<EyeView>,
     image: ImageGeometry,
@@ -34,6 +36,8 @@ pub struct SceneScore {
     /// Per gaze of [`TuneGaze::ALL`].
     pub jod: Vec<f64>,
     pub median_ms: f64,
+    /// Median of the pace frames timed between the config's frames (NaN without a pace).
+    pub pace_ms: f64,
     pub paths_per_pixel: f64,
 }
 
@@ -66,6 +70,10 @@ impl SceneJudge {
             .map_err(crate::bench::BenchError::from)?;
         let mut renderer = Renderer::new(ctx, &scene).map_err(TuneError::render(name))?;
         renderer
+            .set_traversal(plan.traversal)
+            .map_err(TuneError::render(name))?;
+        let mut pacer = Renderer::new(ctx, &scene).map_err(TuneError::render(name))?;
+        pacer
             .set_traversal(plan.traversal)
             .map_err(TuneError::render(name))?;
         let forward = GazeChoice {
@@ -101,6 +109,7 @@ impl SceneJudge {
         Ok(Self {
             name: name.to_string(),
             renderer,
+            pacer,
             eyes,
             image,
             reference: masked(reference, &visible),
@@ -108,11 +117,14 @@ impl SceneJudge {
         })
     }
 
-    /// Scores `config` at every gaze and times it.
+    /// Scores `config` at every gaze and times it. With a `pace` config, each timed frame
+    /// follows a frame of it: on a machine whose speed drifts (other work, clocks), the ratio
+    /// of the two medians holds where either alone does not.
     pub fn judge(
         &mut self,
         plan: &TunePlan,
         config: &FoveationConfig,
+        pace: Option<&FoveationConfig>,
         metric: &mut Fvvdp,
     ) -> Result<SceneScore, TuneError> {
         let name = self.name.clone();
@@ -133,9 +145,10 @@ impl SceneJudge {
         let mut score = SceneScore {
             jod: Vec::new(),
             median_ms: f64::NAN,
+            pace_ms: f64::NAN,
             paths_per_pixel: f64::NAN,
         };
-        let mut ms = Vec::new();
+        let (mut ms, mut pace_ms) = (Vec::new(), Vec::new());
         for (g, eye) in self.eyes.iter().enumerate() {
             let request = FrameRequest {
                 settings,
@@ -159,6 +172,17 @@ impl SceneJudge {
                 .jod
                 .push(metric.image(&test, &self.reference, &self.image, gaze)?);
             for _ in 0..plan.frames {
+                if let Some(pace) = pace {
+                    let timed = self
+                        .pacer
+                        .measure_frame(&FrameRequest {
+                            foveation: pace,
+                            eyes: &self.eyes[..1],
+                            ..request
+                        })
+                        .map_err(TuneError::render(&name))?;
+                    pace_ms.push(timed.stats.gpu_ms());
+                }
                 let timed = self
                     .renderer
                     .measure_frame(&request)
@@ -166,7 +190,9 @@ impl SceneJudge {
                 ms.push(timed.stats.gpu_ms());
             }
         }
-        score.median_ms = crate::bench::stats::summarize(&ms).map_or(f64::NAN, |s| s.median);
+        let median = |v: &[f64]| crate::bench::stats::summarize(v).map_or(f64::NAN, |s| s.median);
+        score.median_ms = median(&ms);
+        score.pace_ms = median(&pace_ms);
         Ok(score)
     }
 }

@@ -74,6 +74,10 @@ pub struct TunePlan {
     pub max_bounces: u32,
     pub traversal: Traversal,
     pub space: Space,
+    /// Configs measured right after the baselines (`--include`): the user's own, or ones to
+    /// compare in a run with no search (`--candidates` = baselines + these).
+    #[serde(default)]
+    pub include: Vec<crate::foveation::FoveationConfig>,
 }
 
 impl TunePlan {
@@ -108,21 +112,24 @@ impl TunePlan {
                     "--budget-ms {ms} must be a positive number of milliseconds"
                 ))
             }
-            Budget::Regular(spp) if !self.space.spp.contains(&spp) => {
+            Budget::Regular(spp) if !self.space.baseline_spp.contains(&spp) => {
                 return Err(format!(
                     "--budget-of-regular {spp}: the search measures regular rendering at {:?} \
                      spp only; give one of those",
-                    self.space.spp
+                    self.space.baseline_spp
                 ))
             }
             _ => {}
         }
         let baselines = self.space.baselines().len() as u32;
-        if self.candidates < baselines {
+        let first = baselines + self.include.len() as u32;
+        if self.candidates < first {
             return Err(format!(
                 "--candidates {} is fewer than the {baselines} baselines every search measures \
-                 (regular and the thesis' layers at each spp); give at least {baselines}",
-                self.candidates
+                 (regular and the thesis' layers at each spp) and the {} --include config(s); \
+                 give at least {first}",
+                self.candidates,
+                self.include.len()
             ));
         }
         Ok(())

@@ -3,8 +3,8 @@
 //! candidates log as soon as it is measured (an interrupted run resumes from there); then
 //! the front, its plot and the chosen config's TOML.
 
-use super::files::{config_toml, write_rows, CandidateRow, TuneFiles};
-use super::front::{best_within, pareto_front};
+use super::files::{config_toml, write_rows, CandidateRow, FrontRow, TuneFiles};
+use super::front::{best_within, pareto_front, Measured};
 use super::measure::SceneJudge;
 use super::plan::{Budget, TuneGaze, TunePlan};
 use super::space::describe;
@@ -30,10 +30,49 @@ pub struct TuneOptions {
 /// What a finished run found.
 pub struct TuneOutcome {
     pub budget_ms: f64,
-    pub chosen: CandidateRow,
+    pub chosen: FrontRow,
     /// Fastest first.
-    pub front: Vec<CandidateRow>,
+    pub front: Vec<FrontRow>,
     pub rows: Vec<CandidateRow>,
+}
+
+/// A measured config as the front sees it: its cost in ms (see [`costs`]) and its JOD.
+#[derive(Clone, Copy)]
+struct Point {
+    cost_ms: f64,
+    jod: f64,
+}
+
+impl Measured for Point {
+    fn ms(&self) -> f64 {
+        self.cost_ms
+    }
+    fn jod(&self) -> f64 {
+        self.jod
+    }
+}
+
+/// Each row's cost in ms and the budget: raw GPU ms against a budget in ms; with a budget of
+/// regular rendering's time, each row's pace ratio (its time over the regular frames
+/// interleaved with it) times regular rendering's own measured ms, which is the budget.
+/// None while a regular budget's own row is not measured.
+fn costs(plan: &TunePlan, rows: &[CandidateRow]) -> (Vec<Point>, Option<f64>) {
+    let (scale, budget) = match plan.budget {
+        Budget::Ms(ms) => (None, Some(ms)),
+        Budget::Regular(spp) => {
+            let name = describe(&FoveationConfig::regular(spp));
+            let ms = rows.iter().find(|r| r.config == name).map(|r| r.gpu_ms);
+            (Some(ms.unwrap_or(f64::NAN)), ms)
+        }
+    };
+    let points = rows
+        .iter()
+        .map(|r| Point {
+            cost_ms: scale.map_or(r.gpu_ms, |s| r.pace_ratio * s),
+            jod: r.jod,
+        })
+        .collect();
+    (points, budget)
 }
 
 /// Parents a mutation picks from: this many of the best within the budget.
@@ -119,9 +158,9 @@ fn open_plan(plan: &TunePlan, files: &TuneFiles) -> Result<(), TuneError> {
 
 /// The configs drawn at random from the seed, none a baseline or drawn twice.
 fn random_configs(plan: &TunePlan) -> Vec<FoveationConfig> {
-    let baselines = plan.space.baselines();
-    let count = (plan.candidates as usize - baselines.len()) / 2;
-    let mut seen: Vec<String> = baselines.iter().map(describe).collect();
+    let first = first_configs(plan);
+    let count = (plan.candidates as usize - first.len()) / 2;
+    let mut seen: Vec<String> = first.iter().map(|(c, _)| describe(c)).collect();
     let mut rng = Rng::new(plan.seed);
     let mut out = Vec::new();
     for _ in 0..count * FRESH_TRIES {
@@ -138,6 +177,13 @@ fn random_configs(plan: &TunePlan) -> Vec<FoveationConfig> {
     out
 }
 
+/// What every search measures first: the baselines, then the `--include` configs.
+fn first_configs(plan: &TunePlan) -> Vec<(FoveationConfig, &'static str)> {
+    let baselines = plan.space.baselines().into_iter().map(|c| (c, "baseline"));
+    let included = plan.include.iter().map(|c| (c.clone(), "included"));
+    baselines.chain(included).collect()
+}
+
 /// Candidate `index` of the search: a baseline, a random draw, or a mutation of one of the
 /// best configs measured before it (so the same seed and measurements give the same one).
 fn candidate(
@@ -146,27 +192,27 @@ fn candidate(
     randoms: &[FoveationConfig],
     rows: &[CandidateRow],
 ) -> (FoveationConfig, String) {
-    let baselines = plan.space.baselines();
+    let first = first_configs(plan);
     let i = index as usize;
-    if let Some(config) = baselines.get(i) {
-        return (config.clone(), "baseline".into());
+    if let Some((config, origin)) = first.get(i) {
+        return (config.clone(), origin.to_string());
     }
-    if let Some(config) = randoms.get(i - baselines.len()) {
+    if let Some(config) = randoms.get(i - first.len()) {
         return (config.clone(), "random".into());
     }
-    let earlier: Vec<&CandidateRow> = rows.iter().filter(|r| r.index < index).collect();
-    let budget = budget_ms(plan, rows).unwrap_or(f64::INFINITY);
-    let mut parents: Vec<&CandidateRow> = earlier
-        .iter()
-        .copied()
-        .filter(|r| r.gpu_ms <= budget && r.jod.is_finite())
+    let earlier: Vec<CandidateRow> = rows.iter().filter(|r| r.index < index).cloned().collect();
+    let (points, budget) = costs(plan, &earlier);
+    let budget = budget.unwrap_or(f64::INFINITY);
+    let mut parents: Vec<usize> = (0..earlier.len())
+        .filter(|&i| points[i].cost_ms <= budget && points[i].jod.is_finite())
         .collect();
-    parents.sort_by(|a, b| b.jod.total_cmp(&a.jod));
+    parents.sort_by(|&a, &b| points[b].jod.total_cmp(&points[a].jod));
     if parents.is_empty() {
-        parents = earlier.clone();
-        parents.sort_by(|a, b| a.gpu_ms.total_cmp(&b.gpu_ms));
+        parents = (0..earlier.len()).collect();
+        parents.sort_by(|&a, &b| points[a].cost_ms.total_cmp(&points[b].cost_ms));
     }
     parents.truncate(PARENTS);
+    let parents: Vec<&CandidateRow> = parents.iter().map(|&i| &earlier[i]).collect();
     let mut rng = Rng::new(plan.seed ^ (index as u64).wrapping_mul(0x2545_f491_4f6c_dd1d));
     let mut fallback = None;
     for _ in 0..FRESH_TRIES {
@@ -200,17 +246,32 @@ fn judge(
     judges: &mut [SceneJudge],
     metric: &mut Fvvdp,
 ) -> Result<CandidateRow, TuneError> {
+    let pace = match plan.budget {
+        Budget::Regular(spp) => Some(FoveationConfig::regular(spp)),
+        Budget::Ms(_) => None,
+    };
     let mut per_gaze = vec![0.0; TuneGaze::ALL.len()];
     let mut gpu_ms = f64::NAN;
+    let mut pace_ratio = f64::NAN;
     let mut paths_per_pixel = f64::NAN;
+    let mut scenes = serde_json::Map::new();
     for (s, judge) in judges.iter_mut().enumerate() {
-        let score = judge.judge(plan, config, metric)?;
+        let score = judge.judge(plan, config, pace.as_ref(), metric)?;
+        scenes.insert(
+            judge.name.clone(),
+            serde_json::json!({
+                "gpu_ms": score.median_ms,
+                "pace_ms": score.pace_ms,
+                "jod": score.jod
+            }),
+        );
+        let ratio = score.median_ms / score.pace_ms;
         for (sum, jod) in per_gaze.iter_mut().zip(&score.jod) {
             *sum += jod / plan.scenes.len() as f64;
         }
-        gpu_ms = match s {
-            0 => score.median_ms,
-            _ => gpu_ms.max(score.median_ms),
+        (gpu_ms, pace_ratio) = match s {
+            0 => (score.median_ms, ratio),
+            _ => (gpu_ms.max(score.median_ms), pace_ratio.max(ratio)),
         };
         if s == 0 {
             paths_per_pixel = score.paths_per_pixel;
@@ -221,24 +282,15 @@ fn judge(
         origin,
         config: describe(config),
         gpu_ms,
+        pace_ratio,
         jod: per_gaze.iter().sum::<f64>() / per_gaze.len() as f64,
         jod_forward: per_gaze[0],
         jod_off_axis: per_gaze[1],
         jod_corner: per_gaze[2],
         paths_per_pixel,
+        scenes_json: serde_json::Value::Object(scenes).to_string(),
         config_json: serde_json::to_string(config).unwrap_or_default(),
     })
-}
-
-/// The budget in milliseconds, once it is known (a regular budget needs its measurement).
-pub fn budget_ms(plan: &TunePlan, rows: &[CandidateRow]) -> Option<f64> {
-    match plan.budget {
-        Budget::Ms(ms) => Some(ms),
-        Budget::Regular(spp) => {
-            let name = describe(&FoveationConfig::regular(spp));
-            rows.iter().find(|r| r.config == name).map(|r| r.gpu_ms)
-        }
-    }
 }
 
 /// The front, its plot, and the chosen config.
@@ -249,22 +301,24 @@ fn finish(
     options: &TuneOptions,
     rows: Vec<CandidateRow>,
 ) -> Result<TuneOutcome, TuneError> {
-    let budget = budget_ms(plan, &rows).unwrap_or(f64::NAN);
-    let front: Vec<CandidateRow> = pareto_front(&rows)
+    let (points, budget) = costs(plan, &rows);
+    let budget = budget.unwrap_or(f64::NAN);
+    let front: Vec<FrontRow> = pareto_front(&points)
         .into_iter()
-        .map(|i| rows[i].clone())
+        .map(|i| FrontRow::new(&rows[i], points[i].cost_ms))
         .collect();
-    write_rows(&files.front, &front.iter().collect::<Vec<_>>()).map_err(TuneError::File)?;
-    let chosen = best_within(&rows, budget).map(|i| rows[i].clone());
-    plot(plan, files, &rows, &front, budget, chosen.as_ref())?;
+    write_rows(&files.front, &front).map_err(TuneError::File)?;
+    let chosen = best_within(&points, budget).map(|i| FrontRow::new(&rows[i], points[i].cost_ms));
+    plot(plan, files, &rows, &points, &front, budget, chosen.as_ref())?;
     let Some(chosen) = chosen else {
         return Err(TuneError::NothingWithin {
             budget_ms: budget,
-            fastest_ms: front.first().map_or(f64::NAN, |r| r.gpu_ms),
+            fastest_ms: front.first().map_or(f64::NAN, |r| r.cost_ms),
             front: files.front.display().to_string(),
         });
     };
-    let config = chosen.foveation().map_err(TuneError::File)?;
+    let config: FoveationConfig = serde_json::from_str(&chosen.config_json)
+        .map_err(|e| TuneError::File(format!("the chosen config does not read back ({e})")))?;
     let regular = |spp: u32| {
         let name = describe(&FoveationConfig::regular(spp));
         rows.iter().find(|r| r.config == name)
@@ -289,16 +343,34 @@ fn finish(
             plan.reference_spp
         ),
         format!(
-            "JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms GPU per eye; budget {:.2} ms.",
-            chosen.jod, chosen.jod_forward, chosen.jod_off_axis, chosen.jod_corner, chosen.gpu_ms, budget
+            "JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms GPU per eye; budget {:.2} ms{}.",
+            chosen.jod,
+            chosen.jod_forward,
+            chosen.jod_off_axis,
+            chosen.jod_corner,
+            chosen.cost_ms,
+            budget,
+            match plan.budget {
+                Budget::Regular(spp) => format!(
+                    " (regular {spp} spp's; {:.3}x its time, timed interleaved)",
+                    chosen.pace_ratio
+                ),
+                Budget::Ms(_) => String::new(),
+            }
         ),
     ];
-    header.extend(plan.space.spp.iter().filter_map(|&s| regular(s)).map(|r| {
-        format!(
-            "Same run, regular {}: JOD {:.3} at {:.2} ms.",
-            r.config, r.jod, r.gpu_ms
-        )
-    }));
+    header.extend(
+        plan.space
+            .baseline_spp
+            .iter()
+            .filter_map(|&s| regular(s))
+            .map(|r| {
+                format!(
+                    "Same run, regular {}: JOD {:.3} at {:.2} ms.",
+                    r.config, r.jod, r.gpu_ms
+                )
+            }),
+    );
     std::fs::write(&files.config, config_toml(&config, &header))
         .map_err(|e| TuneError::File(format!("{}: {e}", files.config.display())))?;
     Ok(TuneOutcome {
@@ -315,20 +387,22 @@ fn plot(
     plan: &TunePlan,
     files: &TuneFiles,
     rows: &[CandidateRow],
-    front: &[CandidateRow],
+    points: &[Point],
+    front: &[FrontRow],
     budget: f64,
-    chosen: Option<&CandidateRow>,
+    chosen: Option<&FrontRow>,
 ) -> Result<(), TuneError> {
     let curve = |label: &str, configs: Vec<FoveationConfig>| Curve {
         label: label.to_string(),
         points: configs
             .iter()
-            .zip(&plan.space.spp)
+            .zip(&plan.space.baseline_spp)
             .filter_map(|(c, &spp)| {
                 let name = describe(c);
-                rows.iter().find(|r| r.config == name).map(|r| CurvePoint {
-                    ms: r.gpu_ms,
-                    error: r.jod,
+                let i = rows.iter().position(|r| r.config == name)?;
+                Some(CurvePoint {
+                    ms: points[i].cost_ms,
+                    error: points[i].jod,
                     spp,
                 })
             })
@@ -344,7 +418,7 @@ fn plot(
     );
     let thesis = curve(
         "thesis layers (spp)",
-        (plan.space.spp.iter())
+        (plan.space.baseline_spp.iter())
             .map(|&s| FoveationConfig::thesis().with_spp(s))
             .collect(),
     );
@@ -353,13 +427,13 @@ fn plot(
         points: front
             .iter()
             .map(|r| CurvePoint {
-                ms: r.gpu_ms,
+                ms: r.cost_ms,
                 error: r.jod,
                 spp: 0,
             })
             .collect(),
     };
-    let scatter: Vec<(f64, f64)> = rows.iter().map(|r| (r.gpu_ms, r.jod)).collect();
+    let scatter: Vec<(f64, f64)> = points.iter().map(|p| (p.cost_ms, p.jod)).collect();
     let title = format!(
         "{} at {}x{} per eye: JOD against GPU time",
         plan.scenes.join(", "),
@@ -373,7 +447,7 @@ fn plot(
             curves: &[regular, thesis, front_curve],
             scatter: &scatter,
             budget_ms: budget.is_finite().then_some(budget),
-            chosen: chosen.map(|r| (r.gpu_ms, r.jod)),
+            chosen: chosen.map(|r| (r.cost_ms, r.jod)),
         },
     )?;
     Ok(())

@@ -17,6 +17,8 @@ pub struct Space {
     pub spacings: Vec<u32>,
     /// Samples per target pixel, ascending.
     pub spp: Vec<u32>,
+    /// The spp of the baselines (regular rendering and the thesis' layers).
+    pub baseline_spp: Vec<u32>,
     /// Denoiser iterations a sparse layer may take (0 = none), ascending.
     pub denoise: Vec<u32>,
     /// Blend band width of every candidate, degrees.
@@ -27,7 +29,8 @@ pub struct Space {
 
 impl Space {
     /// The search `fovea tune` runs by default: up to three layers and a background, radii
-    /// from 3° to 40°, spacings 1–6, 1–8 spp, up to 3 denoiser iterations.
+    /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations; baselines at 1, 2
+    /// and 4 spp.
     pub fn standard() -> Self {
         Self {
             max_inner_layers: 3,
@@ -35,7 +38,8 @@ impl Space {
                 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0, 40.0,
             ],
             spacings: vec![1, 2, 3, 4, 5, 6],
-            spp: vec![1, 2, 4, 8],
+            spp: vec![1, 2, 4, 8, 16],
+            baseline_spp: vec![1, 2, 4],
             denoise: vec![0, 1, 2, 3],
             blend_deg: 1.0,
             occlusion_deg: Some(THESIS_OCCLUSION_DEG),
@@ -49,17 +53,21 @@ impl Space {
             radii_deg: vec![6.0, 15.0],
             spacings: vec![1, 2, 4],
             spp: vec![1, 2],
+            baseline_spp: vec![1, 2],
             denoise: vec![0],
             ..Self::standard()
         }
     }
 
     /// The configs every search measures first, whatever the seed: regular rendering at each
-    /// spp of the space (the baseline curve) and the thesis' layers at each spp.
+    /// baseline spp (the baseline curve) and the thesis' layers at each.
     pub fn baselines(&self) -> Vec<FoveationConfig> {
-        let regular = self.spp.iter().map(|&s| FoveationConfig::regular(s));
+        let regular = self
+            .baseline_spp
+            .iter()
+            .map(|&s| FoveationConfig::regular(s));
         let thesis = self
-            .spp
+            .baseline_spp
             .iter()
             .map(|&s| FoveationConfig::thesis().with_spp(s));
         regular.chain(thesis).collect()
