@@ -24,8 +24,7 @@ pub enum SpaceChoice {
 
 #[derive(Args)]
 pub struct TuneArgs {
-    /// Scene(s) to judge configs on, comma-separated (JOD is averaged, the budget must hold
-    /// on the slowest).
+    /// Scene(s) to judge configs on, comma-separated (JOD and GPU time are averaged).
     #[arg(long, value_delimiter = ',', required = true)]
     pub scene: Vec<String>,
     /// One eye's field of view.

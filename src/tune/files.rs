@@ -17,12 +17,11 @@ pub struct CandidateRow {
     pub origin: String,
     /// `space::describe`: each layer as RADIUS:SPACINGxSPP, dN for denoising.
     pub config: String,
-    /// One eye's GPU ms: median over the timed frames of every gaze, slowest scene.
+    /// One eye's GPU ms: median over the timed frames of every gaze, mean over scenes.
     pub gpu_ms: f64,
-    /// With a budget of regular rendering's time: the config's median over the median of
-    /// the regular frames timed between its frames, on the scene where it is highest (NaN
-    /// with a budget in ms). At most 1 is within the budget, however the machine's speed
-    /// drifted during the run.
+    /// With a budget of regular rendering's time: the config's medians over the medians of
+    /// the regular frames timed between its frames, summed over scenes (NaN with a budget in
+    /// ms). At most 1 is within the budget, however the machine's speed drifted in the run.
     pub pace_ratio: f64,
     /// FovVideoVDP JOD: mean over scenes and gazes; then per gaze (mean over scenes).
     pub jod: f64,

@@ -56,7 +56,7 @@ impl TuneGaze {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TunePlan {
     /// Scenes every config is judged on: JOD is the mean over scenes and gazes, GPU time the
-    /// slowest scene's median (the budget must hold on each).
+    /// mean of the scenes' medians.
     pub scenes: Vec<String>,
     /// One eye's image size and field of view.
     pub width: u32,

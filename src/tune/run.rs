@@ -236,8 +236,8 @@ fn candidate(
     }
 }
 
-/// Judges `config` on every scene: JOD averaged over scenes and gazes, time the slowest
-/// scene's median.
+/// Judges `config` on every scene: JOD averaged over scenes and gazes, time the mean of the
+/// scenes' medians.
 fn judge(
     plan: &TunePlan,
     index: u32,
@@ -251,8 +251,7 @@ fn judge(
         Budget::Ms(_) => None,
     };
     let mut per_gaze = vec![0.0; TuneGaze::ALL.len()];
-    let mut gpu_ms = f64::NAN;
-    let mut pace_ratio = f64::NAN;
+    let (mut total_ms, mut total_pace_ms) = (0.0, 0.0);
     let mut paths_per_pixel = f64::NAN;
     let mut scenes = serde_json::Map::new();
     for (s, judge) in judges.iter_mut().enumerate() {
@@ -265,18 +264,19 @@ fn judge(
                 "jod": score.jod
             }),
         );
-        let ratio = score.median_ms / score.pace_ms;
         for (sum, jod) in per_gaze.iter_mut().zip(&score.jod) {
             *sum += jod / plan.scenes.len() as f64;
         }
-        (gpu_ms, pace_ratio) = match s {
-            0 => (score.median_ms, ratio),
-            _ => (gpu_ms.max(score.median_ms), pace_ratio.max(ratio)),
-        };
+        total_ms += score.median_ms;
+        total_pace_ms += score.pace_ms;
         if s == 0 {
             paths_per_pixel = score.paths_per_pixel;
         }
     }
+    // Over the scenes together, as a session mixing them would spend it: a ratio per scene
+    // and the worst of them would let one scene's timing noise decide.
+    let gpu_ms = total_ms / plan.scenes.len() as f64;
+    let pace_ratio = total_ms / total_pace_ms;
     Ok(CandidateRow {
         index,
         origin,
