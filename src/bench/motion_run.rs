@@ -12,7 +12,7 @@ use super::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
 use super::motion::{MotionScript, Sequence};
 use super::motion_images::Animation;
 use super::protocol::{BenchPlan, RunOptions, EYES};
-use super::quality::{self, eye_image, visible_pixels};
+use super::quality::{self, eye_image, hidden_black, visible_pixels};
 use super::rows::{MotionJodRow, MotionRow, EYE_NAMES};
 use crate::foveation::{Gaze, GazeChoice};
 use crate::gpu::GpuContext;
@@ -199,7 +199,7 @@ pub fn run(
                 for (e, video) in videos.iter_mut().enumerate() {
                     let visible = visible_pixels(plan, &eyes[k as usize][e].image(w, h));
                     let eye_of =
-                        |rgb: &[f32]| masked(eye_image(rgb, EYES, w, h, e as u32), &visible);
+                        |rgb: &[f32]| hidden_black(eye_image(rgb, EYES, w, h, e as u32), &visible);
                     video.push(&eye_of(&frame.rgb), &eye_of(&truth), frame.gazes[e].0)?;
                 }
                 animation.add_sequence(
@@ -243,15 +243,6 @@ pub fn run(
         &rows,
         &jods,
     )
-}
-
-/// `rgb` with the pixels the lens hides black (as the reference and the test both are for
-/// the other metrics).
-fn masked(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
-    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
-        px.fill(0.0);
-    }
-    rgb
 }
 
 /// Which frame of which sequence a measurement belongs to.

@@ -151,6 +151,15 @@ pub fn visible_pixels(plan: &BenchPlan, image: &ImageGeometry) -> Vec<bool> {
     }
 }
 
+/// `rgb` with the pixels outside `visible` black: what the lens hides is judged in neither
+/// image (and FLIP's edge filters do not see the mask's rim as an error).
+pub fn hidden_black(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
+    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
+        px.fill(0.0);
+    }
+    rgb
+}
+
 /// What one (scene, mode, spp) point of the sweep measured.
 pub struct Point {
     pub rows: Vec<QualityRow>,
@@ -199,15 +208,15 @@ pub fn measure_point(
     };
     for (e, eye) in eyes.iter().enumerate() {
         let image = eye.image(plan.width, plan.height);
-        let mut test = eye_image(&frame.rgb, n, plan.width, plan.height, e as u32);
-        let mut truth = eye_image(reference, n, plan.width, plan.height, e as u32);
         let visible = visible_pixels(plan, &image);
-        // Black there in both images, so that FLIP's edge filters do not see the mask's rim
-        // as an error of the foveated image.
-        for (i, _) in visible.iter().enumerate().filter(|(_, v)| !**v) {
-            test[3 * i..3 * i + 3].fill(0.0);
-            truth[3 * i..3 * i + 3].fill(0.0);
-        }
+        let test = hidden_black(
+            eye_image(&frame.rgb, n, plan.width, plan.height, e as u32),
+            &visible,
+        );
+        let truth = hidden_black(
+            eye_image(reference, n, plan.width, plan.height, e as u32),
+            &visible,
+        );
         let flip = metrics::flip(
             &truth,
             &test,

@@ -4,7 +4,8 @@
 
 use super::plan::{TuneGaze, TunePlan};
 use super::TuneError;
-use crate::bench::{quality, BenchPlan};
+use crate::bench::quality::{self, hidden_black};
+use crate::bench::BenchPlan;
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
@@ -112,7 +113,7 @@ impl SceneJudge {
             pacer,
             eyes,
             image,
-            reference: masked(reference, &visible),
+            reference: hidden_black(reference, &visible),
             visible,
         })
     }
@@ -166,7 +167,7 @@ impl SceneJudge {
                 let paths = frame.stats.eyes.first().map_or(0, |c| c.paths);
                 score.paths_per_pixel = paths as f64 / visible as f64;
             }
-            let test = masked(frame.rgb, &self.visible);
+            let test = hidden_black(frame.rgb, &self.visible);
             let gaze = frame.gazes[0].0;
             score
                 .jod
@@ -195,12 +196,4 @@ impl SceneJudge {
         score.pace_ms = median(&pace_ms);
         Ok(score)
     }
-}
-
-/// `rgb` with the pixels outside `visible` black.
-fn masked(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
-    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
-        px.fill(0.0);
-    }
-    rgb
 }
