@@ -452,3 +452,83 @@ fn plot(
     )?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{FovChoice, Integrator, Traversal};
+
+    fn plan(seed: u64) -> TunePlan {
+        TunePlan {
+            scenes: vec!["cornell".into()],
+            width: 64,
+            height: 72,
+            fov: FovChoice::ViveProEye,
+            budget: Budget::Regular(1),
+            candidates: 20,
+            seed,
+            frames: 1,
+            reference_spp: 256,
+            integrator: Integrator::Pt,
+            max_bounces: 8,
+            traversal: Traversal::Software,
+            space: super::super::space::Space::standard(),
+            include: vec![FoveationConfig::thesis().with_spp(8)],
+        }
+    }
+
+    fn row(index: u32, config: &FoveationConfig, pace_ratio: f64, jod: f64) -> CandidateRow {
+        CandidateRow {
+            index,
+            origin: String::new(),
+            config: describe(config),
+            gpu_ms: 100.0 * pace_ratio,
+            pace_ratio,
+            jod,
+            jod_forward: jod,
+            jod_off_axis: jod,
+            jod_corner: jod,
+            paths_per_pixel: 1.0,
+            scenes_json: String::new(),
+            config_json: serde_json::to_string(config).unwrap(),
+        }
+    }
+
+    #[test]
+    fn the_seed_decides_the_search_and_measurements_steer_it() {
+        let (a, b) = (plan(1), plan(2));
+        assert!(a.validate().is_ok());
+        // Baselines, then the included config, then seeded draws.
+        let first = first_configs(&a);
+        assert_eq!(first.len(), 7);
+        assert_eq!(
+            first[6],
+            (FoveationConfig::thesis().with_spp(8), "included")
+        );
+        assert_eq!(random_configs(&a), random_configs(&a));
+        assert_ne!(random_configs(&a), random_configs(&b));
+        assert_eq!(random_configs(&a).len(), (20 - 7) / 2);
+
+        // Measured so far: regular 1 spp (the budget) and two configs, one within it.
+        let cheap = FoveationConfig::thesis().with_spp(2);
+        let dear = FoveationConfig::thesis().with_spp(16);
+        let rows = vec![
+            row(0, &FoveationConfig::regular(1), 1.0, 8.0),
+            row(1, &cheap, 0.5, 8.5),
+            row(2, &dear, 1.5, 9.5),
+        ];
+        let (points, budget) = costs(&a, &rows);
+        assert_eq!(budget, Some(100.0));
+        assert_eq!(points[1].cost_ms, 50.0);
+        // A mutation's parent is the best within the budget (regular or cheap), never dear;
+        // the same seed and rows give the same child.
+        let index = 19;
+        let (child, origin) = candidate(&a, index, &random_configs(&a), &rows);
+        assert_eq!(candidate(&a, index, &random_configs(&a), &rows).0, child);
+        assert!(
+            origin == "mutation of 0" || origin == "mutation of 1",
+            "{origin}"
+        );
+        assert!(rows.iter().all(|r| r.config != describe(&child)));
+    }
+}
