@@ -51,6 +51,7 @@ fn run(args: &[String]) -> (bool, String) {
 #[derive(Debug, serde::Deserialize)]
 struct Row {
     index: u32,
+    origin: String,
     config: String,
     gpu_ms: f64,
     pace_ratio: f64,
@@ -210,6 +211,21 @@ fn bad_input_gets_a_message() {
         assert!(!ok, "{args:?}");
         assert!(text.contains(expected), "{args:?}: {text}");
     }
+    // A drawn config far over the budget is timed on the first scene and not judged: its
+    // row says so and has no JOD (and nothing fits 1 µs, so the run ends with the message).
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut args = tune_args(out, &["--budget-ms", "0.001"]);
+    args[10] = "5".into();
+    let (ok, text) = run(&args);
+    assert!(!ok && text.contains("raise --budget-ms"), "{text}");
+    let all = rows(&dir.join("t-candidates.csv"));
+    assert_eq!(all.len(), 5, "{all:?}");
+    assert!(all[..4].iter().all(|r| r.jod.is_finite()), "{all:?}");
+    assert!(
+        all[4].jod.is_nan() && all[4].origin.contains("not judged"),
+        "{all:?}"
+    );
+
     // Without the venv: a message that says how to get it, before any rendering.
     let _ = std::fs::remove_dir_all(&dir);
     let args = tune_args(out, &["--budget-ms", "5"]);

@@ -135,14 +135,7 @@ impl SceneJudge {
         self.renderer
             .set_temporal(temporal)
             .map_err(TuneError::render(&name))?;
-        let settings = RenderSettings {
-            width: plan.width,
-            height: plan.height,
-            spp: 1,
-            seed: RENDER_SEED,
-            integrator: plan.integrator,
-            max_bounces: plan.max_bounces,
-        };
+        let settings = settings(plan);
         let mut score = SceneScore {
             jod: Vec::new(),
             median_ms: f64::NAN,
@@ -150,7 +143,8 @@ impl SceneJudge {
             paths_per_pixel: f64::NAN,
         };
         let (mut ms, mut pace_ms) = (Vec::new(), Vec::new());
-        for (g, eye) in self.eyes.iter().enumerate() {
+        let eyes = self.eyes.clone();
+        for (g, eye) in eyes.iter().enumerate() {
             let request = FrameRequest {
                 settings,
                 foveation: config,
@@ -172,28 +166,83 @@ impl SceneJudge {
             score
                 .jod
                 .push(metric.image(&test, &self.reference, &self.image, gaze)?);
-            for _ in 0..plan.frames {
-                if let Some(pace) = pace {
-                    let timed = self
-                        .pacer
-                        .measure_frame(&FrameRequest {
-                            foveation: pace,
-                            eyes: &self.eyes[..1],
-                            ..request
-                        })
-                        .map_err(TuneError::render(&name))?;
-                    pace_ms.push(timed.stats.gpu_ms());
-                }
-                let timed = self
-                    .renderer
-                    .measure_frame(&request)
-                    .map_err(TuneError::render(&name))?;
-                ms.push(timed.stats.gpu_ms());
-            }
+            self.timed_frames(plan, &request, pace, &mut ms, &mut pace_ms)?;
         }
-        let median = |v: &[f64]| crate::bench::stats::summarize(v).map_or(f64::NAN, |s| s.median);
         score.median_ms = median(&ms);
         score.pace_ms = median(&pace_ms);
         Ok(score)
     }
+
+    /// `config`'s time alone, gaze forward: the median of its timed frames (after one
+    /// untimed), and of the pace frames between them.
+    pub fn time(
+        &mut self,
+        plan: &TunePlan,
+        config: &FoveationConfig,
+        pace: Option<&FoveationConfig>,
+    ) -> Result<(f64, f64), TuneError> {
+        let temporal = (config.denoise_iterations() > 0).then(TemporalSettings::default);
+        self.renderer
+            .set_temporal(temporal)
+            .map_err(TuneError::render(&self.name))?;
+        let eye = self.eyes[0];
+        let request = FrameRequest {
+            settings: settings(plan),
+            foveation: config,
+            eyes: std::slice::from_ref(&eye),
+            debug: DebugView::None,
+        };
+        self.renderer
+            .measure_frame(&request)
+            .map_err(TuneError::render(&self.name))?;
+        let (mut ms, mut pace_ms) = (Vec::new(), Vec::new());
+        self.timed_frames(plan, &request, pace, &mut ms, &mut pace_ms)?;
+        Ok((median(&ms), median(&pace_ms)))
+    }
+
+    /// Times `plan.frames` frames of `request`, each after a frame of `pace` when given.
+    fn timed_frames(
+        &mut self,
+        plan: &TunePlan,
+        request: &FrameRequest,
+        pace: Option<&FoveationConfig>,
+        ms: &mut Vec<f64>,
+        pace_ms: &mut Vec<f64>,
+    ) -> Result<(), TuneError> {
+        for _ in 0..plan.frames {
+            if let Some(pace) = pace {
+                let timed = self
+                    .pacer
+                    .measure_frame(&FrameRequest {
+                        foveation: pace,
+                        eyes: &self.eyes[..1],
+                        ..*request
+                    })
+                    .map_err(TuneError::render(&self.name))?;
+                pace_ms.push(timed.stats.gpu_ms());
+            }
+            let timed = self
+                .renderer
+                .measure_frame(request)
+                .map_err(TuneError::render(&self.name))?;
+            ms.push(timed.stats.gpu_ms());
+        }
+        Ok(())
+    }
+}
+
+/// The settings of every frame of the plan (the layers carry the spp).
+fn settings(plan: &TunePlan) -> RenderSettings {
+    RenderSettings {
+        width: plan.width,
+        height: plan.height,
+        spp: 1,
+        seed: RENDER_SEED,
+        integrator: plan.integrator,
+        max_bounces: plan.max_bounces,
+    }
+}
+
+fn median(values: &[f64]) -> f64 {
+    crate::bench::stats::summarize(values).map_or(f64::NAN, |s| s.median)
 }

@@ -75,6 +75,10 @@ fn costs(plan: &TunePlan, rows: &[CandidateRow]) -> (Vec<Point>, Option<f64>) {
     (points, budget)
 }
 
+/// A drawn config timed at more than this many budgets on the first scene is not judged
+/// further: it cannot be chosen, and judging a slow config costs the most.
+pub const OVER_BUDGET: f64 = 3.0;
+
 /// Parents a mutation picks from: this many of the best within the budget.
 const PARENTS: usize = 3;
 /// Draws before a mutation gives up finding a config not yet measured.
@@ -119,7 +123,10 @@ pub fn run(
         }
         let (config, origin) = candidate(plan, index, &randoms, &rows);
         bar.set_message(describe(&config));
-        let row = judge(plan, index, origin, &config, &mut judges, &mut metric)?;
+        let row = match over_budget(plan, index, &origin, &config, &mut judges[0], &rows)? {
+            Some(row) => row,
+            None => judge(plan, index, origin, &config, &mut judges, &mut metric)?,
+        };
         log.append(&row)?;
         rows.push(row);
         bar.inc(1);
@@ -234,6 +241,54 @@ fn candidate(
         false => (fresh, "random".into()),
         true => fallback.unwrap_or((fresh, "random".into())),
     }
+}
+
+/// A drawn (not baseline or included) config that, timed alone on the first scene, takes
+/// more than [`OVER_BUDGET`] budgets: its row, with no JOD. None: judge it.
+fn over_budget(
+    plan: &TunePlan,
+    index: u32,
+    origin: &str,
+    config: &FoveationConfig,
+    judge: &mut SceneJudge,
+    rows: &[CandidateRow],
+) -> Result<Option<CandidateRow>, TuneError> {
+    let drawn = index as usize >= first_configs(plan).len();
+    let (_, Some(budget)) = costs(plan, rows) else {
+        return Ok(None);
+    };
+    if !drawn {
+        return Ok(None);
+    }
+    let pace = match plan.budget {
+        Budget::Regular(spp) => Some(FoveationConfig::regular(spp)),
+        Budget::Ms(_) => None,
+    };
+    let (ms, pace_ms) = judge.time(plan, config, pace.as_ref())?;
+    let (cost, limit) = match plan.budget {
+        Budget::Regular(_) => (ms / pace_ms, OVER_BUDGET),
+        Budget::Ms(_) => (ms, OVER_BUDGET * budget),
+    };
+    if cost <= limit {
+        return Ok(None);
+    }
+    Ok(Some(CandidateRow {
+        index,
+        origin: format!(
+            "{origin}; over {OVER_BUDGET}x the budget on {}: not judged",
+            judge.name
+        ),
+        config: describe(config),
+        gpu_ms: ms,
+        pace_ratio: ms / pace_ms,
+        jod: f64::NAN,
+        jod_forward: f64::NAN,
+        jod_off_axis: f64::NAN,
+        jod_corner: f64::NAN,
+        paths_per_pixel: f64::NAN,
+        scenes_json: String::new(),
+        config_json: serde_json::to_string(config).unwrap_or_default(),
+    }))
 }
 
 /// Judges `config` on every scene: JOD averaged over scenes and gazes, time the mean of the
