@@ -9,12 +9,9 @@ use crate::scene::SceneError;
 pub enum BenchError {
     #[error("{0}")]
     Plan(String),
-    #[error("{scene}: {source}")]
-    Render {
-        scene: String,
-        #[source]
-        source: RenderError,
-    },
+    /// The renderer's message is in this one (not a `source`, which would print it twice).
+    #[error("{scene}: {problem}")]
+    Render { scene: String, problem: RenderError },
     #[error(transparent)]
     Scene(#[from] SceneError),
     #[error(transparent)]
@@ -38,9 +35,9 @@ impl BenchError {
     }
 
     pub fn render(scene: &str) -> impl FnOnce(RenderError) -> BenchError + '_ {
-        move |source| BenchError::Render {
+        move |problem| BenchError::Render {
             scene: scene.to_string(),
-            source,
+            problem,
         }
     }
 }

@@ -22,12 +22,9 @@ use crate::render::RenderError;
 pub enum TuneError {
     #[error("{0}")]
     Plan(String),
-    #[error("{scene}: {source}")]
-    Render {
-        scene: String,
-        #[source]
-        source: RenderError,
-    },
+    /// The renderer's message is in this one (not a `source`, which would print it twice).
+    #[error("{scene}: {problem}")]
+    Render { scene: String, problem: RenderError },
     #[error(transparent)]
     Bench(#[from] BenchError),
     #[error("perceptual metric: {0}")]
@@ -51,9 +48,9 @@ pub enum TuneError {
 
 impl TuneError {
     pub fn render(scene: &str) -> impl FnOnce(RenderError) -> TuneError + '_ {
-        move |source| TuneError::Render {
+        move |problem| TuneError::Render {
             scene: scene.to_string(),
-            source,
+            problem,
         }
     }
 }

@@ -123,9 +123,33 @@ pub fn run(
         }
         let (config, origin) = candidate(plan, index, &randoms, &rows);
         bar.set_message(describe(&config));
-        let row = match over_budget(plan, index, &origin, &config, &mut judges[0], &rows)? {
-            Some(row) => row,
-            None => judge(plan, index, origin, &config, &mut judges, &mut metric)?,
+        let measured = match over_budget(plan, index, &origin, &config, &mut judges[0], &rows) {
+            Ok(Some(row)) => Ok(row),
+            Ok(None) => judge(
+                plan,
+                index,
+                origin.clone(),
+                &config,
+                &mut judges,
+                &mut metric,
+            ),
+            Err(e) => Err(e),
+        };
+        let row = match measured {
+            // A drawn config the device cannot render (a buffer over its limits) is a
+            // measurement too: it is out of the search. A baseline that fails is not.
+            Err(TuneError::Render { scene, problem })
+                if index as usize >= first_configs(plan).len() =>
+            {
+                unjudged(
+                    index,
+                    format!("{origin}; cannot render on {scene}: {problem}"),
+                    &config,
+                    f64::NAN,
+                    f64::NAN,
+                )
+            }
+            other => other?,
         };
         log.append(&row)?;
         rows.push(row);
@@ -272,15 +296,27 @@ fn over_budget(
     if cost <= limit {
         return Ok(None);
     }
-    Ok(Some(CandidateRow {
+    let why = format!(
+        "{origin}; over {OVER_BUDGET}x the budget on {}: not judged",
+        judge.name
+    );
+    Ok(Some(unjudged(index, why, config, ms, ms / pace_ms)))
+}
+
+/// The row of a config measured without a JOD, saying why.
+fn unjudged(
+    index: u32,
+    origin: String,
+    config: &FoveationConfig,
+    gpu_ms: f64,
+    pace_ratio: f64,
+) -> CandidateRow {
+    CandidateRow {
         index,
-        origin: format!(
-            "{origin}; over {OVER_BUDGET}x the budget on {}: not judged",
-            judge.name
-        ),
+        origin,
         config: describe(config),
-        gpu_ms: ms,
-        pace_ratio: ms / pace_ms,
+        gpu_ms,
+        pace_ratio,
         jod: f64::NAN,
         jod_forward: f64::NAN,
         jod_off_axis: f64::NAN,
@@ -288,7 +324,7 @@ fn over_budget(
         paths_per_pixel: f64::NAN,
         scenes_json: String::new(),
         config_json: serde_json::to_string(config).unwrap_or_default(),
-    }))
+    }
 }
 
 /// Judges `config` on every scene: JOD averaged over scenes and gazes, time the mean of the
