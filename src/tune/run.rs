@@ -525,11 +525,13 @@ fn plot(
             .collect(),
     };
     let scatter: Vec<(f64, f64)> = points.iter().map(|p| (p.cost_ms, p.jod)).collect();
+    let scenes = match plan.scenes.len() {
+        1 | 2 => plan.scenes.join(", "),
+        n => format!("{n} scenes"),
+    };
     let title = format!(
-        "{} at {}x{} per eye: JOD against GPU time",
-        plan.scenes.join(", "),
-        plan.width,
-        plan.height
+        "{scenes} at {}x{} per eye: JOD against GPU time",
+        plan.width, plan.height
     );
     plots::jod_vs_time(
         &files.plot,
