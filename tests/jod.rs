@@ -115,10 +115,12 @@ fn the_gaze_matters_and_a_video_sees_flicker() {
         .map(|k| noisy(&reference, 0.03, 11 + k as u64))
         .collect();
     let video = |metric: &mut Fvvdp, test: &[Vec<f32>]| {
+        let test: Vec<&[f32]> = test.iter().map(Vec::as_slice).collect();
+        let reference: Vec<&[f32]> = refs.iter().map(Vec::as_slice).collect();
         metric
             .score(&JodInput {
-                test,
-                reference: &refs,
+                test: &test,
+                reference: &reference,
                 image: &image,
                 fixation: &vec![centre(); frames],
                 fps: 90.0,

@@ -100,8 +100,8 @@ pub fn fov_horizontal_deg(image: &ImageGeometry) -> f64 {
 /// One comparison: `frames` images of `image`'s size, each linear RGB (3 floats a pixel),
 /// with the gaze pixel of each frame.
 pub struct JodInput<'a> {
-    pub test: &'a [Vec<f32>],
-    pub reference: &'a [Vec<f32>],
+    pub test: &'a [&'a [f32]],
+    pub reference: &'a [&'a [f32]],
     pub image: &'a ImageGeometry,
     pub fixation: &'a [[f64; 2]],
     /// Frames per second of a video (ignored for one frame).
@@ -171,8 +171,8 @@ impl Fvvdp {
         fixation: [f64; 2],
     ) -> Result<f64, JodError> {
         self.score(&JodInput {
-            test: &[test.to_vec()],
-            reference: &[reference.to_vec()],
+            test: &[test],
+            reference: &[reference],
             image,
             fixation: &[fixation],
             fps: 0.0,
@@ -210,8 +210,8 @@ impl Fvvdp {
         }
         let test = self.dir.join("test.f32");
         let reference = self.dir.join("reference.f32");
-        write_display_encoded(&test, input.test.iter(), false)?;
-        write_display_encoded(&reference, input.reference.iter(), false)?;
+        write_display_encoded(&test, input.test, false)?;
+        write_display_encoded(&reference, input.reference, false)?;
         self.request(&test, &reference, input.image, input.fixation, input.fps)
     }
 
@@ -284,12 +284,8 @@ impl Drop for Fvvdp {
 
 /// Frames as the display shows them (sRGB-encoded, clamped), little-endian f32, one after
 /// the other; appended to the file, or replacing it.
-fn write_display_encoded<'a>(
-    path: &Path,
-    frames: impl Iterator<Item = &'a Vec<f32>>,
-    append: bool,
-) -> Result<(), JodError> {
-    let bytes: Vec<u8> = frames
+fn write_display_encoded(path: &Path, frames: &[&[f32]], append: bool) -> Result<(), JodError> {
+    let bytes: Vec<u8> = (frames.iter().copied())
         .flatten()
         .flat_map(|&v| linear_to_srgb(v).to_le_bytes())
         .collect();
@@ -326,7 +322,7 @@ impl VideoJod {
             source,
         })?;
         for f in ["test.f32", "reference.f32"] {
-            write_display_encoded(&dir.join(f), std::iter::empty(), false)?;
+            write_display_encoded(&dir.join(f), &[], false)?;
         }
         Ok(Self {
             dir,
@@ -357,12 +353,8 @@ impl VideoJod {
                 "a fixation is not a finite pixel position".into(),
             ));
         }
-        write_display_encoded(&self.dir.join("test.f32"), [test.to_vec()].iter(), true)?;
-        write_display_encoded(
-            &self.dir.join("reference.f32"),
-            [reference.to_vec()].iter(),
-            true,
-        )?;
+        write_display_encoded(&self.dir.join("test.f32"), &[test], true)?;
+        write_display_encoded(&self.dir.join("reference.f32"), &[reference], true)?;
         self.fixation.push(fixation);
         Ok(())
     }

@@ -2,7 +2,7 @@
 //! it lands somewhere new) scored by FovVideoVDP against the scene's converged reference,
 //! then the timed frames whose median GPU time is the config's cost.
 
-use super::plan::{TuneGaze, TunePlan};
+use super::plan::{Budget, TuneGaze, TunePlan};
 use super::TuneError;
 use crate::bench::quality::{self, hidden_black};
 use crate::bench::BenchPlan;
@@ -22,8 +22,9 @@ const RENDER_SEED: u32 = 1;
 pub struct SceneJudge {
     pub name: String,
     renderer: Renderer,
-    /// Renders the pace frames (see [`SceneJudge::judge`]), without history.
-    pacer: Renderer,
+    /// Renders the pace frames (see [`SceneJudge::judge`]), without history: only with a
+    /// budget of regular rendering's time.
+    pacer: Option<Renderer>,
     /// One eye per gaze of [`TuneGaze::ALL`].
     eyes: Vec<EyeView>,
     image: ImageGeometry,
@@ -73,10 +74,16 @@ impl SceneJudge {
         renderer
             .set_traversal(plan.traversal)
             .map_err(TuneError::render(name))?;
-        let mut pacer = Renderer::new(ctx, &scene).map_err(TuneError::render(name))?;
-        pacer
-            .set_traversal(plan.traversal)
-            .map_err(TuneError::render(name))?;
+        let pacer = match plan.budget {
+            Budget::Regular(_) => {
+                let mut pacer = Renderer::new(ctx, &scene).map_err(TuneError::render(name))?;
+                pacer
+                    .set_traversal(plan.traversal)
+                    .map_err(TuneError::render(name))?;
+                Some(pacer)
+            }
+            Budget::Ms(_) => None,
+        };
         let forward = GazeChoice {
             left: Gaze::Forward,
             right: Gaze::Forward,
@@ -210,9 +217,8 @@ impl SceneJudge {
         pace_ms: &mut Vec<f64>,
     ) -> Result<(), TuneError> {
         for _ in 0..plan.frames {
-            if let Some(pace) = pace {
-                let timed = self
-                    .pacer
+            if let (Some(pace), Some(pacer)) = (pace, self.pacer.as_mut()) {
+                let timed = pacer
                     .measure_frame(&FrameRequest {
                         foveation: pace,
                         eyes: &self.eyes[..1],
