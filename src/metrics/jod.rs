@@ -123,13 +123,7 @@ impl Fvvdp {
     /// Finds the venv ([`locate_python`]) and starts the metric.
     pub fn start() -> Result<Self, JodError> {
         let python = locate_python()?;
-        static RUNS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-        let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("fovea-jod-{}-{run}", std::process::id()));
-        std::fs::create_dir_all(&dir).map_err(|source| JodError::File {
-            path: dir.clone(),
-            source,
-        })?;
+        let dir = private_dir("fovea-jod")?;
         let stderr_path = dir.join("stderr.txt");
         let stderr = std::fs::File::create(&stderr_path).map_err(|source| JodError::File {
             path: stderr_path,
@@ -282,6 +276,18 @@ impl Drop for Fvvdp {
     }
 }
 
+/// A new temporary directory of this process (`PREFIX-PID-N`), for frames in flight.
+fn private_dir(prefix: &str) -> Result<PathBuf, JodError> {
+    static DIRS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let n = DIRS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("{prefix}-{}-{n}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|source| JodError::File {
+        path: dir.clone(),
+        source,
+    })?;
+    Ok(dir)
+}
+
 /// Frames as the display shows them (sRGB-encoded, clamped), little-endian f32, one after
 /// the other; appended to the file, or replacing it.
 fn write_display_encoded(path: &Path, frames: &[&[f32]], append: bool) -> Result<(), JodError> {
@@ -314,13 +320,7 @@ pub struct VideoJod {
 
 impl VideoJod {
     pub fn new(image: ImageGeometry) -> Result<Self, JodError> {
-        static VIDEOS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-        let n = VIDEOS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("fovea-jod-video-{}-{n}", std::process::id()));
-        std::fs::create_dir_all(&dir).map_err(|source| JodError::File {
-            path: dir.clone(),
-            source,
-        })?;
+        let dir = private_dir("fovea-jod-video")?;
         for f in ["test.f32", "reference.f32"] {
             write_display_encoded(&dir.join(f), &[], false)?;
         }
