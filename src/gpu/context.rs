@@ -1,13 +1,13 @@
 //! The Vulkan instance, the chosen device and its compute queue, the memory allocator and a
 //! command pool: everything else in gpu/ borrows from a `GpuContext`.
 
-use super::crash_markers::{create_marker_buffer, Markers};
+use super::crash_markers::{create_marker_buffer, InjectedLoss, MarkerSet, Markers, MARKER_SETS};
 use super::device_pick::{
     driver_env, pick_device, DeviceInfo, DeviceWanted, Picked, RAY_QUERY_EXTENSIONS,
 };
 use super::error::{human_bytes, GpuError, VkContext};
 use super::memory_budget::{memory_facts, MemoryFacts};
-use super::options::{GpuOptions, RayQueries};
+use super::options::{GpuOptions, RayQueries, INJECT_DEVICE_LOST_VAR};
 use super::sync::Scope;
 use super::validation::{debug_callback, ValidationLog};
 use ash::vk;
@@ -39,7 +39,6 @@ pub struct GpuContext {
     pub(super) memory: MemoryFacts,
     /// Bytes fovea holds now: [device-local, host-visible].
     pub(super) allocated: [AtomicU64; 2],
-    pub(super) inject_device_lost: Option<String>,
     pub info: DeviceInfo,
     /// Whether the renderer traces with ray queries unless told otherwise.
     prefers_ray_queries: bool,
@@ -96,6 +95,17 @@ impl GpuContext {
                 var,
                 value: value.clone(),
                 problem: problem.clone(),
+            });
+        }
+        if let Some(Err(problem)) = options
+            .inject_device_lost
+            .as_deref()
+            .map(InjectedLoss::parse)
+        {
+            return Err(GpuError::BadEnvironment {
+                var: INJECT_DEVICE_LOST_VAR,
+                value: options.inject_device_lost.clone().unwrap_or_default(),
+                problem,
             });
         }
         // SAFETY: loading the system Vulkan loader; its symbols are used only through ash.
@@ -391,8 +401,12 @@ impl GpuContext {
             buffer,
             allocation: Some(allocation),
             amd: amd_marker.then(|| ash::amd::buffer_marker::Device::new(&instance, &device)),
-            names: Vec::new(),
-            cut: false,
+            sets: (0..MARKER_SETS).map(|_| MarkerSet::default()).collect(),
+            recording: None,
+            // Checked by new_with.
+            inject: (options.inject_device_lost.as_deref())
+                .and_then(|t| InjectedLoss::parse(t).ok()),
+            inject_seen: 0,
         };
         let memory = memory_facts(&instance, physical_device, budget, options.memory_limit);
         tracing::info!(
@@ -418,7 +432,6 @@ impl GpuContext {
             markers: Mutex::new(markers),
             memory,
             allocated: [AtomicU64::new(0), AtomicU64::new(0)],
-            inject_device_lost: options.inject_device_lost.clone(),
             info,
             prefers_ray_queries,
             physical_device,
@@ -581,6 +594,9 @@ pub struct Commands<C: Deref<Target = GpuContext>> {
     fence: vk::Fence,
     submission: String,
     progress: Progress,
+    /// This command buffer's crash-marker set (see crash_markers.rs), held until it is
+    /// dropped.
+    markers: usize,
 }
 
 impl<C: Deref<Target = GpuContext>> Commands<C> {
@@ -589,31 +605,36 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
         submission: &str,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<Self, GpuError> {
-        let (cmd, fence) = ctx.command_buffer_and_fence()?;
-        // Back to the spares on every path from here on, recorded or not.
+        let markers = ctx.begin_markers()?;
+        let (cmd, fence) = match ctx.command_buffer_and_fence() {
+            Ok(pair) => pair,
+            Err(e) => {
+                ctx.end_markers();
+                ctx.release_markers(markers);
+                return Err(e);
+            }
+        };
+        // Back to the spares (and the markers freed) on every path from here on, recorded
+        // or not.
         let commands = Commands {
             ctx,
             cmd,
             fence,
             submission: submission.to_string(),
             progress: Progress::Recorded,
+            markers,
         };
         let ctx = &*commands.ctx;
-        {
-            let mut m = ctx.markers();
-            m.names.clear();
-            m.cut = false;
-            if let Some(slots) = m.allocation.as_mut().and_then(|a| a.mapped_slice_mut()) {
-                slots.fill(0);
-            }
-        }
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
         // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
-        unsafe { ctx.device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
+        if let Err(e) = unsafe { ctx.device.begin_command_buffer(cmd, &begin) } {
+            ctx.end_markers();
+            return Err(e).vk("vkBeginCommandBuffer");
+        }
         record(cmd);
-        if !ctx.markers().names.is_empty() {
+        if ctx.end_markers() {
             // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
             // before the host reads them after a device loss.
             ctx.cmd_barrier(
@@ -680,7 +701,7 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
                 .wait_for_fences(&[self.fence], true, u64::MAX)
         };
         self.progress = Progress::Done;
-        let injected = self.ctx.markers().cut;
+        let injected = self.ctx.markers_cut(self.markers);
         match (waited, injected) {
             // The command buffer ended after the injected pass: fail as a driver would.
             (Ok(()), true) => Err(self.failed(vk::Result::ERROR_DEVICE_LOST, "vkWaitForFences")),
@@ -700,9 +721,7 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
         if e != vk::Result::ERROR_DEVICE_LOST {
             return GpuError::Vulkan { call, result: e };
         }
-        // Read before the call: device_lost locks the markers itself.
-        let injected = self.ctx.markers().cut;
-        self.ctx.device_lost(&self.submission, injected)
+        self.ctx.device_lost(&self.submission, self.markers)
     }
 }
 
@@ -718,6 +737,7 @@ impl<C: Deref<Target = GpuContext>> Drop for Commands<C> {
             };
         }
         self.ctx.return_spare(self.cmd, self.fence);
+        self.ctx.release_markers(self.markers);
     }
 }
 

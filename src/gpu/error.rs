@@ -41,6 +41,20 @@ pub enum GpuError {
         running: Option<String>,
         injected: bool,
     },
+    /// A frame recorded more timed passes than its timestamp pool had room for.
+    #[error(
+        "the frame's timestamp pool had room for {room} passes but the frame recorded more; \
+         these passes were not timed: {untimed:?}. The pool is sized from the frame's pass \
+         list, so this is a bug: please report it with the command that ran"
+    )]
+    UntimedPasses { room: u32, untimed: Vec<String> },
+    /// Every crash-marker set is held by a command buffer whose work is not done.
+    #[error(
+        "more than {limit} command buffers were recorded and not finished at once; fovea keeps \
+         at most 3 frames in flight and finishes its uploads before the next: this is a bug, \
+         please report it with the command that ran"
+    )]
+    TooManyCommandBuffers { limit: usize },
     #[error("out of GPU memory allocating {what} ({bytes} bytes): {detail}. Try a smaller scene or resolution")]
     OutOfMemory {
         what: String,

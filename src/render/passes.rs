@@ -50,6 +50,28 @@ impl FramePasses<'_> {
         }
     }
 
+    /// Every timed pass this frame records: plan, dispatch sizes and trace when `traced`
+    /// (compose gives the lattice instead), resolve, temporal, each denoise iteration and its
+    /// copy back, the output image. The timestamp pool is sized from it.
+    pub fn timed_passes(&self, traced: bool) -> u32 {
+        let eyes = self.eyes.len() as u32;
+        let denoise = self.pipelines.denoise.map_or(0, |(_, n, _)| n);
+        let per_eye = 2 * traced as u32 // plan, trace
+            + 1 // resolve
+            + self.pipelines.temporal.is_some() as u32
+            + denoise;
+        eyes * per_eye
+            + traced as u32 // dispatch sizes
+            + denoise % 2 // the denoiser's copy back into the pixels
+            + self.targets.output.is_some() as u32
+    }
+
+    /// Makes the timestamp pool large enough for this frame's passes (its slot is free).
+    pub fn size_timestamps(&mut self, traced: bool) -> Result<(), crate::gpu::GpuError> {
+        let passes = self.timed_passes(traced);
+        self.timestamps.ensure_passes(passes)
+    }
+
     /// Starts the frame: the frames before it finished with the targets and counters they
     /// share with it (frames in flight), timings reset, counters zeroed.
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
@@ -185,7 +207,9 @@ impl FramePasses<'_> {
                 Scope::COMPUTE_WRITE,
                 Scope::COPY_READ.and(Scope::COPY_WRITE),
             );
-            other.cmd_copy_to(cmd, &t.pixels, t.pixels.size);
+            self.timestamps.cmd_timed(cmd, "denoise copy", || {
+                other.cmd_copy_to(cmd, &t.pixels, t.pixels.size)
+            });
             self.ctx.cmd_barrier(
                 cmd,
                 Scope::COPY_WRITE,

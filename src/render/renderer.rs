@@ -108,6 +108,8 @@ pub struct Renderer {
     buffers: SceneBuffers,
     layout: PipelineLayout,
     features: SceneFeatures,
+    /// The scene as uploaded ([`GpuScene::fingerprint`]).
+    scene_fingerprint: u64,
     ctx: Arc<GpuContext>,
 }
 
@@ -117,9 +119,10 @@ type TraceKey = (u32, u32, bool, Traversal);
 /// into a headset's swapchain images).
 pub type AfterFrame<'a> = dyn FnMut(vk::CommandBuffer, &StorageImage) + 'a;
 
-/// Timed passes per frame: plan, trace and resolve for each of two eyes and the dispatch
-/// sizes, with room to spare.
-const TIMED_PASSES: u32 = 16;
+/// Timed passes a frame slot's timestamp pool starts with: a stereo frame's plan, trace and
+/// resolve, the dispatch sizes and the output image. A frame with more passes (history,
+/// denoise iterations) grows its slot's pool first (`FramePasses::size_timestamps`).
+const TIMED_PASSES: u32 = 8;
 
 impl Renderer {
     /// Builds the BVHs and uploads the scene once.
@@ -196,8 +199,15 @@ impl Renderer {
             buffers,
             layout,
             features: gpu.features,
+            scene_fingerprint: gpu.fingerprint(),
             ctx: ctx.clone(),
         })
+    }
+
+    /// A fingerprint of the scene as this renderer uploaded it: a changed scene file or
+    /// built-in changes it.
+    pub fn scene_fingerprint(&self) -> u64 {
+        self.scene_fingerprint
     }
 
     pub fn features(&self) -> SceneFeatures {
@@ -708,6 +718,7 @@ impl Renderer {
             eyes: &pushes,
             slot,
         };
+        passes.size_timestamps(given.is_none())?;
         let mut commands = self.ctx.record_owned("frame", |cmd| {
             passes.begin(cmd);
             if given.is_none() {
