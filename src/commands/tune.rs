@@ -9,7 +9,7 @@ use fovea::render::{FovChoice, Integrator, Traversal};
 use fovea::tune::files::TuneFiles;
 use fovea::tune::run::TuneOptions;
 use fovea::tune::space::Space;
-use fovea::tune::{self, Budget, TunePlan};
+use fovea::tune::{self, Budget, Cost, TunePlan};
 use std::path::PathBuf;
 
 /// Which grid the search draws configs from.
@@ -20,6 +20,13 @@ pub enum SpaceChoice {
     Standard,
     /// One layer and a background, radii 6/15 deg, spacings 1/2/4, 1-2 spp, no denoiser.
     Small,
+}
+
+/// `--cost`: see [`Cost`].
+#[derive(Clone, Copy, ValueEnum)]
+pub enum CostChoice {
+    GpuTime,
+    Samples,
 }
 
 #[derive(Args)]
@@ -46,6 +53,12 @@ pub struct TuneArgs {
     /// (robust to a machine's speed).
     #[arg(long, value_name = "SPP")]
     pub budget_of_regular: Option<u32>,
+    /// What a config's cost is: `gpu-time` (its timestamps; what the headset pays), or
+    /// `samples` (camera paths traced, over regular rendering's: the same on any machine and
+    /// under any load, for reproducible searches; needs --budget-of-regular). GPU time is
+    /// recorded either way.
+    #[arg(long, value_enum, default_value_t = CostChoice::GpuTime)]
+    pub cost: CostChoice,
     /// Where the chosen config goes; FILE-candidates.csv, FILE-front.csv, FILE-front.svg/.png
     /// and FILE-tune.json are written beside it. Running again with the same flags resumes.
     #[arg(long, value_name = "FILE.toml")]
@@ -95,6 +108,10 @@ pub fn run(args: &TuneArgs) -> Result<()> {
             (_, Some(spp)) => Budget::Regular(spp),
             (Some(ms), None) => Budget::Ms(ms),
             (None, None) => unreachable!("clap requires one of the two"),
+        },
+        cost: match args.cost {
+            CostChoice::GpuTime => Cost::GpuTime,
+            CostChoice::Samples => Cost::Samples,
         },
         candidates: args.candidates,
         seed: args.seed,

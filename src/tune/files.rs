@@ -155,11 +155,9 @@ mod tests {
         let config = FoveationConfig::thesis().with_spp(2);
         let text = config_toml(&config, &["tuned by a test".into(), "JOD 9".into()]);
         assert!(text.starts_with("# tuned by a test\n# JOD 9\n"), "{text}");
-        let dir = std::env::temp_dir().join(format!("fovea-tune-files-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir::TestDir::new("tune-files");
         let path = dir.join("c.toml");
         std::fs::write(&path, text).unwrap();
         assert_eq!(FoveationConfig::load(&path).unwrap(), config);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -35,7 +35,8 @@ pub fn pareto_front<T: Measured>(points: &[T]) -> Vec<usize> {
     front
 }
 
-/// The index of the best JOD among points within `budget_ms` (the faster on a tie).
+/// The index of the best JOD among points within `budget_ms` (the faster on a tie, and of
+/// equal points the first measured, as the front keeps it).
 pub fn best_within<T: Measured>(points: &[T], budget_ms: f64) -> Option<usize> {
     (0..points.len())
         .filter(|&i| usable(&points[i]) && points[i].ms() <= budget_ms)
@@ -44,6 +45,7 @@ pub fn best_within<T: Measured>(points: &[T], budget_ms: f64) -> Option<usize> {
             pa.jod()
                 .total_cmp(&pb.jod())
                 .then(pb.ms().total_cmp(&pa.ms()))
+                .then(b.cmp(&a))
         })
 }
 
@@ -75,6 +77,10 @@ mod tests {
         assert_eq!(best_within(&points, 11.0), Some(0));
         assert_eq!(best_within(&points, 100.0), Some(3));
         assert_eq!(best_within(&points, 4.0), None);
+        // Of equal points (a cost counted, not timed, ties exactly), the first measured.
+        let tied = [(5.0, 7.0), (10.0, 8.0), (10.0, 8.0)];
+        assert_eq!(pareto_front(&tied), vec![0, 1]);
+        assert_eq!(best_within(&tied, 10.0), Some(1));
         // The best within any budget is on the front.
         for budget in [5.0, 9.0, 10.0, 15.0, 25.0, 40.0] {
             let best = best_within(&points, budget).unwrap();

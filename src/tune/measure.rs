@@ -2,7 +2,7 @@
 //! it lands somewhere new) scored by FovVideoVDP against the scene's converged reference,
 //! then the timed frames whose median GPU time is the config's cost.
 
-use super::plan::{Budget, TuneGaze, TunePlan};
+use super::plan::{Budget, Cost, TuneGaze, TunePlan};
 use super::TuneError;
 use crate::bench::quality::{self, hidden_black};
 use crate::bench::BenchPlan;
@@ -10,7 +10,8 @@ use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
 use crate::render::{
-    eye_views, DebugView, EyeView, FrameRequest, RenderSettings, Renderer, TemporalSettings,
+    eye_views, DebugView, EyeView, FrameRequest, FrameStats, RenderSettings, Renderer,
+    TemporalSettings,
 };
 use std::path::Path;
 use std::sync::Arc;
@@ -37,10 +38,30 @@ pub struct SceneJudge {
 pub struct SceneScore {
     /// Per gaze of [`TuneGaze::ALL`].
     pub jod: Vec<f64>,
-    pub median_ms: f64,
-    /// Median of the pace frames timed between the config's frames (NaN without a pace).
-    pub pace_ms: f64,
+    pub timing: Timing,
     pub paths_per_pixel: f64,
+}
+
+/// A config's timed frames: the medians of its GPU time and traced paths per frame, and of
+/// the pace frames' between them (NaN without a pace).
+#[derive(Clone, Copy, Debug)]
+pub struct Timing {
+    pub ms: f64,
+    pub pace_ms: f64,
+    pub samples: f64,
+    pub pace_samples: f64,
+}
+
+impl Timing {
+    /// The config's cost over the pace's, in what `cost` measures; `totals` sums several
+    /// scenes' timings first (see `run::judge`).
+    pub fn ratio(totals: &[Timing], cost: Cost) -> f64 {
+        let sum = |f: fn(&Timing) -> f64| totals.iter().map(f).sum::<f64>();
+        match cost {
+            Cost::GpuTime => sum(|t| t.ms) / sum(|t| t.pace_ms),
+            Cost::Samples => sum(|t| t.samples) / sum(|t| t.pace_samples),
+        }
+    }
 }
 
 /// The bench's plan for the same image, which the reference is rendered from.
@@ -99,12 +120,7 @@ impl SceneJudge {
             })
             .collect();
         let bench = reference_plan(plan);
-        let fov = crate::bench::protocol::flag_value(&plan.fov);
-        let integrator = crate::bench::protocol::flag_value(&plan.integrator);
-        let path = cache.join(format!(
-            "{name}-{}x{}-mono-{fov}-{integrator}-b{}-seed{RENDER_SEED}-{}spp.exr",
-            plan.width, plan.height, plan.max_bounces, plan.reference_spp
-        ));
+        let path = quality::ReferenceKey::new(&renderer, &bench, name, &eyes[..1]).path(cache);
         let reference =
             quality::reference_image(&mut renderer, &bench, name, &eyes[..1], &path, progress)?;
         let visible = match plan.space.occlusion_deg {
@@ -143,13 +159,9 @@ impl SceneJudge {
             .set_temporal(temporal)
             .map_err(TuneError::render(&name))?;
         let settings = settings(plan);
-        let mut score = SceneScore {
-            jod: Vec::new(),
-            median_ms: f64::NAN,
-            pace_ms: f64::NAN,
-            paths_per_pixel: f64::NAN,
-        };
-        let (mut ms, mut pace_ms) = (Vec::new(), Vec::new());
+        let mut jod = Vec::new();
+        let mut paths_per_pixel = f64::NAN;
+        let mut timed = TimedFrames::default();
         let eyes = self.eyes.clone();
         for (g, eye) in eyes.iter().enumerate() {
             let request = FrameRequest {
@@ -166,28 +178,28 @@ impl SceneJudge {
             if g == 0 {
                 let visible = self.visible.iter().filter(|v| **v).count().max(1);
                 let paths = frame.stats.eyes.first().map_or(0, |c| c.paths);
-                score.paths_per_pixel = paths as f64 / visible as f64;
+                paths_per_pixel = paths as f64 / visible as f64;
             }
             let test = hidden_black(frame.rgb, &self.visible);
             let gaze = frame.gazes[0].0;
-            score
-                .jod
-                .push(metric.image(&test, &self.reference, &self.image, gaze)?);
-            self.timed_frames(plan, &request, pace, &mut ms, &mut pace_ms)?;
+            jod.push(metric.image(&test, &self.reference, &self.image, gaze)?);
+            self.timed_frames(plan, &request, pace, &mut timed)?;
         }
-        score.median_ms = median(&ms);
-        score.pace_ms = median(&pace_ms);
-        Ok(score)
+        Ok(SceneScore {
+            jod,
+            timing: timed.medians(),
+            paths_per_pixel,
+        })
     }
 
-    /// `config`'s time alone, gaze forward: the median of its timed frames (after one
+    /// `config`'s time alone, gaze forward: the medians of its timed frames (after one
     /// untimed), and of the pace frames between them.
     pub fn time(
         &mut self,
         plan: &TunePlan,
         config: &FoveationConfig,
         pace: Option<&FoveationConfig>,
-    ) -> Result<(f64, f64), TuneError> {
+    ) -> Result<Timing, TuneError> {
         let temporal = (config.denoise_iterations() > 0).then(TemporalSettings::default);
         self.renderer
             .set_temporal(temporal)
@@ -202,9 +214,9 @@ impl SceneJudge {
         self.renderer
             .measure_frame(&request)
             .map_err(TuneError::render(&self.name))?;
-        let (mut ms, mut pace_ms) = (Vec::new(), Vec::new());
-        self.timed_frames(plan, &request, pace, &mut ms, &mut pace_ms)?;
-        Ok((median(&ms), median(&pace_ms)))
+        let mut timed = TimedFrames::default();
+        self.timed_frames(plan, &request, pace, &mut timed)?;
+        Ok(timed.medians())
     }
 
     /// Times `plan.frames` frames of `request`, each after a frame of `pace` when given.
@@ -213,27 +225,48 @@ impl SceneJudge {
         plan: &TunePlan,
         request: &FrameRequest,
         pace: Option<&FoveationConfig>,
-        ms: &mut Vec<f64>,
-        pace_ms: &mut Vec<f64>,
+        timed: &mut TimedFrames,
     ) -> Result<(), TuneError> {
         for _ in 0..plan.frames {
             if let (Some(pace), Some(pacer)) = (pace, self.pacer.as_mut()) {
-                let timed = pacer
+                let frame = pacer
                     .measure_frame(&FrameRequest {
                         foveation: pace,
                         eyes: &self.eyes[..1],
                         ..*request
                     })
                     .map_err(TuneError::render(&self.name))?;
-                pace_ms.push(timed.stats.gpu_ms());
+                timed.pace.push(frame.stats);
             }
-            let timed = self
+            let frame = self
                 .renderer
                 .measure_frame(request)
                 .map_err(TuneError::render(&self.name))?;
-            ms.push(timed.stats.gpu_ms());
+            timed.config.push(frame.stats);
         }
         Ok(())
+    }
+}
+
+/// The stats of a config's timed frames and of the pace frames between them.
+#[derive(Default)]
+struct TimedFrames {
+    config: Vec<FrameStats>,
+    pace: Vec<FrameStats>,
+}
+
+impl TimedFrames {
+    fn medians(&self) -> Timing {
+        let of = |frames: &[FrameStats], f: fn(&FrameStats) -> f64| {
+            median(&frames.iter().map(f).collect::<Vec<_>>())
+        };
+        let paths = |s: &FrameStats| s.paths as f64;
+        Timing {
+            ms: of(&self.config, FrameStats::gpu_ms),
+            pace_ms: of(&self.pace, FrameStats::gpu_ms),
+            samples: of(&self.config, paths),
+            pace_samples: of(&self.pace, paths),
+        }
     }
 }
 

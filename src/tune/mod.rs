@@ -10,7 +10,7 @@ pub mod plan;
 pub mod run;
 pub mod space;
 
-pub use plan::{Budget, TuneGaze, TunePlan};
+pub use plan::{Budget, Cost, TuneGaze, TunePlan};
 pub use run::{run, TuneOutcome};
 
 use crate::bench::BenchError;

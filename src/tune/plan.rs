@@ -16,6 +16,20 @@ pub enum Budget {
     Regular(u32),
 }
 
+/// What a config's cost against the budget is measured in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Cost {
+    /// GPU time from the frames' timestamps: what the headset pays.
+    #[default]
+    GpuTime,
+    /// Camera paths traced per frame, as the GPU counts them, over regular rendering's: the
+    /// same on every machine and under any load, so a search (a test's, or one to compare
+    /// across machines) decides the same. It leaves out what costs per pixel rather than per
+    /// path (resolve, history, denoiser); GPU time is still measured and recorded.
+    Samples,
+}
+
 /// Where the eye looks while a config is judged: the issue's three positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -63,6 +77,9 @@ pub struct TunePlan {
     pub height: u32,
     pub fov: FovChoice,
     pub budget: Budget,
+    /// What the budget is compared with.
+    #[serde(default)]
+    pub cost: Cost,
     /// Configs measured, the baselines included.
     pub candidates: u32,
     /// Seeds the search (which configs are drawn and mutated).
@@ -111,6 +128,13 @@ impl TunePlan {
                 return Err(format!(
                     "--budget-ms {ms} must be a positive number of milliseconds"
                 ))
+            }
+            Budget::Ms(_) if self.cost == Cost::Samples => {
+                return Err(
+                    "--cost samples counts traced paths, which have no milliseconds: \
+                     give --budget-of-regular SPP with it, or --cost gpu-time"
+                        .into(),
+                )
             }
             Budget::Regular(spp) if !self.space.baseline_spp.contains(&spp) => {
                 return Err(format!(

@@ -5,7 +5,7 @@
 
 use super::files::{config_toml, write_rows, CandidateRow, FrontRow, TuneFiles};
 use super::front::{best_within, pareto_front, Measured};
-use super::measure::SceneJudge;
+use super::measure::{SceneJudge, Timing};
 use super::plan::{Budget, TuneGaze, TunePlan};
 use super::space::describe;
 use super::TuneError;
@@ -288,10 +288,11 @@ fn over_budget(
         Budget::Regular(spp) => Some(FoveationConfig::regular(spp)),
         Budget::Ms(_) => None,
     };
-    let (ms, pace_ms) = judge.time(plan, config, pace.as_ref())?;
+    let timing = judge.time(plan, config, pace.as_ref())?;
+    let ratio = Timing::ratio(&[timing], plan.cost);
     let (cost, limit) = match plan.budget {
-        Budget::Regular(_) => (ms / pace_ms, OVER_BUDGET),
-        Budget::Ms(_) => (ms, OVER_BUDGET * budget),
+        Budget::Regular(_) => (ratio, OVER_BUDGET),
+        Budget::Ms(_) => (timing.ms, OVER_BUDGET * budget),
     };
     if cost <= limit {
         return Ok(None);
@@ -300,7 +301,7 @@ fn over_budget(
         "{origin}; over {OVER_BUDGET}x the budget on {}: not judged",
         judge.name
     );
-    Ok(Some(unjudged(index, why, config, ms, ms / pace_ms)))
+    Ok(Some(unjudged(index, why, config, timing.ms, ratio)))
 }
 
 /// The row of a config measured without a JOD, saying why.
@@ -342,7 +343,7 @@ fn judge(
         Budget::Ms(_) => None,
     };
     let mut per_gaze = vec![0.0; TuneGaze::ALL.len()];
-    let (mut total_ms, mut total_pace_ms) = (0.0, 0.0);
+    let mut timings = Vec::new();
     let mut paths_per_pixel = f64::NAN;
     let mut scenes = serde_json::Map::new();
     for (s, judge) in judges.iter_mut().enumerate() {
@@ -350,24 +351,25 @@ fn judge(
         scenes.insert(
             judge.name.clone(),
             serde_json::json!({
-                "gpu_ms": score.median_ms,
-                "pace_ms": score.pace_ms,
+                "gpu_ms": score.timing.ms,
+                "pace_ms": score.timing.pace_ms,
+                "paths": score.timing.samples,
+                "pace_paths": score.timing.pace_samples,
                 "jod": score.jod
             }),
         );
         for (sum, jod) in per_gaze.iter_mut().zip(&score.jod) {
             *sum += jod / plan.scenes.len() as f64;
         }
-        total_ms += score.median_ms;
-        total_pace_ms += score.pace_ms;
+        timings.push(score.timing);
         if s == 0 {
             paths_per_pixel = score.paths_per_pixel;
         }
     }
     // Over the scenes together, as a session mixing them would spend it: a ratio per scene
     // and the worst of them would let one scene's timing noise decide.
-    let gpu_ms = total_ms / plan.scenes.len() as f64;
-    let pace_ratio = total_ms / total_pace_ms;
+    let gpu_ms = timings.iter().map(|t| t.ms).sum::<f64>() / plan.scenes.len() as f64;
+    let pace_ratio = Timing::ratio(&timings, plan.cost);
     Ok(CandidateRow {
         index,
         origin,
@@ -417,10 +419,11 @@ fn finish(
     let mut header = vec![
         format!("Tuned by: {}", options.command_line),
         format!(
-            "On {} ({}), {}",
+            "On {} ({}), {}, by fovea {}",
             ctx.info.name,
             ctx.info.driver,
-            crate::bench::summary::utc_now()
+            crate::bench::summary::utc_now(),
+            crate::build_version()
         ),
         format!(
             "Judged on {} at {}x{} per eye ({}), gaze forward / off-axis (15 deg right, 10 down) / corner,",
@@ -443,8 +446,12 @@ fn finish(
             budget,
             match plan.budget {
                 Budget::Regular(spp) => format!(
-                    " (regular {spp} spp's; {:.3}x its time, timed interleaved)",
-                    chosen.pace_ratio
+                    " (regular {spp} spp's; {:.3}x its {}, interleaved)",
+                    chosen.pace_ratio,
+                    match plan.cost {
+                        super::plan::Cost::GpuTime => "time",
+                        super::plan::Cost::Samples => "traced paths",
+                    }
                 ),
                 Budget::Ms(_) => String::new(),
             }
@@ -558,6 +565,7 @@ mod tests {
             height: 72,
             fov: FovChoice::ViveProEye,
             budget: Budget::Regular(1),
+            cost: super::super::plan::Cost::GpuTime,
             candidates: 20,
             seed,
             frames: 1,
