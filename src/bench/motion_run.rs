@@ -25,34 +25,11 @@ use crate::render::{
 use crate::scene::{self, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::{HashMap, HashSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 /// Regions measured per eye: the whole visible image, then each eccentricity band.
 const REGIONS: u32 = 1 + BANDS.len() as u32;
-
-/// Where the reference of a frame with these eyes is cached: the still reference's name with
-/// a fingerprint (FNV-1a) of the eyes' cameras, so frames of one pose share a reference (a
-/// still sequence renders one) and another pose never reads it.
-pub fn reference_path(cache: &Path, plan: &BenchPlan, scene: &str, eyes: &[EyeView]) -> PathBuf {
-    let still = quality::reference_path(cache, plan, scene);
-    let stem = still
-        .file_stem()
-        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-    let numbers = eyes.iter().flat_map(|e| {
-        let c = &e.camera;
-        [c.position.to_array(), c.forward.to_array(), c.up.to_array()]
-            .into_iter()
-            .flatten()
-            .chain([c.angle_left, c.angle_right, c.angle_up, c.angle_down])
-    });
-    let hash = numbers
-        .flat_map(f32::to_le_bytes)
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-        });
-    cache.join(format!("{stem}-pose-{hash:016x}.exr"))
-}
 
 /// Both eyes at frame `frame`: the scene camera turned by the script's head, each eye's gaze
 /// at the script's fixation.
@@ -131,7 +108,9 @@ pub fn run(
             .collect();
         let reference = |renderer: &mut Renderer, k: u32| {
             let eyes = &eyes[k as usize];
-            let path = reference_path(&options.reference_cache, plan, scene_name, eyes);
+            // Frames of one pose share a reference (a still sequence renders one).
+            let path = quality::ReferenceKey::new(renderer, plan, scene_name, eyes)
+                .path(&options.reference_cache);
             quality::reference_image(renderer, plan, scene_name, eyes, &path, &mut |_, _| {})
         };
         let mut animation = Animation::new(plan.width, plan.height, plan.reference_spp, &sequences);
@@ -330,12 +309,15 @@ mod tests {
         let scene = scene::load("control", plan.width as f32 / plan.height as f32).unwrap();
         let cache = Path::new("refs");
         let path = |script: &MotionScript, k| {
-            reference_path(
-                cache,
-                &plan,
-                "control",
-                &frame_eyes(&scene, &plan, script, k),
-            )
+            let eyes = frame_eyes(&scene, &plan, script, k);
+            quality::ReferenceKey {
+                scene: "control",
+                scene_contents: 1,
+                renderer: 2,
+                plan: &plan,
+                eyes: &eyes,
+            }
+            .path(cache)
         };
         let moving = MotionScript::head_and_saccades();
         assert_ne!(path(&moving, 1), path(&moving, 2));
@@ -345,6 +327,6 @@ mod tests {
         assert_eq!(path(&moving, 0), path(&still, 0));
         assert!(path(&still, 0)
             .to_string_lossy()
-            .starts_with("refs/control-360x400-stereo-vive-pro-eye-pt-b8-seed1-256spp-pose-"));
+            .starts_with("refs/control-360x400x2-256spp-"));
     }
 }

@@ -9,6 +9,7 @@ use crate::foveation::{FoveationConfig, ImageGeometry};
 use crate::metrics::jod::Fvvdp;
 use crate::metrics::{self, BANDS};
 use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
+use crate::scene::fingerprint::Fingerprint;
 use std::path::{Path, PathBuf};
 
 /// Samples per pixel of one reference pass. The reference is the mean of several passes
@@ -27,19 +28,73 @@ pub fn settings(plan: &BenchPlan, spp: u32) -> RenderSettings {
     }
 }
 
-/// Where the reference of `scene` under `plan` is cached: every parameter that changes the
-/// converged image is in the name.
-pub fn reference_path(cache: &Path, plan: &BenchPlan, scene: &str) -> PathBuf {
-    let fov = super::protocol::flag_value(&plan.fov);
-    let integrator = super::protocol::flag_value(&plan.integrator);
-    cache.join(format!(
-        "{scene}-{}x{}-stereo-{fov}-{integrator}-b{}-seed{}-{}spp.exr",
-        plan.width, plan.height, plan.max_bounces, plan.seed, plan.reference_spp
-    ))
+/// Everything that changes a converged reference, for its cache file's name.
+#[derive(Clone, Copy)]
+pub struct ReferenceKey<'a> {
+    pub scene: &'a str,
+    /// The scene as uploaded ([`Renderer::scene_fingerprint`]): an edited scene file or
+    /// built-in under the same name.
+    pub scene_contents: u64,
+    /// [`crate::render::renderer_version`]: a changed integrator or shader.
+    pub renderer: u64,
+    /// Size, integrator, bounces, seed, reference spp.
+    pub plan: &'a BenchPlan,
+    /// Each eye's camera: pose and field of view.
+    pub eyes: &'a [EyeView],
+}
+
+impl<'a> ReferenceKey<'a> {
+    /// The key of `renderer`'s scene under `plan`, seen by `eyes`.
+    pub fn new(
+        renderer: &Renderer,
+        plan: &'a BenchPlan,
+        scene: &'a str,
+        eyes: &'a [EyeView],
+    ) -> Self {
+        Self {
+            scene,
+            scene_contents: renderer.scene_fingerprint(),
+            renderer: crate::render::renderer_version(),
+            plan,
+            eyes,
+        }
+    }
+
+    /// The cached reference's path in `cache`: what a reader needs to tell files apart, then
+    /// a fingerprint of the whole key.
+    pub fn path(&self, cache: &Path) -> PathBuf {
+        let p = self.plan;
+        let cameras = self.eyes.iter().flat_map(|e| {
+            let c = &e.camera;
+            [c.position.to_array(), c.forward.to_array(), c.up.to_array()]
+                .into_iter()
+                .flatten()
+                .chain([c.angle_left, c.angle_right, c.angle_up, c.angle_down])
+        });
+        let key = Fingerprint::default()
+            .u64(self.scene_contents)
+            .u64(self.renderer)
+            .bytes(super::protocol::flag_value(&p.integrator).as_bytes())
+            .u64(p.max_bounces as u64)
+            .u64(p.seed as u64)
+            .u64(p.reference_spp as u64)
+            .u64(p.width as u64)
+            .u64(p.height as u64)
+            .f32s(cameras)
+            .value();
+        cache.join(format!(
+            "{}-{}x{}x{}-{}spp-{key:016x}.exr",
+            self.scene,
+            p.width,
+            p.height,
+            self.eyes.len(),
+            p.reference_spp
+        ))
+    }
 }
 
 /// The converged image of `eyes` (side by side, linear RGB): read from `path` (in the cache,
-/// see [`reference_path`]), or rendered and written there. `progress` hears about each pass
+/// see [`ReferenceKey`]), or rendered and written there. `progress` hears about each pass
 /// rendered.
 pub fn reference_image(
     renderer: &mut Renderer,
@@ -294,16 +349,40 @@ mod tests {
     }
 
     #[test]
-    fn every_parameter_that_changes_the_reference_is_in_its_name() {
+    fn everything_that_changes_the_reference_changes_its_key() {
         let plan = BenchPlan::quick();
-        let a = reference_path(Path::new("c"), &plan, "control");
-        assert_eq!(
-            a,
-            Path::new("c/control-360x400-stereo-vive-pro-eye-pt-b8-seed1-256spp.exr")
+        let camera = crate::scene::Camera::look_at(
+            glam::Vec3::ZERO,
+            glam::Vec3::Z,
+            glam::Vec3::Y,
+            60.0,
+            1.0,
         );
-        let changed = [
+        let eyes = [EyeView {
+            camera,
+            gaze: crate::foveation::Gaze::Forward,
+        }];
+        let key = ReferenceKey {
+            scene: "control",
+            scene_contents: 1,
+            renderer: 2,
+            plan: &plan,
+            eyes: &eyes,
+        };
+        let a = key.path(Path::new("c"));
+        assert!(
+            a.to_str()
+                .unwrap()
+                .starts_with("c/control-360x400x1-256spp-"),
+            "{a:?}"
+        );
+        let plans = [
             BenchPlan {
                 width: 100,
+                ..plan.clone()
+            },
+            BenchPlan {
+                height: 100,
                 ..plan.clone()
             },
             BenchPlan {
@@ -322,13 +401,53 @@ mod tests {
                 integrator: crate::render::Integrator::Seed,
                 ..plan.clone()
             },
-            BenchPlan {
-                fov: crate::render::FovChoice::Scene,
-                ..plan.clone()
-            },
         ];
-        for p in changed {
-            assert_ne!(reference_path(Path::new("c"), &p, "control"), a);
+        for p in &plans {
+            assert_ne!(ReferenceKey { plan: p, ..key }.path(Path::new("c")), a);
         }
+        let moved = [EyeView {
+            camera: crate::scene::Camera {
+                position: camera.position + glam::Vec3::X * 1e-3,
+                ..camera
+            },
+            ..eyes[0]
+        }];
+        let wider = [EyeView {
+            camera: crate::scene::Camera {
+                angle_left: camera.angle_left - 0.1,
+                ..camera
+            },
+            ..eyes[0]
+        }];
+        for changed in [
+            ReferenceKey {
+                scene_contents: 3,
+                ..key
+            },
+            ReferenceKey { renderer: 3, ..key },
+            ReferenceKey {
+                eyes: &moved,
+                ..key
+            },
+            ReferenceKey {
+                eyes: &wider,
+                ..key
+            },
+        ] {
+            assert_ne!(changed.path(Path::new("c")), a);
+        }
+        // The gaze is not part of a reference.
+        let elsewhere = [EyeView {
+            gaze: crate::foveation::Gaze::Corner,
+            ..eyes[0]
+        }];
+        assert_eq!(
+            ReferenceKey {
+                eyes: &elsewhere,
+                ..key
+            }
+            .path(Path::new("c")),
+            a
+        );
     }
 }

@@ -309,12 +309,15 @@ pub fn run(
 
         // Quality: the reference, then every pending point of the sweep.
         bar.set_message(format!("{scene_name}: reference"));
+        let reference_path =
+            quality::ReferenceKey::new(&renderer, plan, scene_name, &eyes[&Mode::Regular])
+                .path(&options.reference_cache);
         let reference = quality::reference_image(
             &mut renderer,
             plan,
             scene_name,
             &eyes[&Mode::Regular],
-            &quality::reference_path(&options.reference_cache, plan, scene_name),
+            &reference_path,
             &mut |done, all| bar.set_message(format!("{scene_name}: reference {done}/{all}")),
         )?;
         let mut shown: BTreeMap<Mode, Point> = BTreeMap::new();

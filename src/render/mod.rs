@@ -12,6 +12,7 @@ mod renderer;
 mod request;
 mod settings;
 mod targets;
+mod version;
 
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
@@ -19,6 +20,7 @@ pub use in_flight::MAX_FRAMES_IN_FLIGHT;
 pub use renderer::{LatticePoint, Renderer};
 pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
 pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
+pub use version::renderer_version;
 
 use crate::gpu::GpuError;
 use crate::scene::SceneError;

@@ -253,6 +253,21 @@ impl GpuScene {
 
     /// Every BLAS's nodes, then the TLAS's: the GPU's one node array (the TLAS's root at
     /// `info.tlas_root`).
+    /// What the GPU is given of the scene, as one fingerprint: its BVHs, triangles, objects,
+    /// materials, emitters and info (sky, camera-independent counts).
+    pub fn fingerprint(&self) -> u64 {
+        use bytemuck::cast_slice;
+        super::fingerprint::Fingerprint::default()
+            .bytes(cast_slice(&self.blas_nodes))
+            .bytes(cast_slice(&self.tlas_nodes))
+            .bytes(cast_slice(&self.triangles))
+            .bytes(cast_slice(&self.objects))
+            .bytes(cast_slice(&self.materials))
+            .bytes(cast_slice(&self.emitters))
+            .bytes(bytemuck::bytes_of(&self.info))
+            .value()
+    }
+
     pub fn nodes(&self) -> Vec<GpuNode> {
         [self.blas_nodes.as_slice(), self.tlas_nodes.as_slice()].concat()
     }

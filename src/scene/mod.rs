@@ -6,6 +6,7 @@ mod camera_path;
 pub mod cpu_raycast;
 mod error;
 mod features;
+pub mod fingerprint;
 pub mod glb_write;
 pub mod gltf_load;
 pub mod gpu_layout;
