@@ -12,9 +12,17 @@ fn main() {
     let glsl = Path::new("glsl");
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-env-changed=GLSLC");
+    stamp_commit();
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     write_shared_constants(&glsl.join("shared.h"), &out.join("shared_consts.rs"));
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
+    // This script also runs when only Rust sources changed (for the commit stamp): compile
+    // the shaders only when glsl/ or the compiler changed since the last time.
+    let fingerprint = format!("{glslc}\n{}", glsl_fingerprint(glsl));
+    let stamp = out.join("shaders.fingerprint");
+    if std::fs::read_to_string(&stamp).is_ok_and(|s| s == fingerprint) {
+        return;
+    }
     let mut entries: Vec<_> = std::fs::read_dir(glsl)
         .expect("glsl/ directory")
         .map(|e| e.expect("glsl/ entry").path())
@@ -33,6 +41,88 @@ fn main() {
             compile(&glslc, glsl, &path, &spv, &["-DRAY_QUERY"]);
         }
     }
+    std::fs::write(&stamp, fingerprint).expect("write shaders.fingerprint");
+}
+
+/// Every file under glsl/ (names, sizes, contents) as one number: FNV-1a.
+fn glsl_fingerprint(glsl: &Path) -> u64 {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(glsl)
+        .expect("glsl/ directory")
+        .map(|e| e.expect("glsl/ entry").path())
+        .collect();
+    files.sort();
+    let mut hash = 0xcbf2_9ce4_8422_2325u64;
+    for file in files {
+        let name = file.to_string_lossy().into_owned().into_bytes();
+        let bytes = std::fs::read(&file).unwrap_or_default();
+        for b in name
+            .iter()
+            .chain(&(bytes.len() as u64).to_le_bytes())
+            .chain(&bytes)
+        {
+            hash = (hash ^ *b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    hash
+}
+
+/// `FOVEA_COMMIT` for the reports' headers: the commit the binary was built from, `+changes`
+/// when what goes into the binary differed from it, or `unknown` outside a git checkout. The
+/// script runs again whenever a source, the index or HEAD changes, so the stamp stays true.
+fn stamp_commit() {
+    for path in [
+        "src",
+        "build.rs",
+        "Cargo.toml",
+        "Cargo.lock",
+        "tools/fvvdp",
+        "tools/sim-headset",
+    ] {
+        println!("cargo:rerun-if-changed={path}");
+    }
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned())
+    };
+    let commit = git(&["rev-parse", "--short=12", "HEAD"]);
+    if let Some(dir) = git(&["rev-parse", "--git-dir"]) {
+        for file in ["HEAD", "index", "packed-refs"] {
+            let path = Path::new(&dir).join(file);
+            if path.exists() {
+                println!("cargo:rerun-if-changed={}", path.display());
+            }
+        }
+        if let Some(reference) = git(&["symbolic-ref", "-q", "HEAD"]) {
+            let path = Path::new(&dir).join(reference);
+            if path.exists() {
+                println!("cargo:rerun-if-changed={}", path.display());
+            }
+        }
+    }
+    let changed = git(&[
+        "status",
+        "--porcelain",
+        "--untracked-files=no",
+        "--",
+        "src",
+        "glsl",
+        "build.rs",
+        "Cargo.toml",
+        "Cargo.lock",
+        "tools/fvvdp",
+        "tools/sim-headset",
+    ])
+    .is_some_and(|s| !s.is_empty());
+    let stamp = match commit {
+        Some(c) if changed => format!("{c}+changes"),
+        Some(c) => c,
+        None => "unknown".into(),
+    };
+    println!("cargo:rustc-env=FOVEA_COMMIT={stamp}");
 }
 
 /// The shaders that call trace_scene (glsl/bvh.glsl).

@@ -12,3 +12,16 @@ pub mod scene;
 pub mod tune;
 pub mod viewer;
 pub mod xr;
+
+#[cfg(test)]
+mod test_dir;
+
+/// The version and commit this binary was built from (build.rs), as reports name it, e.g.
+/// `0.1.0 (commit 1a2b3c4d5e6f)`; `+changes` marks a build with uncommitted changes.
+pub fn build_version() -> String {
+    format!(
+        "{} (commit {})",
+        env!("CARGO_PKG_VERSION"),
+        env!("FOVEA_COMMIT")
+    )
+}

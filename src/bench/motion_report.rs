@@ -106,7 +106,7 @@ pub fn summarize(
         * (plan.frames * EYES) as u64
         * region_names().len() as u64;
     MotionSummary {
-        fovea_version: env!("CARGO_PKG_VERSION").to_string(),
+        fovea_version: crate::build_version(),
         commands: commands.iter().map(|c| c.to_string()).collect(),
         written_at: utc_now(),
         complete: rows.len() as u64 == expected,

@@ -168,7 +168,7 @@ pub fn summarize_run(
         .collect();
     let expected = plan.expected_frame_rows();
     Summary {
-        fovea_version: env!("CARGO_PKG_VERSION").to_string(),
+        fovea_version: crate::build_version(),
         commands: commands.iter().map(|c| c.to_string()).collect(),
         written_at: utc_now(),
         complete: frames.len() as u64 == expected,

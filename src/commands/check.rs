@@ -81,7 +81,12 @@ pub fn run(args: &CheckArgs) -> Result<()> {
     let wanted = |s: Section| args.only.is_empty() || args.only.contains(&s);
     let ctx = gpu_context(&args.gpu)?;
     let mut report = CheckReport {
-        device: format!("{} ({})", ctx.info.name, ctx.info.driver),
+        device: format!(
+            "{} ({}), by fovea {}",
+            ctx.info.name,
+            ctx.info.driver,
+            fovea::build_version()
+        ),
         ..CheckReport::default()
     };
     let section = |name: &str, report: &CheckReport, started: Instant| -> Result<()> {
