@@ -265,6 +265,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             _ => DebugView::None,
         },
     };
+    warm_up(&mut renderer, &request)?;
     let mut frame = renderer.render_frame(&request)?;
     report(&frame, &config, &settings, ctx.info.subgroup_size);
     if args.debug == Some(DebugArg::Diff) {
@@ -298,6 +299,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// Renders `request` once at a tiny size, untimed, so that the frame's timings are its own:
+/// drivers compile shader variants at their first dispatch (lavapipe took 960 ms for the first
+/// resolve of a 512x512 frame, 4 ms warm), and the pipelines are the same at any size.
+fn warm_up(renderer: &mut Renderer, request: &FrameRequest) -> Result<()> {
+    let settings = RenderSettings {
+        width: request.settings.width.min(WARM_UP_SIDE),
+        height: request.settings.height.min(WARM_UP_SIDE),
+        ..request.settings
+    };
+    renderer.measure_frame(&FrameRequest {
+        settings,
+        ..*request
+    })?;
+    Ok(())
+}
+
+/// The warm-up frame's largest side: every pass runs, at almost no cost.
+const WARM_UP_SIDE: u32 = 16;
 
 /// Prints what the frame traced, per layer, and what it cost.
 fn report(frame: &Frame, config: &FoveationConfig, settings: &RenderSettings, subgroup_size: u32) {
