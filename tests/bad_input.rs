@@ -26,7 +26,7 @@ const SMALL: &[&str] = &[
     "--height",
     "8",
     "--out",
-    "/tmp/fovea-bad.png",
+    common::SCRATCH_PNG,
 ];
 
 fn with_small<'a>(args: &[&'a str]) -> Vec<&'a str> {
@@ -62,11 +62,14 @@ fn no_vulkan_driver_says_how_to_install_lavapipe() {
 fn a_driver_without_its_hardware_is_no_device() {
     // Mesa's RADV loads on any machine but finds no AMD GPU here: vkCreateInstance succeeds
     // and vkEnumeratePhysicalDevices fails (or lists nothing).
+    // tools/setup.sh installs it (mesa-vulkan-drivers): without it this test has nothing to
+    // run, which is a failure that says so, not a pass.
     let icd = "/usr/share/vulkan/icd.d/radeon_icd.json";
-    if !std::path::Path::new(icd).exists() {
-        eprintln!("skipped: {icd} is not installed");
-        return;
-    }
+    assert!(
+        std::path::Path::new(icd).exists(),
+        "{icd} is missing: this test needs Mesa's RADV driver file; run tools/setup.sh \
+         (mesa-vulkan-drivers from bookworm-backports)"
+    );
     let (ok, text) = fovea_with_env(&with_small(&[]), &[("VK_DRIVER_FILES", icd)]);
     if ok {
         // A machine with an AMD GPU renders on it.
@@ -100,7 +103,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
             "--foveation",
             "thesis",
             "--out",
-            "/tmp/fovea-bad.png",
+            common::SCRATCH_PNG,
         ],
         &[("FOVEA_GPU_MEMORY_LIMIT", "40M")],
         &[
@@ -118,8 +121,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
 
     // A 16384x16384 stereo thesis frame needs 16 GiB for its pixels and their read-back alone. With
     // a limit the case does not depend on the device's memory.
-    let started = std::time::Instant::now();
-    fails_with(
+    let text = fails_with(
         &[
             "render",
             "--width",
@@ -130,7 +132,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
             "--foveation",
             "thesis",
             "--out",
-            "/tmp/fovea-bad.png",
+            common::SCRATCH_PNG,
         ],
         &[("FOVEA_GPU_MEMORY_LIMIT", "8G")],
         &[
@@ -141,8 +143,8 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
             "caps fovea at 8.00 GiB (8589934592 bytes)",
         ],
     );
-    // Refused by arithmetic, not by trying: nothing of the 16 GiB was allocated or built.
-    assert!(started.elapsed().as_secs() < 20, "{:?}", started.elapsed());
+    // Refused by arithmetic, not by trying: no frame ran.
+    assert!(!text.contains("gpu pass"), "no frame may run:\n{text}");
 }
 
 #[test]
@@ -210,7 +212,7 @@ fn lost_device_names_the_last_pass_and_the_running_one() {
         "--foveation",
         "thesis",
         "--out",
-        "/tmp/fovea-bad.png",
+        common::SCRATCH_PNG,
     ];
     for (inject, completed, running) in [
         ("left plan", "'left plan'", "'right plan' was running"),
@@ -279,7 +281,7 @@ fn absurd_numbers_get_a_clear_error() {
         fails_with(&with_small(args), &[], needles);
     }
     // Sizes, given once each (clap refuses a repeated option).
-    let out = ["--scene", "control", "--out", "/tmp/fovea-bad.png"];
+    let out = ["--scene", "control", "--out", common::SCRATCH_PNG];
     let sizes: &[(&[&str], &[&str])] = &[
         (
             &["--width", "99999999", "--height", "8"],
@@ -322,8 +324,7 @@ fn absurd_numbers_get_a_clear_error() {
 
 #[test]
 fn nonsensical_layer_configs_get_a_clear_error() {
-    let dir = std::env::temp_dir().join(format!("fovea-bad-layers-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("bad-layers");
     let background = "[[layer]]\nspacing = 2\n";
     let cases: &[(&str, String, &[&str])] = &[
         (
@@ -402,7 +403,6 @@ fn nonsensical_layer_configs_get_a_clear_error() {
         &[],
         &["--spp 0 is out of range"],
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

@@ -5,13 +5,10 @@ mod common;
 
 use common::fovea;
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fovea-bench-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::test_dir(&format!("bench-{name}"))
 }
 
 /// A `--quick` run cut down to two scenes at a small size so the test takes seconds.

@@ -7,8 +7,7 @@ use common::fovea;
 
 #[test]
 fn render_writes_png_and_exr_and_reports_time_and_counters() {
-    let dir = std::env::temp_dir().join(format!("fovea-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("cli");
     let png = dir.join("bunny.png");
     let (ok, text) = fovea(&[
         "render",
@@ -44,13 +43,13 @@ fn render_writes_png_and_exr_and_reports_time_and_counters() {
     )
     .unwrap();
     assert!(exr.layer_data.channel_data.pixels.iter().any(|&r| r > 0.0));
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn bad_input_gets_a_clear_error_and_nonzero_exit() {
     // A layer config whose inner layer is coarser than the background.
-    let bad_layers = std::env::temp_dir().join(format!("fovea-bad-{}.toml", std::process::id()));
+    let dir = common::test_dir("bad-input");
+    let bad_layers = dir.join("bad-layers.toml");
     std::fs::write(
         &bad_layers,
         "[[layer]]\nradius_deg = 6.0\nspacing = 4\n[[layer]]\nspacing = 2\n",
@@ -58,16 +57,25 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
     .unwrap();
     let cases: &[(&[&str], &str)] = &[
         (
-            &["render", "--width", "0", "--out", "/tmp/x.png"],
-            "out of range",
-        ),
-        (&["render", "--spp", "0", "--out", "/tmp/x.png"], "--spp 0"),
-        (
-            &["render", "--height", "100000", "--out", "/tmp/x.png"],
+            &["render", "--width", "0", "--out", common::SCRATCH_PNG],
             "out of range",
         ),
         (
-            &["render", "--scene", "no-such-scene", "--out", "/tmp/x.png"],
+            &["render", "--spp", "0", "--out", common::SCRATCH_PNG],
+            "--spp 0",
+        ),
+        (
+            &["render", "--height", "100000", "--out", common::SCRATCH_PNG],
+            "out of range",
+        ),
+        (
+            &[
+                "render",
+                "--scene",
+                "no-such-scene",
+                "--out",
+                common::SCRATCH_PNG,
+            ],
             "unknown scene 'no-such-scene'",
         ),
         (
@@ -76,7 +84,7 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
                 "--scene",
                 "/nonexistent/model.glb",
                 "--out",
-                "/tmp/x.png",
+                common::SCRATCH_PNG,
             ],
             "/nonexistent/model.glb",
         ),
@@ -90,12 +98,18 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
                 "--height",
                 "8",
                 "--out",
-                "/tmp/x.bmp",
+                concat!(env!("CARGO_TARGET_TMPDIR"), "/fovea-scratch.bmp"),
             ],
             ".png or .exr",
         ),
         (
-            &["render", "--device", "no-such-gpu", "--out", "/tmp/x.png"],
+            &[
+                "render",
+                "--device",
+                "no-such-gpu",
+                "--out",
+                common::SCRATCH_PNG,
+            ],
             "no Vulkan device matches",
         ),
         (
@@ -121,8 +135,7 @@ fn bad_input_gets_a_clear_error_and_nonzero_exit() {
 
 #[test]
 fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
-    let dir = std::env::temp_dir().join(format!("fovea-cli-fov-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("cli-fov");
     let png = dir.join("layers.png");
     let (ok, text) = fovea(&[
         "render",
@@ -196,8 +209,7 @@ fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
 /// frame's samples equal to its pixels × spp, and the trace part of each frame's time.
 #[test]
 fn render_bench_json_holds_the_table() {
-    let dir = std::env::temp_dir().join(format!("fovea-cli-json-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("cli-json");
     let json_path = dir.join("bench.json");
     let (ok, text) = fovea(&[
         "render",
@@ -253,15 +265,13 @@ fn render_bench_json_holds_the_table() {
     }
     assert_eq!(json["width"], 16);
     assert_eq!(json["spp"], 2);
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `--traversal` picks what traces the frame, and says so; the traversal profile counts the
 /// software traversal's work, so asking it of ray queries is refused with a message.
 #[test]
 fn traversal_flag_picks_the_traversal_and_the_profile_needs_software() {
-    let dir = std::env::temp_dir().join(format!("fovea-cli-traversal-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("cli-traversal");
     let out = dir.join("t.png");
     let render = |extra: &[&str]| {
         let mut args = vec![
@@ -290,13 +300,11 @@ fn traversal_flag_picks_the_traversal_and_the_profile_needs_software() {
     assert!(!ok && text.contains("use --traversal software"), "{text}");
     let (ok, text) = render(&["--traversal", "sideways"]);
     assert!(!ok && text.contains("software"), "{text}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn a_camera_path_renders_one_frame_per_row_and_bad_paths_say_what_is_wrong() {
-    let dir = std::env::temp_dir().join(format!("fovea-path-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::test_dir("cli-path");
     let path = dir.join("path.csv");
     let header = "frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n";
     std::fs::write(
@@ -365,5 +373,4 @@ fn a_camera_path_renders_one_frame_per_row_and_bad_paths_say_what_is_wrong() {
     assert!(!ok && text.contains("give a directory"), "{text}");
     let (ok, text) = render(&["--temporal", "on"]);
     assert!(!ok && text.contains("--camera-path"), "{text}");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -67,7 +67,10 @@ fn check_scene(name: &str) {
     assert_eq!(overflows, 0);
 
     let started = Instant::now();
-    let answers: Vec<Option<f32>> = rays.iter().map(|(o, d)| cpu.closest_hit(*o, *d)).collect();
+    let (answers, tests): (Vec<Option<f32>>, Vec<u32>) = rays
+        .iter()
+        .map(|(o, d)| cpu.closest_hit_counted(*o, *d))
+        .unzip();
     let per_ray_us = started.elapsed().as_secs_f64() * 1e6 / rays.len() as f64;
 
     let mut hit_count = 0;
@@ -93,8 +96,22 @@ fn check_scene(name: &str) {
         hit_count > rays.len() / 4,
         "{name}: only {hit_count} rays hit; the test would prove little"
     );
-    // Generous for a loaded 2-core test machine in a dev build; typical is a few µs.
-    assert!(per_ray_us < 200.0, "{name}: {per_ray_us} µs per ray");
+    // The gaze ray runs on the CPU every frame, so it must not test the whole scene: the
+    // BVHs leave a small fraction of the primitives to test (the time per ray is printed
+    // above as a figure; on a busy machine it says nothing about the work).
+    let primitives = scene.boxes.len()
+        + scene.spheres.len()
+        + scene.instances.len()
+        + (scene.instances.iter())
+            .map(|i| scene.meshes[i.mesh as usize].indices.len())
+            .sum::<usize>();
+    let mean_tests = tests.iter().map(|&t| t as f64).sum::<f64>() / tests.len() as f64;
+    eprintln!("{name}: {mean_tests:.1} primitive tests per ray of {primitives} primitives");
+    // A scene of a few dozen primitives may leave a handful to test.
+    assert!(
+        mean_tests > 0.0 && mean_tests < (0.05 * primitives as f64).max(8.0),
+        "{name}: {mean_tests:.1} primitive tests per ray of {primitives}"
+    );
 }
 
 #[test]

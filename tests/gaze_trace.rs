@@ -11,11 +11,8 @@ use std::path::{Path, PathBuf};
 
 const HEADER: &str = "frame,time_s,left_tan_x,left_tan_y,right_tan_x,right_tan_y,status\n";
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fovea-gaze-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::test_dir(&format!("gaze-{name}"))
 }
 
 /// A trace looking left, straight ahead, then right (tangent x -0.3, 0, 0.3), the right eye

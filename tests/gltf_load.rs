@@ -3,6 +3,8 @@
 //! and fans, mesh deduplication, the bundled bunny assets, and a mutation sweep over a valid
 //! .glb that must never panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use fovea::scene::glb_write::{glb_bytes, write_glb};
@@ -12,27 +14,9 @@ use glam::{Mat4, Quat, Vec3};
 
 const ASPECT: f32 = 16.0 / 9.0;
 
-/// A fresh directory under the system temp dir, unique per process and test, removed on drop.
-struct TempDir(PathBuf);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn temp_dir(test: &str) -> TempDir {
-    let dir = std::env::temp_dir().join(format!("fovea-gltf-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create temp dir");
-    TempDir(dir)
+/// A fresh directory of this test's own, removed on drop.
+fn temp_dir(test: &str) -> common::TestDir {
+    common::test_dir(&format!("gltf-{test}"))
 }
 
 /// Standard base64 with padding (enough for `data:` URIs in hand-written test files).

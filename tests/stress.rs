@@ -139,7 +139,8 @@ fn enormous_emission_scales_the_image_linearly_without_overflow() {
 
 #[test]
 fn fovea_check_prints_the_counts_and_writes_the_report() {
-    let json = std::env::temp_dir().join(format!("fovea-check-{}.json", std::process::id()));
+    let dir = common::test_dir("check");
+    let json = dir.join("check.json");
     let (ok, text) = common::fovea(&[
         "check",
         "--only",
@@ -161,7 +162,6 @@ fn fovea_check_prints_the_counts_and_writes_the_report() {
     assert!(text.contains("all checks passed"), "{text}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    std::fs::remove_file(&json).unwrap();
     assert_eq!(report["watertight"].as_array().unwrap().len(), 3);
     assert_eq!(report["emission"].as_array().unwrap().len(), 3);
     assert!(report["furnace"].as_array().unwrap().is_empty());

@@ -7,7 +7,7 @@
 mod common;
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
 /// An Xvfb server on a display number it picks itself (`-displayfd`), so parallel tests and
@@ -55,10 +55,8 @@ impl Drop for Xvfb {
 }
 
 /// A scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fovea-viewer-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> common::TestDir {
+    common::test_dir(&format!("viewer-{name}"))
 }
 
 /// Runs `fovea view ARGS` on the X server with validation on, on X11 even in a Wayland
@@ -207,7 +205,6 @@ fn one_frame_screenshot_is_the_rendered_frame_bit_for_bit() {
             "{view_args:?}: the viewer's linear image differs from fovea render's"
         );
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A scripted run (the mouse as gaze, a camera turn and move, the camera reset, the gaze
@@ -272,7 +269,6 @@ fn scripted_run_accumulates_the_mean_of_renders_at_successive_seeds() {
     );
     // The 4 renders differ from each other by noise, so the test can tell them apart.
     assert!(rmse(&shot, &read_exr(&dir.join("render-1.exr")).2) > 1e-3);
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// While nothing moves, the error against a 256-spp reference falls as frames of 1 spp
@@ -363,7 +359,6 @@ fn error_against_a_converged_render_falls_as_still_frames_accumulate() {
     // The temporal history's shifting lattices give half the periphery's pixels samples of
     // their own in 8 frames (spacing 4): closer than the foveated mean too.
     assert!(foveated[2] < foveated[0], "{foveated:?}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Resizing, minimising, restoring, hiding and showing the window mid-run, in stereo with
@@ -418,7 +413,6 @@ fn window_changes_and_every_key_mid_run_break_nothing() {
     ));
     let info = decoder.read_info().unwrap().info().clone();
     assert_eq!((info.width, info.height), (64, 48));
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A recorded gaze trace replays one row per frame; past its end the last row holds, so the
@@ -451,7 +445,6 @@ fn gaze_trace_replays_and_then_holds() {
     );
     // Rows 0, 1, 2 move the gaze every frame; frames 3 and 4 hold row 2.
     assert_eq!(accumulated(&text), 3, "{text}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Turbo as accumulate.comp computes it (display values).
@@ -591,5 +584,4 @@ fn escape_ends_the_run_and_the_render_scale_applies() {
     ));
     let info = decoder.read_info().unwrap().info().clone();
     assert_eq!((info.width, info.height), (48, 32));
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -183,6 +183,7 @@ fn read_complete_rows<T: DeserializeOwned>(path: &Path) -> Result<(Vec<T>, bool)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_dir::TestDir;
     use serde::Deserialize;
 
     #[derive(Debug, PartialEq, Serialize, Deserialize)]
@@ -192,10 +193,11 @@ mod tests {
         ms: f64,
     }
 
-    fn temp(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("fovea-csv-log-{}-{name}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join("rows.csv")
+    /// A test directory (removed when dropped) and the log's path in it.
+    fn temp(name: &str) -> (TestDir, PathBuf) {
+        let dir = TestDir::new(&format!("csv-log-{name}"));
+        let path = dir.join("rows.csv");
+        (dir, path)
     }
 
     fn row(n: u32) -> Row {
@@ -208,7 +210,7 @@ mod tests {
 
     #[test]
     fn rows_survive_reopening_and_the_header_is_written_once() {
-        let path = temp("reopen");
+        let (_dir, path) = temp("reopen");
         let _ = std::fs::remove_file(&path);
         {
             let (log, rows) = CsvLog::<Row>::open(&path).unwrap();
@@ -235,7 +237,7 @@ mod tests {
 
     #[test]
     fn a_line_cut_off_by_a_kill_is_dropped() {
-        let path = temp("torn");
+        let (_dir, path) = temp("torn");
         std::fs::write(&path, "name,n,ms\nr1,1,1.5\nr2,2,3.0\nr3,3").unwrap();
         let (mut log, rows) = CsvLog::<Row>::open(&path).unwrap();
         assert_eq!(rows, vec![row(1), row(2)]);
@@ -247,7 +249,7 @@ mod tests {
 
     #[test]
     fn rows_not_kept_leave_the_file() {
-        let path = temp("keep");
+        let (_dir, path) = temp("keep");
         std::fs::write(&path, "name,n,ms\nr1,1,1.5\nr2,2,3.0\n").unwrap();
         let (_, rows) = CsvLog::<Row>::open_keeping(&path, |rows| {
             rows.into_iter().filter(|r| r.n != 2).collect()
@@ -262,7 +264,7 @@ mod tests {
 
     #[test]
     fn an_empty_file_gets_its_header() {
-        let path = temp("empty");
+        let (_dir, path) = temp("empty");
         std::fs::write(&path, "").unwrap();
         let (mut log, rows) = CsvLog::<Row>::open(&path).unwrap();
         assert!(rows.is_empty());
@@ -276,11 +278,11 @@ mod tests {
 
     #[test]
     fn a_foreign_file_is_refused_not_overwritten() {
-        let other = temp("other-columns");
+        let (_other_dir, other) = temp("other-columns");
         std::fs::write(&other, "a,b\n1,2\n").unwrap();
         let e = CsvLog::<Row>::open(&other).err().unwrap().to_string();
         assert!(e.contains("name,n,ms"), "{e}");
-        let path = temp("foreign");
+        let (_dir, path) = temp("foreign");
         let text = "name,n,ms\nr1,one,1.5\nr2,2,3.0\n";
         std::fs::write(&path, text).unwrap();
         let e = CsvLog::<Row>::open(&path).err().unwrap().to_string();

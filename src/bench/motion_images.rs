@@ -180,7 +180,7 @@ mod tests {
         assert_eq!(a.size(), (166, 13));
         let grey = vec![0.5f32; (w * h * 3) as usize];
         let all = vec![true; (w * h) as usize];
-        let dir = std::env::temp_dir().join(format!("fovea-anim-{}", std::process::id()));
+        let dir = crate::test_dir::TestDir::new("anim");
         let path = dir.join("a.png");
         for k in 0..3 {
             a.add_reference(k, &grey);
@@ -200,6 +200,5 @@ mod tests {
         assert_eq!(control.num_frames, 3);
         // Five panels: reference, three sequences, error.
         assert_eq!(info.width, 5 * 166 + 4 * super::super::plots::STRIP_GAP);
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -177,10 +177,8 @@ mod tests {
 
     #[test]
     fn a_finished_trace_is_json_and_a_resumed_one_joins_its_tracks() {
-        let dir = std::env::temp_dir().join(format!("fovea-trace-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir::TestDir::new("trace");
         let path = dir.join("trace.json");
-        let _ = std::fs::remove_file(&path);
         let mut w = TraceWriter::open(&path).unwrap();
         w.frame(&row(0), &passes()).unwrap();
         drop(w); // killed: no closing bracket

@@ -456,8 +456,8 @@ mod tests {
 
     #[test]
     fn written_rows_read_back_bit_for_bit_and_survive_an_interruption() {
-        let path =
-            std::env::temp_dir().join(format!("fovea-gaze-trace-{}.csv", std::process::id()));
+        let dir = crate::test_dir::TestDir::new("gaze-trace");
+        let path = dir.join("gaze.csv");
         let rows = [
             TraceRow {
                 frame: 0,
@@ -494,7 +494,7 @@ mod tests {
         std::fs::remove_file(&path).unwrap();
         let e = GazeTrace::read(&path).unwrap_err().to_string();
         assert!(
-            e.contains("cannot read gaze trace") && e.contains("fovea-gaze-trace"),
+            e.contains("cannot read gaze trace") && e.contains("gaze.csv"),
             "{e}"
         );
     }

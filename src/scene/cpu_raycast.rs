@@ -125,16 +125,26 @@ impl CpuRaycaster {
     /// Distance along the normalised `dir` from `origin` to the closest surface, or `None`
     /// when the ray leaves the scene, or when `origin` or `dir` is not finite or `dir` is zero.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
-        let d = dir.try_normalize()?;
-        if !origin.is_finite() {
-            return None;
-        }
-        let t = self.closest_t(origin, d, f32::INFINITY);
-        (t < f32::INFINITY).then_some(t)
+        self.closest_hit_counted(origin, dir).0
     }
 
-    /// Closest hit parameter in (0, t_max) along `o + t d` (`d` need not be normalised), or ∞.
-    fn closest_t(&self, o: Vec3, d: Vec3, t_max: f32) -> f32 {
+    /// [`Self::closest_hit`], and how many primitives (objects and triangles) the ray was
+    /// tested against: the work the BVHs saved is the scene's primitives less these.
+    pub fn closest_hit_counted(&self, origin: Vec3, dir: Vec3) -> (Option<f32>, u32) {
+        let Some(d) = dir.try_normalize() else {
+            return (None, 0);
+        };
+        if !origin.is_finite() {
+            return (None, 0);
+        }
+        let mut tests = 0;
+        let t = self.closest_t(origin, d, f32::INFINITY, &mut tests);
+        ((t < f32::INFINITY).then_some(t), tests)
+    }
+
+    /// Closest hit parameter in (0, t_max) along `o + t d` (`d` need not be normalised), or ∞;
+    /// adds the primitives tested to `tests`.
+    fn closest_t(&self, o: Vec3, d: Vec3, t_max: f32, tests: &mut u32) -> f32 {
         let Some(tlas) = &self.tlas else {
             return f32::INFINITY;
         };
@@ -142,6 +152,7 @@ impl CpuRaycaster {
         let inv_d = d.recip();
         let mut best = t_max;
         traverse(tlas, o, d, &mut best, |id, best| {
+            *tests += 1;
             let t = match &self.objects[tlas.primitive_indices[id] as usize] {
                 Object::Instance {
                     blas,
@@ -149,7 +160,7 @@ impl CpuRaycaster {
                 } => {
                     let lo = world_to_object.transform_point3(o);
                     let ld = world_to_object.transform_vector3(d);
-                    self.blas_t(&self.blas[*blas], lo, ld, *best)
+                    self.blas_t(&self.blas[*blas], lo, ld, *best, tests)
                 }
                 Object::Box { min, max } => intersect_box(o, inv_d, *min, *max, *best),
                 Object::Sphere { centre, radius } => {
@@ -167,11 +178,12 @@ impl CpuRaycaster {
         }
     }
 
-    fn blas_t(&self, blas: &Blas, o: Vec3, d: Vec3, t_max: f32) -> f32 {
+    fn blas_t(&self, blas: &Blas, o: Vec3, d: Vec3, t_max: f32, tests: &mut u32) -> f32 {
         let d = safe_direction(d);
         let w = WatertightRay::new(d);
         let mut best = t_max;
         traverse(&blas.bvh, o, d, &mut best, |id, best| {
+            *tests += 1;
             let [a, b, c] = blas.tris[id];
             let t = w.intersect(o, a, b, c, *best);
             if t < *best {

@@ -8,8 +8,42 @@ pub mod rays;
 use fovea::gpu::{GpuContext, GpuOptions};
 use fovea::render::{Frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::Scene;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
+
+/// A test's own temporary directory, removed with everything in it when dropped (also
+/// when the test fails).
+pub struct TestDir(PathBuf);
+
+impl std::ops::Deref for TestDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TestDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TestDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A new, empty [`TestDir`] named after the test binary's process and `name`, inside the
+/// directory Cargo gives integration tests for their files (target/tmp), not the system's.
+pub fn test_dir(name: &str) -> TestDir {
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fovea-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create the test's temporary directory");
+    TestDir(dir)
+}
 
 /// Runs the `fovea` binary with the validation layer on; returns success and all it printed.
 /// Fails the test if it panicked: bad input must get a message, never a panic.
@@ -75,13 +109,21 @@ pub fn render(ctx: &Arc<GpuContext>, scene: &Scene, s: &RenderSettings) -> Frame
 
 /// Like [`fovea`] (validation on, fails the test on a panic), with extra environment
 /// variables, which may also override `FOVEA_VALIDATION`.
+/// The run's temporary files (the metric's frames, anything a library puts in the system's
+/// temporary directory) go to a directory of its own (`TMPDIR`), removed when it exits: also
+/// after a run that a test aborts on purpose.
 pub fn fovea_with_env(args: &[&str], env: &[(&str, &str)]) -> (bool, String) {
+    static RUNS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = test_dir(&format!("run-{run}-tmp"));
     let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
         .args(args)
         .env("FOVEA_VALIDATION", "1")
+        .env("TMPDIR", &*tmp)
         .envs(env.iter().copied())
         .output()
         .unwrap();
+    drop(tmp);
     let text = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),
@@ -102,3 +144,7 @@ pub fn gpu_assisted_context() -> Arc<GpuContext> {
     options.checks.gpu_assisted = true;
     Arc::new(GpuContext::new(&options).expect("a Vulkan device (run tools/setup.sh for lavapipe)"))
 }
+
+/// Where a command that should fail before writing anything is told to write: inside the
+/// tests' own directory (target/tmp), so that one which does write leaves nothing elsewhere.
+pub const SCRATCH_PNG: &str = concat!(env!("CARGO_TARGET_TMPDIR"), "/fovea-scratch.png");

@@ -2,13 +2,10 @@ use super::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh, unique directory under the system temp dir.
-fn temp_dir(name: &str) -> PathBuf {
+fn temp_dir(name: &str) -> crate::test_dir::TestDir {
     static N: AtomicUsize = AtomicUsize::new(0);
     let n = N.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("fovea-plots-{}-{name}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::test_dir::TestDir::new(&format!("plots-{name}-{n}"))
 }
 
 /// Decodes a PNG into (width, height, RGB or RGBA bytes, bytes per pixel).
@@ -63,7 +60,6 @@ fn frame_rate_lines_writes_both() {
     let files = frame_rate_lines(&dir.join("low.lines"), "Low triangle scene", &all).unwrap();
     assert!(files[0].ends_with("low.lines.svg") && files[1].ends_with("low.lines.png"));
     check_chart(&files, "Low triangle scene");
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -89,7 +85,6 @@ fn frame_rate_lines_degenerate_inputs() {
     }
     let svg = std::fs::read_to_string(dir.join("c0.svg")).unwrap();
     assert!(svg.contains("no data"));
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -125,7 +120,6 @@ fn mean_std_dots_writes_both() {
             "Edge",
         );
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -180,7 +174,6 @@ fn error_vs_time_writes_both() {
             "Edge",
         );
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -230,7 +223,6 @@ fn image_strip_layout_and_pixels() {
             .any(|p| p[0] < 128 && p[1] < 128 && p[2] < 128),
         "no caption text"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -275,5 +267,4 @@ fn image_strip_rejects_bad_input() {
         Err(PlotError::PanelSize { .. })
     ));
     assert!(!path.exists());
-    let _ = std::fs::remove_dir_all(dir);
 }
