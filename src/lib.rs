@@ -7,6 +7,7 @@ pub mod check;
 pub mod foveation;
 pub mod gpu;
 pub mod metrics;
+pub mod realtime;
 pub mod render;
 pub mod scene;
 pub mod tune;

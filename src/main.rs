@@ -37,6 +37,10 @@ enum Command {
     /// Search foveation layers for the best perceptual quality (FovVideoVDP JOD) within a GPU
     /// time budget; writes the winner as a foveation TOML and the Pareto front (CSV, plot).
     Tune(Box<commands::tune::TuneArgs>),
+    /// Is fovea real-time on this device? Pass times of regular and foveated frames per scene,
+    /// the largest fovea spp that fits 90 and 120 Hz, headset sessions with 1-3 frames in
+    /// flight; CSV, JSON and report.md (tools/gpu-bundle.sh packs it for a GPU machine).
+    GpuReport(Box<commands::gpu_report::GpuReportArgs>),
 }
 
 fn main() {
@@ -61,6 +65,7 @@ fn main() {
         Command::View(args) => commands::view::run(args),
         Command::Xr(args) => commands::xr::run(args),
         Command::Tune(args) => commands::tune::run(args),
+        Command::GpuReport(args) => commands::gpu_report::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

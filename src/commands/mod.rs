@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod check;
+pub mod gpu_report;
 pub mod render;
 pub mod render_bench;
 pub mod render_sequence;

@@ -81,7 +81,7 @@ pub struct XrArgs {
     pub gpu: GpuArgs,
 }
 
-fn parse_size(text: &str) -> Result<[u32; 2], String> {
+pub fn parse_size(text: &str) -> Result<[u32; 2], String> {
     let bad = || format!("size '{text}' is not understood: give WIDTHxHEIGHT, e.g. 720x800");
     let (w, h) = text.split_once('x').ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;

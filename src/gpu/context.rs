@@ -39,6 +39,8 @@ pub struct GpuContext {
     pub(super) memory: MemoryFacts,
     /// Bytes fovea holds now: [device-local, host-visible].
     pub(super) allocated: [AtomicU64; 2],
+    /// The most of `allocated` held at once.
+    pub(super) peak_allocated: AtomicU64,
     pub info: DeviceInfo,
     /// Whether the renderer traces with ray queries unless told otherwise.
     prefers_ray_queries: bool,
@@ -432,6 +434,7 @@ impl GpuContext {
             markers: Mutex::new(markers),
             memory,
             allocated: [AtomicU64::new(0), AtomicU64::new(0)],
+            peak_allocated: AtomicU64::new(0),
             info,
             prefers_ray_queries,
             physical_device,

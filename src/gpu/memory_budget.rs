@@ -120,6 +120,11 @@ impl GpuContext {
             .sum()
     }
 
+    /// The most bytes fovea's buffers and images held at once since the context was made.
+    pub fn memory_peak(&self) -> u64 {
+        self.peak_allocated.load(Ordering::Relaxed)
+    }
+
     fn heap_of(&self, host_visible: bool) -> usize {
         match host_visible {
             true => self.memory.host_heap,
@@ -279,6 +284,8 @@ impl GpuContext {
             }
         }
         self.allocated[host_visible as usize].fetch_add(bytes, Ordering::Relaxed);
+        self.peak_allocated
+            .fetch_max(self.memory_in_use(), Ordering::Relaxed);
         Ok(())
     }
 
