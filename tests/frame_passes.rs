@@ -72,6 +72,11 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
     expected.push("denoise copy".into());
     expected.push("output image".into());
     let names: Vec<&str> = stats.pass_ms.iter().map(|(n, _)| n.as_str()).collect();
+    eprintln!(
+        "stereo frame, history, 5 denoise iterations: {} timed passes, {:.3} GPU ms",
+        names.len(),
+        stats.gpu_ms()
+    );
     assert_eq!(names, expected, "every pass of both eyes, in order");
     assert_eq!(names.len(), 21);
 
