@@ -12,6 +12,8 @@
 # --bundled-loader uses the bundle's even where the system has one.
 # The driver: the system's Vulkan driver files (ICDs); where there are none, NVIDIA's under
 # /usr/local/nvidia (as on headless NVIDIA containers). VK_DRIVER_FILES still wins.
+# fovea itself needs an x86-64 Linux with glibc 2.35 or newer and libstdc++ (Debian 12,
+# Ubuntu 22.04 and later).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 
