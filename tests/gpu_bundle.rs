@@ -25,18 +25,33 @@ fn number(row: &BTreeMap<String, String>, column: &str) -> f64 {
 fn the_bundle_alone_writes_a_complete_quick_report() {
     let dir = common::test_dir("gpu-bundle");
     let bundle = dir.join("fovea-gpu");
-    let built = Path::new(env!("CARGO_BIN_EXE_fovea")).parent().unwrap();
+    // This test build's fovea and simulated headset (cargo test leaves the library in
+    // deps/; a cargo build also puts it beside fovea).
+    let built = dir.join("built");
+    std::fs::create_dir_all(&built).unwrap();
+    let exe = Path::new(env!("CARGO_BIN_EXE_fovea"));
+    std::fs::copy(exe, built.join("fovea")).unwrap();
+    let library = [
+        exe.with_file_name("deps"),
+        exe.parent().unwrap().to_path_buf(),
+    ]
+    .iter()
+    .map(|d| d.join("libsim_headset.so"))
+    .find(|p| p.exists())
+    .expect("libsim_headset.so built beside fovea or in deps/");
+    std::fs::copy(library, built.join("libsim_headset.so")).unwrap();
     let out = Command::new("bash")
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/gpu-bundle.sh"))
         .arg("--out")
         .arg(&bundle)
         .arg("--prebuilt")
-        .arg(built)
+        .arg(&built)
         .output()
         .unwrap();
     let text =
         String::from_utf8_lossy(&out.stderr).to_string() + &String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
+    std::fs::remove_dir_all(&built).unwrap();
     let size: u64 = ["fovea", "libsim_headset.so"]
         .iter()
         .map(|f| bundle.join(f).metadata().unwrap().len())
