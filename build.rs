@@ -8,6 +8,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+// The crate's own fingerprint (FNV-1a), so the shaders' stamp is hashed as cache keys are.
+#[path = "src/scene/fingerprint.rs"]
+#[allow(dead_code)]
+mod fingerprint;
+use fingerprint::Fingerprint;
+
 fn main() {
     let glsl = Path::new("glsl");
     println!("cargo:rerun-if-changed=glsl");
@@ -44,26 +50,20 @@ fn main() {
     std::fs::write(&stamp, fingerprint).expect("write shaders.fingerprint");
 }
 
-/// Every file under glsl/ (names, sizes, contents) as one number: FNV-1a.
+/// Every file under glsl/ (names and contents) as one number.
 fn glsl_fingerprint(glsl: &Path) -> u64 {
     let mut files: Vec<PathBuf> = std::fs::read_dir(glsl)
         .expect("glsl/ directory")
         .map(|e| e.expect("glsl/ entry").path())
         .collect();
     files.sort();
-    let mut hash = 0xcbf2_9ce4_8422_2325u64;
-    for file in files {
-        let name = file.to_string_lossy().into_owned().into_bytes();
-        let bytes = std::fs::read(&file).unwrap_or_default();
-        for b in name
-            .iter()
-            .chain(&(bytes.len() as u64).to_le_bytes())
-            .chain(&bytes)
-        {
-            hash = (hash ^ *b as u64).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    hash
+    files
+        .iter()
+        .fold(Fingerprint::default(), |f, file| {
+            f.bytes(file.to_string_lossy().as_bytes())
+                .bytes(&std::fs::read(file).unwrap_or_default())
+        })
+        .value()
 }
 
 /// `FOVEA_COMMIT` for the reports' headers: the commit the binary was built from, `+changes`

@@ -8,41 +8,18 @@ pub mod rays;
 use fovea::gpu::{GpuContext, GpuOptions};
 use fovea::render::{Frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::Scene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::sync::Arc;
 
-/// A test's own temporary directory, removed with everything in it when dropped (also
-/// when the test fails).
-pub struct TestDir(PathBuf);
-
-impl std::ops::Deref for TestDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl AsRef<Path> for TestDir {
-    fn as_ref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TestDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+#[path = "../../src/test_dir.rs"]
+mod test_dir;
+pub use test_dir::TestDir;
 
 /// A new, empty [`TestDir`] named after the test binary's process and `name`, inside the
 /// directory Cargo gives integration tests for their files (target/tmp), not the system's.
 pub fn test_dir(name: &str) -> TestDir {
-    let dir =
-        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fovea-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("create the test's temporary directory");
-    TestDir(dir)
+    TestDir::new_in(Path::new(env!("CARGO_TARGET_TMPDIR")), name)
 }
 
 /// Runs the `fovea` binary with the validation layer on; returns success and all it printed.
