@@ -46,6 +46,36 @@ fn render_writes_png_and_exr_and_reports_time_and_counters() {
 }
 
 #[test]
+fn the_same_frame_twice_writes_the_same_exr_bytes() {
+    // Stereo, so that the file has many chunks: a writer that stores chunks in the order its
+    // threads finish them made different files of the same pixels.
+    let dir = common::test_dir("cli-exr-bytes");
+    let files: Vec<Vec<u8>> = (0..2)
+        .map(|i| {
+            let out = dir.join(format!("frame{i}.exr"));
+            let (ok, text) = fovea(&[
+                "render",
+                "--scene",
+                "mirror-room",
+                "--stereo",
+                "--width",
+                "48",
+                "--height",
+                "40",
+                "--spp",
+                "1",
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(ok, "{text}");
+            std::fs::read(&out).unwrap()
+        })
+        .collect();
+    assert!(files[0].len() > 1000, "{} bytes", files[0].len());
+    assert!(files[0] == files[1], "the two files differ");
+}
+
+#[test]
 fn bad_input_gets_a_clear_error_and_nonzero_exit() {
     // A layer config whose inner layer is coarser than the background.
     let dir = common::test_dir("bad-input");

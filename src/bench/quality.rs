@@ -141,12 +141,8 @@ pub fn reference_image(
     }
     // Written under a temporary name and moved, so a kill never leaves half a reference.
     let partial = path.with_extension("partial.exr");
-    let (w, h) = (width as usize, height as usize);
-    exr::prelude::write_rgb_file(&partial, w, h, |x, y| {
-        let i = 3 * (y * w + x);
-        (rgb[i], rgb[i + 1], rgb[i + 2])
-    })
-    .map_err(|e| BenchError::file(&partial, e))?;
+    crate::render::output::write_rgb_exr(&partial, width, height, &rgb)
+        .map_err(|e| BenchError::file(&partial, e))?;
     std::fs::rename(&partial, path).map_err(|e| BenchError::file(path, e))?;
     Ok(rgb)
 }

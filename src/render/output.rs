@@ -48,12 +48,24 @@ pub fn write_png(frame: &Frame, path: &Path) -> Result<(), RenderError> {
 }
 
 pub fn write_exr(frame: &Frame, path: &Path) -> Result<(), RenderError> {
-    let (w, h) = (frame.width as usize, frame.height as usize);
-    exr::prelude::write_rgb_file(path, w, h, |x, y| {
-        let i = 3 * (y * w + x);
-        (frame.rgb[i], frame.rgb[i + 1], frame.rgb[i + 2])
-    })
-    .map_err(|e| output_error(path, e))
+    write_rgb_exr(path, frame.width, frame.height, &frame.rgb).map_err(|e| output_error(path, e))
+}
+
+/// Writes linear RGB (row-major, `width` x `height`) as an EXR whose bytes depend on the
+/// pixels alone: its chunks are compressed one after the other, in order (the exr crate's
+/// parallel writer stores them in whatever order its threads finish, so the same image made
+/// different files).
+pub fn write_rgb_exr(path: &Path, width: u32, height: u32, rgb: &[f32]) -> exr::error::UnitResult {
+    use exr::prelude::*;
+    let w = width as usize;
+    let channels = SpecificChannels::rgb(|at: Vec2<usize>| {
+        let i = 3 * (at.y() * w + at.x());
+        (rgb[i], rgb[i + 1], rgb[i + 2])
+    });
+    Image::from_channels((w, height as usize), channels)
+        .write()
+        .non_parallel()
+        .to_file(path)
 }
 
 /// Writes `path` (.png or .exr). A PNG also gets a linear .exr beside it, so no precision is
