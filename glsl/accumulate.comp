@@ -1,12 +1,13 @@
 #version 460
 // Progressive refinement and the viewer's debug views, one eye per dispatch. Each pixel of
-// OUTPUT (the frame just rendered) is added to a running mean in LAYER_IMAGES layer pc.layer:
+// OUTPUT (the frame just rendered) is added to a running mean in LAYER_IMAGES layer pc.mean_layer:
 // after n frames the mean is m_n = m_{n-1} + (x_n - m_{n-1}) / n, which stays in range for any
 // n (a sum could overflow for the brightest emitters). Frame n is rendered with seed + n, so
 // the mean of N frames of s samples is an estimate with N*s samples per pixel. Then OUTPUT is
-// overwritten with what the viewer shows (pc.debug, ACCUM_SHOW_*), so presenting and
+// overwritten with what the viewer shows (pc.eye.debug, ACCUM_SHOW_*), so presenting and
 // screenshots read one image.
 #extension GL_GOOGLE_include_directive : require
+#define PASS_PUSH AccumulatePush
 #include "view.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
@@ -36,31 +37,31 @@ float samples_per_pixel(ivec2 p, float frames) {
     if (!within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)) return 0.0;
     vec3 gaze = layers[base].gaze.xyz;
     uint k = 0u;
-    while (k + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + k].resolve_cos.x)) k++;
+    while (k + 1u < pc.eye.layer_count && !within_angle(u, gaze, layers[base + k].resolve_cos.x)) k++;
     float spacing = float(layers[base + k].spacing);
     return frames * float(layers[base + k].spp) / (spacing * spacing);
 }
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= int(pc.width) || p.y >= int(pc.height)) return;
-    ivec2 q = ivec2(p.x + int(pc.eye * pc.width), p.y); // the pixel in the side-by-side images
+    if (p.x >= int(pc.eye.width) || p.y >= int(pc.eye.height)) return;
+    ivec2 q = ivec2(p.x + int(pc.eye.index * pc.eye.width), p.y); // the pixel in the side-by-side images
     vec3 frame = imageLoad(out_image, q).rgb;
-    uint n = pc.sample_offset;
+    uint n = pc.frames_before;
     vec3 mean = frame;
     if (n > 0u) {
-        vec3 previous = imageLoad(layer_images, ivec3(q, pc.layer)).rgb;
+        vec3 previous = imageLoad(layer_images, ivec3(q, pc.mean_layer)).rgb;
         mean = previous + (frame - previous) / float(n + 1u);
     }
-    imageStore(layer_images, ivec3(q, pc.layer), vec4(mean, 1.0));
+    imageStore(layer_images, ivec3(q, pc.mean_layer), vec4(mean, 1.0));
 
     vec3 shown;
-    if (pc.debug == ACCUM_SHOW_NOTHING) {
+    if (pc.eye.debug == ACCUM_SHOW_NOTHING) {
         return;
-    } else if (pc.debug == ACCUM_SHOW_DIFF) {
-        vec3 other = imageLoad(layer_images, ivec3(q, ACCUM_LAYER_MAIN + ACCUM_LAYER_REGULAR - pc.layer)).rgb;
+    } else if (pc.eye.debug == ACCUM_SHOW_DIFF) {
+        vec3 other = imageLoad(layer_images, ivec3(q, ACCUM_LAYER_MAIN + ACCUM_LAYER_REGULAR - pc.mean_layer)).rgb;
         shown = abs(mean - other) * float(ACCUM_DIFF_GAIN);
-    } else if (pc.debug == ACCUM_SHOW_HEAT) {
+    } else if (pc.eye.debug == ACCUM_SHOW_HEAT) {
         float spp = samples_per_pixel(p, float(n + 1u));
         float range = float(ACCUM_HEAT_LOG2_MAX - ACCUM_HEAT_LOG2_MIN);
         vec3 colour = spp > 0.0 ? turbo((log2(spp) - float(ACCUM_HEAT_LOG2_MIN)) / range) : vec3(0.0);

@@ -148,9 +148,12 @@ void history_store(uint plane, uint i, vec4 v, uvec4 surface) {
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_VIEWS) readonly buffer HistoryViews { GpuHistoryView history_views[]; };
 
-layout(push_constant) uniform Push { PushConstants pc; };
-
-// This eye's first layer in LAYERS, in the frame slot's set.
-uint eye_layer_base() { return pc.layer_base + pc.eye * pc.layer_count; }
+// The pass's own push constants (shared.h): each shader names its struct before its includes.
+#ifndef PASS_PUSH
+#error "define PASS_PUSH as the pass's push-constant struct from shared.h before any include"
+#endif
+#ifndef NO_PUSH
+layout(push_constant) uniform Push { PASS_PUSH pc; };
+#endif
 
 #endif

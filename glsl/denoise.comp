@@ -9,10 +9,10 @@
 // around, as SVGF estimates it where history is short). So flat noisy regions are smoothed
 // and edges between surfaces are not crossed.
 //
-// PushConstants.sample_offset is the iteration; PushConstants.layer the direction: 0 reads
-// PIXELS and writes DENOISE, 1 the other way round.
+// DenoisePush says which iteration this is and which way it goes (PIXELS to DENOISE or back).
 #extension GL_GOOGLE_include_directive : require
 #define READS_PIXELS
+#define PASS_PUSH DenoisePush
 #include "plan.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
@@ -23,15 +23,15 @@ const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
 
 uint pixel_index(ivec2 p) {
-    return (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
+    return (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
 }
 
 vec4 read_input(ivec2 p) {
-    return pc.layer == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
+    return pc.reads_denoise == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
 }
 
 void write_output(ivec2 p, vec4 c) {
-    if (pc.layer == 0u) {
+    if (pc.reads_denoise == 0u) {
         denoise_pixels[pixel_index(p)] = c;
     } else {
         pixels[pixel_index(p)] = c;
@@ -49,7 +49,7 @@ vec3 from_octahedral(vec2 e) {
 }
 
 bool on_image(ivec2 q) {
-    return all(greaterThanEqual(q, ivec2(0))) && q.x < int(pc.width) && q.y < int(pc.height);
+    return all(greaterThanEqual(q, ivec2(0))) && q.x < int(pc.eye.width) && q.y < int(pc.eye.height);
 }
 
 void main() {
@@ -57,17 +57,17 @@ void main() {
     if (!on_image(p)) return;
     vec4 centre = read_input(p);
     uint base = eye_layer_base();
-    uint iteration = pc.sample_offset;
+    uint iteration = pc.iteration;
     vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
     uint depth = shown_depth(u, base);
-    if (iteration >= layers[base + depth].denoise || pc.debug == DEBUG_LAYERS) {
+    if (iteration >= layers[base + depth].denoise || pc.eye.debug == DEBUG_LAYERS) {
         write_output(p, centre);
         return;
     }
     // This frame's per-pixel surfaces: the history plane the temporal pass just wrote.
-    uint plane = 1u - ((pc.history >> 1) & 1u);
-    uint surfaces = pc.eye * pc.height * pc.width;
-    uvec4 sp = history_surface_load(plane, surfaces + uint(p.y) * pc.width + uint(p.x));
+    uint plane = 1u - ((pc.eye.history >> 1) & 1u);
+    uint surfaces = pc.eye.index * pc.eye.height * pc.eye.width;
+    uvec4 sp = history_surface_load(plane, surfaces + uint(p.y) * pc.eye.width + uint(p.x));
     vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
     float dp = uintBitsToFloat(sp.x);
 
@@ -75,7 +75,7 @@ void main() {
     float l_sum = 0.0;
     float l_sq = 0.0;
     for (int i = 0; i < 9; ++i) {
-        ivec2 q = clamp(p + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(pc.width, pc.height) - 1);
+        ivec2 q = clamp(p + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(pc.eye.width, pc.eye.height) - 1);
         float l = luminance(read_input(q).rgb);
         l_sum += l;
         l_sq += l * l;
@@ -91,7 +91,7 @@ void main() {
         for (int dx = -2; dx <= 2; ++dx) {
             ivec2 q = p + step * ivec2(dx, dy);
             if (!on_image(q)) continue;
-            uvec4 sq = history_surface_load(plane, surfaces + uint(q.y) * pc.width + uint(q.x));
+            uvec4 sq = history_surface_load(plane, surfaces + uint(q.y) * pc.eye.width + uint(q.x));
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
             vec3 c = read_input(q).rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];

@@ -16,6 +16,7 @@
 // per barrier was larger than a point's test (one thread per point with a workgroup-shared
 // counter took 200 ms of a 1440x1600 regular frame's plan).
 #extension GL_GOOGLE_include_directive : require
+#define PASS_PUSH EyePush
 #include "plan.glsl"
 
 layout(local_size_x = PLAN_WORKGROUP_SIZE) in;
@@ -40,9 +41,9 @@ void main() {
     uint count = bitCount(traced);
     if (count == 0u) return;
     uint layer = k - eye_layer_base();
-    uint slot = pc.eye * pc.work_stride
-              + atomicAdd(stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT], count);
-    atomicAdd(stats[STAT_LAYER_POINTS + pc.eye * MAX_LAYERS + layer], count);
+    uint slot = pc.eye.index * pc.eye.work_stride
+              + atomicAdd(stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], count);
+    atomicAdd(stats[STAT_LAYER_POINTS + pc.eye.index * MAX_LAYERS + layer], count);
     // A row's points are consecutive lattice entries.
     uint first = lattice_index(k, ij) | (layer << WORK_LAYER_SHIFT);
     for (; traced != 0u; traced &= traced - 1u) {

@@ -16,7 +16,7 @@
 // plane, read once by the caller (0, no mask: every bit is).
 bool visibility_bit(uint words, uint plane, ivec2 p) {
     if (words == 0u) return true;
-    uint i = uint(p.y) * pc.width + uint(p.x);
+    uint i = uint(p.y) * pc.eye.width + uint(p.x);
     return ((visibility[1u + plane * words + i / 32u] >> (i % 32u)) & 1u) != 0u;
 }
 
@@ -48,7 +48,7 @@ bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
     ij = ivec2(0);
     n = 0u;
     if (t >= layers[base].plan_runs) return false;
-    while (k + 1u < base + pc.layer_count && t >= layers[k + 1u].box_prefix) k++;
+    while (k + 1u < base + pc.eye.layer_count && t >= layers[k + 1u].box_prefix) k++;
     uint cols = layers[k].box_cols;
     uint runs_per_row = (cols + PLAN_RUN - 1u) / PLAN_RUN;
     uint local = t - layers[k].box_prefix;
@@ -63,7 +63,7 @@ bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
 uint shown_depth(vec3 u, uint base) {
     vec3 gaze = layers[base].gaze.xyz;
     uint depth = 0u;
-    while (depth + 1u < pc.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
+    while (depth + 1u < pc.eye.layer_count && !within_angle(u, gaze, layers[base + depth].resolve_cos.x)) depth++;
     return depth;
 }
 

@@ -3,6 +3,8 @@
 // workgroup counts (one workgroup per eye). x stays within the guaranteed limit; the rest
 // goes to y, and trace.comp skips the threads past the list's end.
 #extension GL_GOOGLE_include_directive : require
+#define PASS_PUSH none
+#define NO_PUSH
 #include "bindings.glsl"
 
 layout(local_size_x = 1) in;

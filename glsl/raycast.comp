@@ -3,6 +3,7 @@
 // integrators use, so GPU hit distances can be compared with a CPU reference.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
+#define PASS_PUSH RaycastPush
 #include "bvh.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;

@@ -28,12 +28,13 @@
 // an image gets a copy after the frame (render/passes.rs, output_image).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_vote : require
+#define PASS_PUSH EyePush
 #include "plan.glsl"
 #include "view.glsl"
 
-// The frame's pixel p of this eye (PIXELS: eye after eye, rows of pc.width).
+// The frame's pixel p of this eye (PIXELS: eye after eye, rows of pc.eye.width).
 void store_pixel(ivec2 p, vec3 c) {
-    pixels[(pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x)] = vec4(c, 1.0);
+    pixels[(pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x)] = vec4(c, 1.0);
 }
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -144,7 +145,7 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
 
 // A layer's value as shown: itself, or tinted by its layer in the layers debug view.
 vec3 tint(vec3 c, uint depth) {
-    if (pc.debug == DEBUG_LAYERS) {
+    if (pc.eye.debug == DEBUG_LAYERS) {
         float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
         return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
     }
@@ -193,21 +194,21 @@ float run_half_angle(float tan_step, int n) {
 const float RUN_MARGIN = 1.0e-3;
 
 // The eye's layer every pixel of the run [x0, x1) of row y lies in, away from its blend band
-// and the occlusion edge, or pc.layer_count when the run touches an edge or a band.
+// and the occlusion edge, or pc.eye.layer_count when the run touches an edge or a band.
 uint run_layer(int x0, int x1, int y, vec3 gaze, float band, float cos_occlusion, vec4 tan_map, vec3 limits[MAX_LAYERS]) {
     vec3 middle = tan_direction(tan_map.xy + vec2(0.5 * float(x0 + x1 - 1), float(y)) * tan_map.zw);
     float spread = run_half_angle(tan_map.z, x1 - x0) + RUN_MARGIN;
     if (cos_occlusion >= -1.0 && angle_of(middle, vec3(0.0, 0.0, 1.0)) + spread >= acos(min(cos_occlusion, 1.0))) {
-        return pc.layer_count;
+        return pc.eye.layer_count;
     }
     float theta = angle_of(middle, gaze);
     float inside = -NO_LIMIT; // the radius of the layer inside the one tested
-    for (uint depth = 0u; depth < pc.layer_count; ++depth) {
-        float pure_edge = depth + 1u == pc.layer_count ? NO_LIMIT : limits[depth].z - max(band, 0.0);
+    for (uint depth = 0u; depth < pc.eye.layer_count; ++depth) {
+        float pure_edge = depth + 1u == pc.eye.layer_count ? NO_LIMIT : limits[depth].z - max(band, 0.0);
         if (theta - spread > inside && theta + spread < pure_edge) return depth;
         inside = limits[depth].z;
     }
-    return pc.layer_count;
+    return pc.eye.layer_count;
 }
 
 void main() {
@@ -218,20 +219,20 @@ void main() {
     float cos_occlusion = layers[base].resolve_cos.z;
     vec4 tan_map = layers[base].pixel_tan;
     vec3 limits[MAX_LAYERS]; // per layer: cos radius, cos (radius - band), radius
-    for (uint depth = 0u; depth < pc.layer_count; ++depth) {
+    for (uint depth = 0u; depth < pc.eye.layer_count; ++depth) {
         limits[depth] = vec3(layers[base + depth].resolve_cos.xy, layers[base + depth].outer);
     }
-    uint lens_plane = pc.eye * (pc.layer_count + 1u); // the eye's shown pixels
+    uint lens_plane = pc.eye.index * (pc.eye.layer_count + 1u); // the eye's shown pixels
     uint mask_words = visibility[0];
     // The workgroup's 8 x 8 runs (128 x 8 pixels), numbered so that consecutive invocations
     // (a subgroup's lanes) are runs of consecutive rows.
     uint lane = gl_LocalInvocationIndex;
     int y = int(gl_WorkGroupID.y * WORKGROUP_SIZE_Y + lane % WORKGROUP_SIZE_Y);
     int x0 = int(gl_WorkGroupID.x * WORKGROUP_SIZE_X + lane / WORKGROUP_SIZE_Y) * PIXELS_PER_INVOCATION;
-    int x1 = min(x0 + PIXELS_PER_INVOCATION, int(pc.width));
-    if (y >= int(pc.height) || x0 >= x1) return;
+    int x1 = min(x0 + PIXELS_PER_INVOCATION, int(pc.eye.width));
+    if (y >= int(pc.eye.height) || x0 >= x1) return;
     uint depth_of_run = run_layer(x0, x1, y, gaze, band, cos_occlusion, tan_map, limits);
-    if (subgroupAll(depth_of_run < pc.layer_count)) {
+    if (subgroupAll(depth_of_run < pc.eye.layer_count)) {
         resolve_run_in_layer(base + depth_of_run, depth_of_run, x0, x1, y, mask_words, lens_plane);
         return;
     }
@@ -249,17 +250,17 @@ void main() {
         }
         // The innermost layer whose radius contains the pixel (cosine tests, no trig).
         uint depth = 0u;
-        while (depth + 1u < pc.layer_count && !within_angle(u, gaze, limits[depth].x)) depth++;
+        while (depth + 1u < pc.eye.layer_count && !within_angle(u, gaze, limits[depth].x)) depth++;
         // The blend weight needs the angle itself, but only inside the band.
         float v = 1.0;
         if (band > 0.0 && !within_angle(u, gaze, limits[depth].y)) {
             v = clamp((limits[depth].z - angle_of(u, gaze)) / band, 0.0, 1.0);
         }
         vec3 c = shown(inner, base + depth, depth, p);
-        if (v < 1.0 && depth + 1u < pc.layer_count) {
+        if (v < 1.0 && depth + 1u < pc.eye.layer_count) {
             c = mix(shown(outer, base + depth + 1u, depth + 1u, p), c, v);
         }
-        if (pc.debug == DEBUG_LAYERS && v < 1.0) {
+        if (pc.eye.debug == DEBUG_LAYERS && v < 1.0) {
             c *= 0.35 + 0.65 * abs(2.0 * v - 1.0); // dark blend bands, as in the thesis' fig. 3.5
         }
         store_pixel(p, c);

@@ -23,7 +23,7 @@
 #define BINDING_LAYER_IMAGES 10 // rgba32f 2D array image (accumulate.comp's running means)
 #define BINDING_LATTICE 11     // vec4[]: traced lattice values; per eye, one entry per lattice
                                // point of the ray buffer (GpuLayer.first, .cols locate a point)
-#define BINDING_WORK 12        // uint[]: the plan pass's work lists, eye e's at e * PushConstants
+#define BINDING_WORK 12        // uint[]: the plan pass's work lists, eye e's at e * PushEye
                                // .work_stride: lattice index | layer << WORK_LAYER_SHIFT
 #define BINDING_LAYERS 13      // GpuLayer[]: this frame's layers, eye-major
 #define BINDING_VISIBILITY 14  // uint[]: [0] words per plane (0: no mask), then per eye 1 + layers
@@ -38,7 +38,7 @@
 #define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
                                    // on: the surface at the point's pixel centre (SURFACE_*)
 #define BINDING_HISTORY 18     // vec4[]: history plane 0 (frames take turns reading one plane and
-                               // writing the other, PushConstants.history): per eye and pixel, rgb
+                               // writing the other, PushEye.history): per eye and pixel, rgb
                                // the mean of the pixel's own traced samples, w their count; at
                                // (eye * height + y) * width + x. Two bindings, not one buffer of two
                                // planes: maxStorageBufferRange is 128 MiB on lavapipe
@@ -112,7 +112,7 @@
 #define STAT_WORDS 64          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
 #define WORK_LAYER_SHIFT 28    // work items: lattice index in the low 28 bits, layer above
 
-// ---- debug views (PushConstants.debug) -------------------------------------------------------
+// ---- debug views (PushEye.debug) -------------------------------------------------------
 #define DEBUG_NONE 0
 #define DEBUG_LAYERS 1 // tint each pixel by the layer it comes from; blend bands darkened
 
@@ -191,25 +191,62 @@ struct GpuSceneInfo {
     uint tlas_root; // node index of the TLAS's root in NODES (after every BLAS)
 };
 
-// Per-dispatch parameters (<= 128 bytes: the guaranteed push-constant size).
-struct PushConstants {
-    vec4 cam_position;
-    vec4 cam_right;
-    vec4 cam_up;
-    vec4 cam_forward;
-    vec4 cam_tan; // tan of the view's left, right, up, down half-angles (OpenXR convention)
+// Push constants: every pass's struct is at most 128 bytes (the guaranteed push-constant
+// size) and names each of its fields for that pass alone. A shader says which struct it takes
+// by defining PASS_PUSH before its includes (bindings.glsl declares `pc` from it).
+
+// The eye's camera, as every pass of a frame sees it.
+struct PushCamera {
+    vec4 position;
+    vec4 right;
+    vec4 up;
+    vec4 forward;
+    vec4 tan; // tan of the view's left, right, up, down half-angles (OpenXR convention)
+};
+
+// The eye's image and its part of the frame's buffers.
+struct PushEye {
     uint width;
     uint height;
+    uint index; // 0 left (or mono), 1 right: output column offset index * width, seed stream
     uint seed;
     uint layer_base; // the frame slot's first entry of LAYERS (frames in flight: one set each)
-    uint sample_offset; // index of the first sample of this dispatch (progressive rendering)
-    uint probe_count;
-    uint eye; // 0 left (or mono), 1 right: output column offset eye * width, seed stream
-    uint layer; // accumulate.comp: the running mean's layer of LAYER_IMAGES
-    uint work_stride; // plan, trace: this eye's work list starts at WORK[eye * work_stride]
+    uint layer_count; // layers per eye; this eye's are LAYERS[layer_base + index*layer_count ..]
+    uint work_stride; // plan, trace: this eye's work list starts at WORK[index * work_stride]
     uint history; // 0: no history; else HISTORY_ON | read plane << 1 | frame slot << 2
     uint debug; // DEBUG_*
-    uint layer_count; // layers per eye; this eye's are LAYERS[layer_base + eye*layer_count ..]
+};
+
+// plan, trace, resolve and temporal: one eye of the frame.
+struct EyePush {
+    PushCamera cam;
+    PushEye eye;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+// denoise.comp: one iteration over one eye.
+struct DenoisePush {
+    PushCamera cam;
+    PushEye eye;
+    uint iteration; // taps 2^iteration pixels apart
+    uint reads_denoise; // 0: reads PIXELS and writes DENOISE; 1: the other way round
+    uint pad0;
+};
+
+// accumulate.comp: one eye's pixels added to a running mean.
+struct AccumulatePush {
+    PushCamera cam;
+    PushEye eye;
+    uint mean_layer; // the running mean's layer of LAYER_IMAGES
+    uint frames_before; // frames already in that mean (0 starts a new one)
+    uint pad0;
+};
+
+// raycast.comp: a batch of probe rays.
+struct RaycastPush {
+    uint probe_count;
 };
 
 // One layer of one eye for this frame: the O(layers) numbers the CPU writes per frame, from
@@ -257,7 +294,7 @@ struct GpuLayer {
 
 // One eye's view of the frame before, for reprojecting its history into this frame.
 struct GpuHistoryView {
-    vec4 position; // the earlier frame's camera (PushConstants' cam_* of that frame)
+    vec4 position; // the earlier frame's camera (PushCamera of that frame)
     vec4 right;
     vec4 up;
     vec4 forward;
@@ -282,8 +319,8 @@ struct GpuProbeHit {
 
 // ---- progressive accumulation and the viewer's debug views (accumulate.comp) ----------------
 // accumulate.comp adds OUTPUT (a just-rendered frame) to a running mean kept in LAYER_IMAGES
-// layer PushConstants.layer, PushConstants.sample_offset frames having been added before
-// (0 starts a new mean), then writes what PushConstants.debug asks for back into OUTPUT.
+// layer AccumulatePush.mean_layer, AccumulatePush.frames_before frames having been added before
+// (0 starts a new mean), then writes what PushEye.debug asks for back into OUTPUT.
 #define ACCUM_LAYER_MAIN 0    // the mean of the frames the viewer shows
 #define ACCUM_LAYER_REGULAR 1 // the mean of regular frames at the same seeds (difference view)
 #define ACCUM_LAYERS 2

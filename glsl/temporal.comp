@@ -22,6 +22,7 @@
 // like resolve.comp.
 #extension GL_GOOGLE_include_directive : require
 #define READS_PIXELS
+#define PASS_PUSH EyePush
 #include "plan.glsl"
 #include "view.glsl"
 
@@ -91,13 +92,13 @@ bool same_surface(Surface a, Surface b, int spacing, float spread, bool near) {
 }
 
 uint history_index(ivec2 p) {
-    return (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
+    return (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
 }
 
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
 // of its left, right, up and down edges), as trace.comp's camera_ray makes it.
 vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
-    vec2 uv = pos / vec2(pc.width, pc.height);
+    vec2 uv = pos / vec2(pc.eye.width, pc.eye.height);
     vec2 t = vec2(mix(tan4.x, tan4.y, uv.x), mix(tan4.z, tan4.w, uv.y));
     return normalize(f + t.x * r + t.y * u);
 }
@@ -110,22 +111,22 @@ bool project(GpuHistoryView v, vec3 d, out vec2 pos) {
     if (z <= 1e-6 * length(d)) return false;
     vec2 t = vec2(dot(d, v.right.xyz), dot(d, v.up.xyz)) / z;
     vec2 uv = (t - v.tan.xz) / (v.tan.yw - v.tan.xz);
-    pos = uv * vec2(pc.width, pc.height);
+    pos = uv * vec2(pc.eye.width, pc.eye.height);
     return true;
 }
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= int(pc.width) || p.y >= int(pc.height)) return;
+    if (p.x >= int(pc.eye.width) || p.y >= int(pc.eye.height)) return;
     uint base = eye_layer_base();
-    uint read_plane = (pc.history >> 1) & 1u;
+    uint read_plane = (pc.eye.history >> 1) & 1u;
     uint write_plane = 1u - read_plane;
-    GpuHistoryView view = history_views[(pc.history >> 2) * STAT_EYES + pc.eye];
-    uint out_index = (pc.eye * pc.height + uint(p.y)) * pc.width + uint(p.x);
+    GpuHistoryView view = history_views[(pc.eye.history >> 2) * STAT_EYES + pc.eye.index];
+    uint out_index = (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
     uint mask_words = visibility[0];
     vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
     bool shown = within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)
-              && visibility_bit(mask_words, pc.eye * (pc.layer_count + 1u), p);
+              && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history_store(write_plane, history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_EMITTER, SURFACE_HIDDEN));
         return;
@@ -179,9 +180,9 @@ void main() {
                 edge = edge || other;
                 if ((!other || spacing > 1) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
             }
-            vec3 d = view_dir(pc.cam_tan, pc.cam_right.xyz, pc.cam_up.xyz, pc.cam_forward.xyz, vec2(p) + 0.5);
+            vec3 d = view_dir(pc.cam.tan, pc.cam.right.xyz, pc.cam.up.xyz, pc.cam.forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
-            vec3 seen = now.dist < 0.0 ? d : pc.cam_position.xyz + now.dist * d - view.position.xyz;
+            vec3 seen = now.dist < 0.0 ? d : pc.cam.position.xyz + now.dist * d - view.position.xyz;
             Surface expected = now;
             expected.dist = now.dist < 0.0 ? -1.0 : length(seen);
             vec2 q;
@@ -194,7 +195,7 @@ void main() {
                 float best = 0.0;
                 for (int i = 0; i < 4; ++i) {
                     ivec2 t = t0 + ivec2(i & 1, i >> 1);
-                    if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.width) || t.y >= int(pc.height)) continue;
+                    if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.eye.width) || t.y >= int(pc.eye.height)) continue;
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
                     vec4 h = history_load(read_plane, history_index(t));
                     uvec4 hs = history_surface_load(read_plane, history_index(t));
@@ -252,7 +253,7 @@ void main() {
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
     // the shown layer's spp, halving with every spp-worth of samples the pixel has.
-    if (pc.debug == DEBUG_LAYERS) return; // the layer tints stay as resolve made them
+    if (pc.eye.debug == DEBUG_LAYERS) return; // the layer tints stay as resolve made them
     float w_spatial = shown_spp * exp2(-n / shown_spp);
     pixels[out_index] = vec4((mean * n + spatial * w_spatial) / (n + w_spatial), 1.0);
 }

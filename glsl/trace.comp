@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #define WRITES_LATTICE
+#define PASS_PUSH EyePush
 #include "integrators.glsl"
 #include "plan.glsl"
 #include "view.glsl"
@@ -23,7 +24,7 @@ void add_64(uint word, uint n) {
 
 vec3 camera_ray(vec2 pixel, vec2 jitter) {
     vec2 t = pixel_tan(pixel + jitter);
-    return normalize(pc.cam_forward.xyz + t.x * pc.cam_right.xyz + t.y * pc.cam_up.xyz);
+    return normalize(pc.cam.forward.xyz + t.x * pc.cam.right.xyz + t.y * pc.cam.up.xyz);
 }
 
 // Octahedral encoding of a unit vector into [-1, 1]^2 (packed with packSnorm2x16).
@@ -37,10 +38,10 @@ vec2 octahedral(vec3 n) {
 // The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding).
 uvec4 centre_surface(ivec2 p, inout uint overflows) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
-    Hit h = trace_scene(pc.cam_position.xyz, d, 0.0, INF, false);
+    Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
     if (h.overflow) overflows++;
     if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_EMITTER, NO_EMITTER);
-    vec3 n = hit_normal(h, pc.cam_position.xyz + h.t * d);
+    vec3 n = hit_normal(h, pc.cam.position.xyz + h.t * d);
     if (dot(n, d) > 0.0) n = -n;
     return uvec4(floatBitsToUint(h.t), packSnorm2x16(octahedral(n)), h.object, load_object_ids(h.object).y);
 }
@@ -48,9 +49,9 @@ uvec4 centre_surface(ivec2 p, inout uint overflows) {
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
                 + gl_GlobalInvocationID.x;
-    uint block = pc.eye * STAT_COUNT; // each eye counts in its own block
-    if (thread >= stats[STAT_DISPATCH + pc.eye * 4u + STAT_WORK_COUNT]) return;
-    uint item = work[pc.eye * pc.work_stride + thread];
+    uint block = pc.eye.index * STAT_COUNT; // each eye counts in its own block
+    if (thread >= stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
+    uint item = work[pc.eye.index * pc.eye.work_stride + thread];
     uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
     uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u); // the point's LATTICE index
     uint local = entry - layers[k].first;
@@ -62,8 +63,8 @@ void main() {
         for (uint c = 0u; c < PROFILE_COUNTERS; ++c) profile_counts[c] = 0u;
     }
 
-    uint pixel_index = uint(pixel.y) * pc.width + uint(pixel.x);
-    uint seed = pc.seed + pc.eye * 0x9E3779B9u; // eye 0 keeps the user's seed
+    uint pixel_index = uint(pixel.y) * pc.eye.width + uint(pixel.x);
+    uint seed = pc.eye.seed + pc.eye.index * 0x9E3779B9u; // eye 0 keeps the user's seed
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint nonfinite = 0u;
@@ -72,8 +73,8 @@ void main() {
     // Path): sample s's random numbers and camera ray are the same as in a loop over samples,
     // and the samples are summed in the same order, so the image is too.
     uint s = 0u;
-    Rng rng = rng_init(pixel_index, pc.sample_offset, seed);
-    Path path = path_start(pc.cam_position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+    Rng rng = rng_init(pixel_index, 0u, seed);
+    Path path = path_start(pc.cam.position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
     bool overflow = false;
     // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer): the loop
     // must not depend on a path ending to end.
@@ -92,14 +93,14 @@ void main() {
             sum += path.L;
         }
         if (++s == spp) break;
-        rng = rng_init(pixel_index, pc.sample_offset + s, seed);
-        path = path_start(pc.cam_position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+        rng = rng_init(pixel_index, s, seed);
+        path = path_start(pc.cam.position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
         overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);
     // History on: the surface at the point's pixel centre, which temporal.comp reprojects
     // and tests history against. One more camera ray (counted), traced after the samples.
-    if ((pc.history & HISTORY_ON) != 0u) {
+    if ((pc.eye.history & HISTORY_ON) != 0u) {
         rays++;
         lattice_surface[entry] = centre_surface(pixel, overflows);
     }
@@ -109,7 +110,7 @@ void main() {
     atomicAdd(stats[block + STAT_RAYS], rays);
     if (PROFILE) {
         for (uint c = 0u; c < PROFILE_COUNTERS; ++c) {
-            add_64(STAT_PROFILE + (pc.eye * PROFILE_COUNTERS + c) * 2u, profile_counts[c]);
+            add_64(STAT_PROFILE + (pc.eye.index * PROFILE_COUNTERS + c) * 2u, profile_counts[c]);
         }
     }
 }

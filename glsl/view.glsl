@@ -6,8 +6,8 @@
 
 // Tangent-space point of a continuous pixel position (pixel centres at +0.5).
 vec2 pixel_tan(vec2 p) {
-    vec2 uv = p / vec2(pc.width, pc.height);
-    return vec2(mix(pc.cam_tan.x, pc.cam_tan.y, uv.x), mix(pc.cam_tan.z, pc.cam_tan.w, uv.y));
+    vec2 uv = p / vec2(pc.eye.width, pc.eye.height);
+    return vec2(mix(pc.cam.tan.x, pc.cam.tan.y, uv.x), mix(pc.cam.tan.z, pc.cam.tan.w, uv.y));
 }
 
 // Unit direction of a tangent-space point.
@@ -25,6 +25,9 @@ float angle_of(vec3 u, vec3 v) {
 bool within_angle(vec3 u, vec3 v, float cos_limit) {
     return dot(u, v) > cos_limit;
 }
+
+// This eye's first layer in LAYERS, in the frame slot's set.
+uint eye_layer_base() { return pc.eye.layer_base + pc.eye.index * pc.eye.layer_count; }
 
 // Floor division for lattice coordinates that may be negative.
 ivec2 floor_div(ivec2 a, int d) {

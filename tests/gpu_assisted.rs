@@ -46,10 +46,13 @@ fn an_out_of_bounds_read_is_reported() {
         &[(BINDING_OUTPUT, &frame)],
         &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
     );
-    let push = PushConstants {
-        width: SIZE,
-        height: SIZE,
-        layer_count: 1,
+    let push = EyePush {
+        eye: PushEye {
+            width: SIZE,
+            height: SIZE,
+            layer_count: 1,
+            ..Default::default()
+        },
         ..Default::default()
     };
     ctx.submit_and_wait("out of bounds", |cmd| {

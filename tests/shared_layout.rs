@@ -5,13 +5,14 @@ use fovea::gpu::shared::*;
 use std::collections::HashMap;
 use std::mem::{offset_of, size_of};
 
-/// (size, alignment) of a std430 member type the header is allowed to use.
-fn std430(ty: &str) -> (usize, usize) {
+/// (size, alignment) of a std430 member type the header is allowed to use: scalars, vec2,
+/// vec4, and structs defined above it (`known`: name → (size, alignment)).
+fn std430(ty: &str, known: &HashMap<String, (usize, usize)>) -> (usize, usize) {
     match ty {
         "float" | "uint" | "int" => (4, 4),
         "vec2" | "uvec2" | "ivec2" => (8, 8),
         "vec4" | "uvec4" | "ivec4" => (16, 16),
-        other => panic!("shared.h uses '{other}', which this layout check does not know; keep to scalars, vec2 and vec4"),
+        other => *known.get(other).unwrap_or_else(|| panic!("shared.h uses '{other}', which this layout check does not know; keep to scalars, vec2, vec4 and structs defined before")),
     }
 }
 
@@ -25,6 +26,8 @@ fn parse_header() -> HashMap<String, (Fields, usize)> {
     let text =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/shared.h")).unwrap();
     let mut structs = HashMap::new();
+    // (size, alignment) of the structs parsed so far, which later structs may contain.
+    let mut known = HashMap::new();
     let mut current: Option<Open> = None;
     for line in text.lines() {
         let line = line.split("//").next().unwrap().trim();
@@ -36,11 +39,13 @@ fn parse_header() -> HashMap<String, (Fields, usize)> {
         } else if line.starts_with("};") {
             let (name, fields, offset, align) =
                 current.take().expect("closing brace without struct");
-            structs.insert(name, (fields, offset.div_ceil(align) * align));
+            let size = offset.div_ceil(align) * align;
+            known.insert(name.clone(), (size, align));
+            structs.insert(name, (fields, size));
         } else if let Some((_, fields, offset, align)) = current.as_mut() {
             let words: Vec<_> = line.trim_end_matches(';').split_whitespace().collect();
             if let [ty, field] = words[..] {
-                let (size, a) = std430(ty);
+                let (size, a) = std430(ty, &known);
                 *offset = offset.div_ceil(a) * a;
                 fields.push((field.to_string(), *offset));
                 *offset += size;
@@ -113,26 +118,59 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     check!(
         s,
-        PushConstants {
-            cam_position,
-            cam_right,
-            cam_up,
-            cam_forward,
-            cam_tan,
-            width,
-            height,
-            seed,
-            layer_base,
-            sample_offset,
-            probe_count,
-            eye,
-            layer,
-            work_stride,
-            history,
-            debug,
-            layer_count
+        PushCamera {
+            position,
+            right,
+            up,
+            forward,
+            tan
         }
     );
+    check!(
+        s,
+        PushEye {
+            width,
+            height,
+            index,
+            seed,
+            layer_base,
+            layer_count,
+            work_stride,
+            history,
+            debug
+        }
+    );
+    check!(
+        s,
+        EyePush {
+            cam,
+            eye,
+            pad0,
+            pad1,
+            pad2
+        }
+    );
+    check!(
+        s,
+        DenoisePush {
+            cam,
+            eye,
+            iteration,
+            reads_denoise,
+            pad0
+        }
+    );
+    check!(
+        s,
+        AccumulatePush {
+            cam,
+            eye,
+            mean_layer,
+            frames_before,
+            pad0
+        }
+    );
+    check!(s, RaycastPush { probe_count });
     check!(
         s,
         GpuLayer {
@@ -188,13 +226,20 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        10,
+        15,
         "shared.h has a struct this test does not check: add it"
     );
-    assert!(
-        size_of::<PushConstants>() <= 128,
-        "push constants must fit the guaranteed 128 bytes"
-    );
+    for (name, size) in [
+        ("EyePush", size_of::<EyePush>()),
+        ("DenoisePush", size_of::<DenoisePush>()),
+        ("AccumulatePush", size_of::<AccumulatePush>()),
+        ("RaycastPush", size_of::<RaycastPush>()),
+    ] {
+        assert!(
+            size <= 128,
+            "{name} must fit the guaranteed 128 push-constant bytes"
+        );
+    }
 }
 
 #[test]

@@ -89,10 +89,13 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
         &[],
         &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
     );
-    let push = PushConstants {
-        width: SIZE,
-        height: SIZE,
-        layer_count: 1,
+    let push = EyePush {
+        eye: PushEye {
+            width: SIZE,
+            height: SIZE,
+            layer_count: 1,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let groups = [

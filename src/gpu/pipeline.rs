@@ -74,7 +74,7 @@ impl PipelineLayout {
         };
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            .size(std::mem::size_of::<PushConstants>() as u32)];
+            .size(PUSH_BYTES as u32)];
         let layouts = [set_layout];
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&layouts)
@@ -272,7 +272,7 @@ impl Drop for ComputePipeline {
 
 impl ComputePipeline {
     /// Records binding the pipeline, the layout's descriptor set and `push`.
-    fn cmd_bind(&self, cmd: vk::CommandBuffer, layout: &PipelineLayout, push: &PushConstants) {
+    fn cmd_bind(&self, cmd: vk::CommandBuffer, layout: &PipelineLayout, push: &[u8]) {
         let d = &self.ctx.device;
         // SAFETY: cmd is recording; pipeline, layout and set are alive until the submit completes.
         unsafe {
@@ -285,25 +285,22 @@ impl ComputePipeline {
                 &[layout.set],
                 &[],
             );
-            d.cmd_push_constants(
-                cmd,
-                layout.layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(push),
-            );
+            // A pass without push constants (an empty struct) pushes nothing.
+            if !push.is_empty() {
+                d.cmd_push_constants(cmd, layout.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
+            }
         }
     }
 
     /// Records binding, push constants and a dispatch of `groups` workgroups.
-    pub fn cmd_dispatch(
+    pub fn cmd_dispatch<P: bytemuck::NoUninit>(
         &self,
         cmd: vk::CommandBuffer,
         layout: &PipelineLayout,
-        push: &PushConstants,
+        push: &P,
         groups: [u32; 3],
     ) {
-        self.cmd_bind(cmd, layout, push);
+        self.cmd_bind(cmd, layout, bytemuck::bytes_of(push));
         // SAFETY: cmd is recording, with this pipeline and its resources bound just above.
         unsafe {
             self.ctx
@@ -314,15 +311,15 @@ impl ComputePipeline {
 
     /// Records binding, push constants and a dispatch whose workgroup counts the GPU wrote:
     /// a VkDispatchIndirectCommand at byte `offset` of `args` (INDIRECT_BUFFER usage).
-    pub fn cmd_dispatch_indirect(
+    pub fn cmd_dispatch_indirect<P: bytemuck::NoUninit>(
         &self,
         cmd: vk::CommandBuffer,
         layout: &PipelineLayout,
-        push: &PushConstants,
+        push: &P,
         args: &Buffer,
         offset: u64,
     ) {
-        self.cmd_bind(cmd, layout, push);
+        self.cmd_bind(cmd, layout, bytemuck::bytes_of(push));
         // SAFETY: cmd is recording, with this pipeline bound; `args` is alive until the
         // submission completes.
         unsafe {

@@ -76,27 +76,96 @@ pub struct GpuSceneInfo {
     pub tlas_root: u32,
 }
 
+/// shared.h's PushCamera: the eye's camera as every pass of a frame sees it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct PushConstants {
-    pub cam_position: [f32; 4],
-    pub cam_right: [f32; 4],
-    pub cam_up: [f32; 4],
-    pub cam_forward: [f32; 4],
-    pub cam_tan: [f32; 4],
+pub struct PushCamera {
+    pub position: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub forward: [f32; 4],
+    /// tan of the view's left, right, up, down half-angles (OpenXR convention).
+    pub tan: [f32; 4],
+}
+
+/// shared.h's PushEye: the eye's image and its part of the frame's buffers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct PushEye {
     pub width: u32,
     pub height: u32,
+    pub index: u32,
     pub seed: u32,
     pub layer_base: u32,
-    pub sample_offset: u32,
-    pub probe_count: u32,
-    pub eye: u32,
-    pub layer: u32,
+    pub layer_count: u32,
     pub work_stride: u32,
     pub history: u32,
     pub debug: u32,
-    pub layer_count: u32,
 }
+
+/// Push constants of plan, trace, resolve and temporal: one eye of the frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct EyePush {
+    pub cam: PushCamera,
+    pub eye: PushEye,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// Push constants of one denoise iteration over one eye.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct DenoisePush {
+    pub cam: PushCamera,
+    pub eye: PushEye,
+    /// Taps 2^iteration pixels apart.
+    pub iteration: u32,
+    /// 0: reads PIXELS, writes DENOISE; 1: the other way round.
+    pub reads_denoise: u32,
+    pub pad0: u32,
+}
+
+/// Push constants of accumulate.comp: one eye's pixels added to a running mean.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct AccumulatePush {
+    pub cam: PushCamera,
+    pub eye: PushEye,
+    /// The running mean's layer of LAYER_IMAGES.
+    pub mean_layer: u32,
+    /// Frames already in that mean (0 starts a new one).
+    pub frames_before: u32,
+    pub pad0: u32,
+}
+
+/// Push constants of raycast.comp: a batch of probe rays.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct RaycastPush {
+    pub probe_count: u32,
+}
+
+/// The largest push-constant struct: the size of the pipeline layout's one range.
+pub const PUSH_BYTES: usize = {
+    let sizes = [
+        std::mem::size_of::<EyePush>(),
+        std::mem::size_of::<DenoisePush>(),
+        std::mem::size_of::<AccumulatePush>(),
+        std::mem::size_of::<RaycastPush>(),
+    ];
+    let mut most = 0;
+    let mut i = 0;
+    while i < sizes.len() {
+        if sizes[i] > most {
+            most = sizes[i];
+        }
+        i += 1;
+    }
+    most
+};
+const _: () = assert!(PUSH_BYTES <= 128, "the guaranteed push-constant size");
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]

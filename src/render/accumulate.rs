@@ -180,24 +180,30 @@ impl Accumulator {
             &[],
         );
         let index = request.into.layer();
-        let pushes: Vec<PushConstants> = request
+        let pushes: Vec<AccumulatePush> = request
             .eyes
             .iter()
             .enumerate()
-            .map(|(e, eye)| PushConstants {
-                cam_tan: [
-                    eye.camera.angle_left.tan(),
-                    eye.camera.angle_right.tan(),
-                    eye.camera.angle_up.tan(),
-                    eye.camera.angle_down.tan(),
-                ],
-                width: w,
-                height: h,
-                eye: e as u32,
-                layer: index,
-                layer_count,
-                sample_offset: self.counts[index as usize],
-                debug: request.show.id(),
+            .map(|(e, eye)| AccumulatePush {
+                cam: PushCamera {
+                    tan: [
+                        eye.camera.angle_left.tan(),
+                        eye.camera.angle_right.tan(),
+                        eye.camera.angle_up.tan(),
+                        eye.camera.angle_down.tan(),
+                    ],
+                    ..Default::default()
+                },
+                eye: PushEye {
+                    width: w,
+                    height: h,
+                    index: e as u32,
+                    layer_count,
+                    debug: request.show.id(),
+                    ..Default::default()
+                },
+                mean_layer: index,
+                frames_before: self.counts[index as usize],
                 ..Default::default()
             })
             .collect();

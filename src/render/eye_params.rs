@@ -6,13 +6,12 @@
 //! (glsl/plan.comp); nothing here visits a lattice point.
 
 use super::request::FrameRequest;
-use super::settings::RenderSettings;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
-use crate::gpu::shared::{GpuLayer, PushConstants, NO_LIMIT, PLAN_RUN};
+use crate::gpu::shared::{EyePush, GpuLayer, PushCamera, PushEye, NO_LIMIT, PLAN_RUN};
 use crate::scene::Camera;
 
 /// One eye's layers for a frame: what the gaze decides, written into the GPU's layer buffer
@@ -35,13 +34,22 @@ impl EyeLayers {
 /// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
 /// everything its recorded commands hold. All eyes' lattice values and work lists are
 /// `buffer.offsets.len()` entries apart.
-pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> PushConstants {
-    let mut push = push_constants(&request.eyes[e].camera, &request.settings);
-    push.eye = e as u32;
-    push.layer_count = buffer.layers.len() as u32;
-    push.debug = request.debug.id();
-    push.work_stride = buffer.offsets.len() as u32;
-    push
+pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush {
+    let s = &request.settings;
+    EyePush {
+        cam: push_camera(&request.eyes[e].camera),
+        eye: PushEye {
+            width: s.width,
+            height: s.height,
+            index: e as u32,
+            seed: s.seed,
+            layer_count: buffer.layers.len() as u32,
+            work_stride: buffer.offsets.len() as u32,
+            debug: request.debug.id(),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
 }
 
 /// Plans eye `e` of `request` looking at `gaze` on `image`, whose ray buffer is `buffer`.
@@ -127,25 +135,21 @@ pub fn eye_layers(
     }
 }
 
-/// The push constants every pass of a frame shares: the eye's camera and the image.
-pub fn push_constants(camera: &Camera, s: &RenderSettings) -> PushConstants {
+/// The camera as every pass of a frame sees it.
+pub fn push_camera(camera: &Camera) -> PushCamera {
     let (r, u, f) = camera.basis();
     let v = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
-    PushConstants {
-        cam_position: v(camera.position),
-        cam_right: v(r),
-        cam_up: v(u),
-        cam_forward: v(f),
+    PushCamera {
+        position: v(camera.position),
+        right: v(r),
+        up: v(u),
+        forward: v(f),
         // Image row 0 is the top edge, so the shader goes from the "up" tangent to "down".
-        cam_tan: [
+        tan: [
             camera.angle_left.tan(),
             camera.angle_right.tan(),
             camera.angle_up.tan(),
             camera.angle_down.tan(),
         ],
-        width: s.width,
-        height: s.height,
-        seed: s.seed,
-        ..Default::default()
     }
 }

@@ -7,7 +7,7 @@
 
 use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
-use crate::gpu::shared::{GpuHistoryView, PushConstants, HISTORY_ON, STAT_EYES};
+use crate::gpu::shared::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -61,19 +61,6 @@ fn views_bytes() -> u64 {
     (MAX_FRAMES_IN_FLIGHT * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>()) as u64
 }
 
-/// One eye's camera as the passes see it (PushConstants' cam_* fields).
-type EyeCamera = [[f32; 4]; 5];
-
-fn eye_camera(push: &PushConstants) -> EyeCamera {
-    [
-        push.cam_position,
-        push.cam_right,
-        push.cam_up,
-        push.cam_forward,
-        push.cam_tan,
-    ]
-}
-
 pub struct History {
     pub key: HistoryKey,
     pub settings: TemporalSettings,
@@ -92,7 +79,7 @@ pub struct History {
     /// The plane the next frame reads (the one the frame before wrote).
     read_plane: u32,
     /// Every eye's camera in the frame before; None: no history to carry.
-    cameras: Option<Vec<EyeCamera>>,
+    cameras: Option<Vec<PushCamera>>,
 }
 
 impl History {
@@ -162,22 +149,27 @@ impl History {
         self.frame
     }
 
-    /// PushConstants::history of the next frame, submitted in frame slot `slot`.
+    /// PushEye::history of the next frame, submitted in frame slot `slot`.
     pub fn push_word(&self, slot: usize) -> u32 {
         HISTORY_ON | self.read_plane << 1 | (slot as u32) << 2
     }
 
-    /// Writes slot `slot`'s views for the next frame, whose eyes' push constants are
-    /// `pushes`, and moves on to the frame after it (called once per submitted frame, in
-    /// order).
-    pub fn advance(&mut self, slot: usize, pushes: &[PushConstants]) -> Result<(), RenderError> {
-        let now: Vec<EyeCamera> = pushes.iter().map(eye_camera).collect();
+    /// Writes slot `slot`'s views for the next frame, whose eyes' cameras are `cameras`, and
+    /// moves on to the frame after it (called once per submitted frame, in order).
+    pub fn advance(&mut self, slot: usize, cameras: &[PushCamera]) -> Result<(), RenderError> {
+        let now = cameras.to_vec();
         let views: Vec<GpuHistoryView> = now
             .iter()
             .enumerate()
             .map(|(e, camera)| {
                 let before = self.cameras.as_ref().and_then(|c| c.get(e));
-                let [position, right, up, forward, tan] = *before.unwrap_or(camera);
+                let PushCamera {
+                    position,
+                    right,
+                    up,
+                    forward,
+                    tan,
+                } = *before.unwrap_or(camera);
                 GpuHistoryView {
                     position,
                     right,

@@ -34,7 +34,7 @@ pub struct FramePasses<'a> {
     pub targets: &'a FrameTargets,
     /// Every eye's push constants (camera, image, the slot's layers; the gaze is in the
     /// targets' layer buffer).
-    pub eyes: &'a [PushConstants],
+    pub eyes: &'a [EyePush],
     /// The frame slot: which of the targets' layer and plan-dispatch sets, and which counter
     /// read-back, are this frame's.
     pub slot: usize,
@@ -99,10 +99,9 @@ impl FramePasses<'_> {
         // The counts are complete only when every plan workgroup has added to them.
         self.ctx
             .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-        let push = self.eyes[0];
         let eyes = self.eyes.len() as u32;
         self.timestamps.cmd_timed(cmd, "dispatch sizes", || {
-            p.plan_args.cmd_dispatch(cmd, layout, &push, [eyes, 1, 1])
+            p.plan_args.cmd_dispatch(cmd, layout, &(), [eyes, 1, 1])
         });
         // The trace reads the work lists and the counts, and its dispatch sizes.
         self.ctx.cmd_barrier(
@@ -188,10 +187,12 @@ impl FramePasses<'_> {
             self.ctx
                 .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
             for (e, push) in self.eyes.iter().enumerate() {
-                let push = PushConstants {
-                    sample_offset: i,
-                    layer: i % 2,
-                    ..*push
+                let push = DenoisePush {
+                    cam: push.cam,
+                    eye: push.eye,
+                    iteration: i,
+                    reads_denoise: i % 2,
+                    ..Default::default()
                 };
                 let name = self.name(e, "denoise");
                 self.timestamps.cmd_timed(cmd, &name, || {

@@ -687,11 +687,12 @@ impl Renderer {
         let targets = self.targets.as_ref().expect("prepared");
         // Given lattice values (compose) have no surfaces: history is left alone.
         let history = self.history.as_ref().filter(|_| given.is_none());
-        let pushes: Vec<PushConstants> = (0..request.eyes.len())
-            .map(|e| PushConstants {
-                layer_base: targets.layer_base(slot),
-                history: history.as_ref().map_or(0, |h| h.push_word(slot)),
-                ..eye_push(request, e, &targets.buffer)
+        let pushes: Vec<EyePush> = (0..request.eyes.len())
+            .map(|e| {
+                let mut push = eye_push(request, e, &targets.buffer);
+                push.eye.layer_base = targets.layer_base(slot);
+                push.eye.history = history.as_ref().map_or(0, |h| h.push_word(slot));
+                push
             })
             .collect();
         let mut passes = FramePasses {
@@ -747,7 +748,8 @@ impl Renderer {
             .expect("prepared")
             .write_layers(slot, &eyes)?;
         if let Some(history) = self.history.as_mut().filter(|_| given.is_none()) {
-            history.advance(slot, &pushes)?;
+            let cameras: Vec<PushCamera> = pushes.iter().map(|p| p.cam).collect();
+            history.advance(slot, &cameras)?;
         }
         let mut busy_at_submit = 0;
         for frame in &self.in_flight {
@@ -899,9 +901,8 @@ impl Renderer {
             })?;
         }
         self.bind();
-        let push = PushConstants {
+        let push = RaycastPush {
             probe_count: rays.len() as u32,
-            ..Default::default()
         };
         let groups = [(rays.len() as u32).div_ceil(PROBE_WORKGROUP_SIZE), 1, 1];
         let pipeline = &self.raycast[&self.traversal];

@@ -230,7 +230,7 @@ impl FrameTargets {
         Ok(())
     }
 
-    /// Frame slot `slot`'s first entry of the layer buffer (PushConstants::layer_base).
+    /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
     pub fn layer_base(&self, slot: usize) -> u32 {
         (slot * self.key.fovs.len() * self.buffer.layers.len()) as u32
     }
