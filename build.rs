@@ -46,6 +46,27 @@ fn main() {
             let spv = out.join(format!("{stem}_rq.spv"));
             compile(&glslc, glsl, &path, &spv, &["-DRAY_QUERY"]);
         }
+        // The trace that also writes each point's surface for the temporal history: a
+        // module of its own, so that without history the trace does not use (and no pass
+        // binds) the surfaces' buffer at all.
+        if stem == "trace" {
+            let surfaces = ["-DKEEPS_SURFACES"];
+            compile(
+                &glslc,
+                glsl,
+                &path,
+                &out.join("trace_surfaces.spv"),
+                &surfaces,
+            );
+            let both = ["-DKEEPS_SURFACES", "-DRAY_QUERY"];
+            compile(
+                &glslc,
+                glsl,
+                &path,
+                &out.join("trace_rq_surfaces.spv"),
+                &both,
+            );
+        }
     }
     std::fs::write(&stamp, fingerprint).expect("write shaders.fingerprint");
 }

@@ -98,12 +98,12 @@ void main() {
         overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);
+#ifdef KEEPS_SURFACES
     // History on: the surface at the point's pixel centre, which temporal.comp reprojects
     // and tests history against. One more camera ray (counted), traced after the samples.
-    if ((pc.eye.history & HISTORY_ON) != 0u) {
-        rays++;
-        lattice_surface[entry] = centre_surface(pixel, overflows);
-    }
+    rays++;
+    lattice_surface[entry] = centre_surface(pixel, overflows);
+#endif
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
     atomicAdd(stats[block + STAT_PATHS], spp);

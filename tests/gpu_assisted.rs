@@ -7,7 +7,10 @@ mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::gpu::shared::*;
-use fovea::gpu::{shaders, vk, Buffer, ComputePipeline, PipelineLayout, StorageImage, TexelView};
+use fovea::gpu::{
+    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, PipelineLayout, StorageImage,
+    TexelView,
+};
 use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
 use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
 use fovea::scene::builtin::builtin;
@@ -37,15 +40,19 @@ fn an_out_of_bounds_read_is_reported() {
     let (layers, visibility) = (small("too small for a layer"), small("no mask"));
     let lattice = small("lattice");
     let lattice_texels = TexelView::new(&lattice, "lattice").unwrap();
-    layout.bind(
-        &[
-            (BINDING_LAYERS, &layers),
-            (BINDING_VISIBILITY, &visibility),
-            (BINDING_LATTICE, &lattice),
-        ],
-        &[(BINDING_OUTPUT, &frame)],
-        &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
-    );
+    let mut descriptors = DescriptorArena::new(&ctx).unwrap();
+    let set = descriptors
+        .set(
+            &layout,
+            &[
+                (BINDING_LAYERS, Bound::Storage(&layers)),
+                (BINDING_VISIBILITY, Bound::Storage(&visibility)),
+                (BINDING_LATTICE, Bound::Storage(&lattice)),
+                (BINDING_OUTPUT, Bound::Image(&frame)),
+                (BINDING_LATTICE_TEXELS, Bound::Texels(&lattice_texels)),
+            ],
+        )
+        .unwrap();
     let push = EyePush {
         eye: PushEye {
             width: SIZE,
@@ -56,7 +63,7 @@ fn an_out_of_bounds_read_is_reported() {
         ..Default::default()
     };
     ctx.submit_and_wait("out of bounds", |cmd| {
-        resolve.cmd_dispatch(cmd, &layout, &push, [1, 1, 1])
+        resolve.cmd_dispatch(cmd, &layout, set, &push, [1, 1, 1])
     })
     .unwrap();
     let messages = ctx.take_validation_messages();

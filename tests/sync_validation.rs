@@ -7,7 +7,8 @@ mod common;
 
 use fovea::gpu::shared::*;
 use fovea::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, TexelView,
+    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
+    Scope, TexelView,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -79,16 +80,19 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let layers = host("layers", bytemuck::bytes_of(&layer), storage);
     let visibility = host("visibility", &0u32.to_le_bytes(), storage);
-    layout.bind(
-        &[
-            (BINDING_LAYERS, &layers),
-            (BINDING_VISIBILITY, &visibility),
-            (BINDING_LATTICE, &lattice),
-            (BINDING_PIXELS, &frame),
-        ],
-        &[],
-        &[(BINDING_LATTICE_TEXELS, &lattice_texels)],
-    );
+    let mut descriptors = DescriptorArena::new(ctx).unwrap();
+    let set = descriptors
+        .set(
+            &layout,
+            &[
+                (BINDING_LAYERS, Bound::Storage(&layers)),
+                (BINDING_VISIBILITY, Bound::Storage(&visibility)),
+                (BINDING_LATTICE, Bound::Storage(&lattice)),
+                (BINDING_PIXELS, Bound::Storage(&frame)),
+                (BINDING_LATTICE_TEXELS, Bound::Texels(&lattice_texels)),
+            ],
+        )
+        .unwrap();
     let push = EyePush {
         eye: PushEye {
             width: SIZE,
@@ -110,7 +114,7 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
         if barrier {
             ctx.cmd_barrier(cmd, Scope::COPY_WRITE, Scope::COMPUTE_READ);
         }
-        resolve.cmd_dispatch(cmd, &layout, &push, groups);
+        resolve.cmd_dispatch(cmd, &layout, set, &push, groups);
     })
     .unwrap();
     let messages = ctx.take_validation_messages();

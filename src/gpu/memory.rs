@@ -197,6 +197,8 @@ impl Buffer {
 pub struct TexelView {
     ctx: Arc<GpuContext>,
     pub(crate) view: vk::BufferView,
+    /// The buffer it views (the memory a pass reading the view accesses).
+    pub(crate) buffer: vk::Buffer,
 }
 
 impl TexelView {
@@ -221,6 +223,7 @@ impl TexelView {
         Ok(Self {
             ctx: ctx.clone(),
             view,
+            buffer: buffer.buffer,
         })
     }
 }

@@ -4,6 +4,7 @@
 mod accel;
 mod context;
 mod crash_markers;
+mod descriptors;
 mod device_pick;
 mod error;
 mod memory;
@@ -22,6 +23,7 @@ pub use validation::ValidationLog;
 pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
 pub use context::{Commands, ContextNeeds, GpuContext, VulkanCreator};
+pub use descriptors::{Bound, DescriptorArena};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage, TexelView};

@@ -1,11 +1,11 @@
 //! The one descriptor-set layout every fovea compute shader uses (all of shared.h's bindings,
 //! and BINDING_TLAS where the context has ray queries), its pipeline layout with the push
-//! constants, and compute pipelines with specialization constants.
+//! constants, and compute pipelines with specialization constants. Each pass gets its own set
+//! of this layout with only its bindings written (descriptors.rs).
 
-use super::accel::AccelStructures;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::memory::{Buffer, StorageImage, TexelView};
+use super::memory::Buffer;
 use super::shared::*;
 use ash::vk;
 use std::sync::Arc;
@@ -36,8 +36,6 @@ pub struct PipelineLayout {
     ctx: Arc<GpuContext>,
     pub(crate) set_layout: vk::DescriptorSetLayout,
     pub(crate) layout: vk::PipelineLayout,
-    pool: vk::DescriptorPool,
-    pub(crate) set: vk::DescriptorSet,
 }
 
 impl PipelineLayout {
@@ -69,8 +67,6 @@ impl PipelineLayout {
             ctx: ctx.clone(),
             set_layout,
             layout: vk::PipelineLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
         };
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
@@ -82,118 +78,15 @@ impl PipelineLayout {
         // SAFETY: the set layout is alive.
         this.layout =
             unsafe { device.create_pipeline_layout(&info, None) }.vk("vkCreatePipelineLayout")?;
-        let mut sizes = vec![
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: BINDING_COUNT,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_IMAGE,
-                descriptor_count: IMAGE_BINDINGS.len() as u32,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
-                descriptor_count: TEXEL_BINDINGS.len() as u32,
-            },
-        ];
-        if ray_query {
-            sizes.push(vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
-                descriptor_count: 1,
-            });
-        }
-        let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
-        // SAFETY: valid device and create info.
-        this.pool =
-            unsafe { device.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
-        let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(this.pool)
-            .set_layouts(&layouts);
-        // SAFETY: the pool has room for exactly this set.
-        this.set =
-            unsafe { device.allocate_descriptor_sets(&info) }.vk("vkAllocateDescriptorSets")?[0];
         Ok(this)
-    }
-
-    /// Points each listed buffer, image and texel-buffer binding at its resource.
-    pub fn bind(
-        &self,
-        buffers: &[(u32, &Buffer)],
-        images: &[(u32, &StorageImage)],
-        texels: &[(u32, &TexelView)],
-    ) {
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-            .iter()
-            .map(|(_, b)| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(b.buffer)
-                    .range(vk::WHOLE_SIZE)]
-            })
-            .collect();
-        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = images
-            .iter()
-            .map(|(_, image)| {
-                [vk::DescriptorImageInfo::default()
-                    .image_view(image.view)
-                    .image_layout(vk::ImageLayout::GENERAL)]
-            })
-            .collect();
-        let mut writes: Vec<vk::WriteDescriptorSet> = buffers
-            .iter()
-            .zip(&infos)
-            .map(|((binding, _), info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(*binding)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        writes.extend(images.iter().zip(&image_infos).map(|((binding, _), info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(*binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(info)
-        }));
-        let views: Vec<[vk::BufferView; 1]> = texels.iter().map(|(_, t)| [t.view]).collect();
-        writes.extend(texels.iter().zip(&views).map(|((binding, _), view)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(*binding)
-                .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
-                .texel_buffer_view(view)
-        }));
-        // SAFETY: the set is not in use by a pending command buffer (callers wait per frame).
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
-    }
-
-    /// Points BINDING_TLAS at `accel`'s TLAS (the layout has it: the context has ray queries,
-    /// which is what built `accel`).
-    pub fn bind_tlas(&self, accel: &AccelStructures) {
-        let structures = [accel.tlas];
-        let mut tlas = vk::WriteDescriptorSetAccelerationStructureKHR::default()
-            .acceleration_structures(&structures);
-        let mut write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(BINDING_TLAS)
-            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
-            .push_next(&mut tlas);
-        // The count is the chained structure's; the builder leaves it at 0.
-        write.descriptor_count = 1;
-        // SAFETY: as in bind; the TLAS is alive and built.
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 }
 
 impl Drop for PipelineLayout {
     fn drop(&mut self) {
-        // SAFETY: no command buffer using these is pending; destroying the pool frees the set.
+        // SAFETY: no command buffer using these is pending.
         unsafe {
             let d = &self.ctx.device;
-            d.destroy_descriptor_pool(self.pool, None);
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
         }
@@ -271,8 +164,14 @@ impl Drop for ComputePipeline {
 }
 
 impl ComputePipeline {
-    /// Records binding the pipeline, the layout's descriptor set and `push`.
-    fn cmd_bind(&self, cmd: vk::CommandBuffer, layout: &PipelineLayout, push: &[u8]) {
+    /// Records binding the pipeline, the pass's descriptor set and `push`.
+    fn cmd_bind(
+        &self,
+        cmd: vk::CommandBuffer,
+        layout: &PipelineLayout,
+        set: vk::DescriptorSet,
+        push: &[u8],
+    ) {
         let d = &self.ctx.device;
         // SAFETY: cmd is recording; pipeline, layout and set are alive until the submit completes.
         unsafe {
@@ -282,7 +181,7 @@ impl ComputePipeline {
                 vk::PipelineBindPoint::COMPUTE,
                 layout.layout,
                 0,
-                &[layout.set],
+                &[set],
                 &[],
             );
             // A pass without push constants (an empty struct) pushes nothing.
@@ -297,10 +196,11 @@ impl ComputePipeline {
         &self,
         cmd: vk::CommandBuffer,
         layout: &PipelineLayout,
+        set: vk::DescriptorSet,
         push: &P,
         groups: [u32; 3],
     ) {
-        self.cmd_bind(cmd, layout, bytemuck::bytes_of(push));
+        self.cmd_bind(cmd, layout, set, bytemuck::bytes_of(push));
         // SAFETY: cmd is recording, with this pipeline and its resources bound just above.
         unsafe {
             self.ctx
@@ -315,11 +215,12 @@ impl ComputePipeline {
         &self,
         cmd: vk::CommandBuffer,
         layout: &PipelineLayout,
+        set: vk::DescriptorSet,
         push: &P,
         args: &Buffer,
         offset: u64,
     ) {
-        self.cmd_bind(cmd, layout, bytemuck::bytes_of(push));
+        self.cmd_bind(cmd, layout, set, bytemuck::bytes_of(push));
         // SAFETY: cmd is recording, with this pipeline bound; `args` is alive until the
         // submission completes.
         unsafe {

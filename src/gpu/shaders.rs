@@ -4,6 +4,11 @@ pub const TRACE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace.spv"));
 pub const RAYCAST: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast.spv"));
 /// trace and raycast with ray queries in place of the software traversal (build.rs).
 pub const TRACE_RQ: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace_rq.spv"));
+/// trace (software, ray query) also writing each lattice point's surface (LATTICE_SURFACE),
+/// for the temporal history.
+pub const TRACE_SURFACES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace_surfaces.spv"));
+pub const TRACE_RQ_SURFACES: &[u8] =
+    include_bytes!(concat!(env!("OUT_DIR"), "/trace_rq_surfaces.spv"));
 pub const RAYCAST_RQ: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast_rq.spv"));
 pub const PLAN: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan.spv"));
 pub const PLAN_ARGS: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan_args.spv"));

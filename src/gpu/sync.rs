@@ -93,6 +93,27 @@ impl Scope {
         Self { stages, access }
     }
 
+    /// Stages only, no memory access: what a write after reads waits for (their execution).
+    pub const fn stages(stages: Stage) -> Scope {
+        Scope::new(stages, Access::NONE)
+    }
+
+    /// The scope's writes alone: what a later access must wait for and see.
+    pub const fn writes(self) -> Scope {
+        let writes = Access::SHADER_STORAGE_WRITE.as_raw()
+            | Access::TRANSFER_WRITE.as_raw()
+            | Access::MEMORY_WRITE.as_raw()
+            | Access::HOST_WRITE.as_raw()
+            | Access::ACCELERATION_STRUCTURE_WRITE_KHR.as_raw();
+        Scope::new(self.stages, Access::from_raw(self.access.as_raw() & writes))
+    }
+
+    /// Whether every stage and access of `other` is in this scope.
+    pub const fn contains(self, other: Scope) -> bool {
+        self.stages.as_raw() & other.stages.as_raw() == other.stages.as_raw()
+            && self.access.as_raw() & other.access.as_raw() == other.access.as_raw()
+    }
+
     /// The union of two scopes (a pass that ends several kinds of work).
     pub const fn and(self, other: Scope) -> Scope {
         Scope::new(

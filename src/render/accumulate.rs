@@ -4,6 +4,7 @@
 //! must be rendered with seed `seed + n` (see [`frame_seed`]); the mean of `N` frames of `s`
 //! samples per pixel is then an estimate with `N·s` samples per pixel.
 
+use super::graph::FrameGraph;
 use super::request::EyeView;
 use super::RenderError;
 use crate::foveation::plan::cos_limit;
@@ -11,8 +12,8 @@ use crate::foveation::view::direction;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
 use crate::gpu::shared::*;
 use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, StorageImage,
-    TimestampPool,
+    shaders, vk, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
+    StorageImage, TimestampPool,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -92,6 +93,8 @@ pub struct Accumulator {
     /// Frames in each mean (indexed by `ACCUM_LAYER_*`).
     counts: [u32; ACCUM_LAYERS as usize],
     layout: PipelineLayout,
+    /// The pass's descriptor sets, made anew for every submission.
+    descriptors: DescriptorArena,
     ctx: Arc<GpuContext>,
 }
 
@@ -114,6 +117,7 @@ impl Accumulator {
             layers,
             counts: [0; ACCUM_LAYERS as usize],
             layout,
+            descriptors: DescriptorArena::new(ctx)?,
             ctx: ctx.clone(),
         })
     }
@@ -171,14 +175,6 @@ impl Accumulator {
         }
         self.layers.write(0, bytemuck::cast_slice(&gpu))?;
         let means = self.means.as_ref().expect("made above");
-        self.layout.bind(
-            &[(BINDING_LAYERS, &self.layers)],
-            &[
-                (BINDING_OUTPUT, request.frame),
-                (BINDING_LAYER_IMAGES, means),
-            ],
-            &[],
-        );
         let index = request.into.layer();
         let pushes: Vec<AccumulatePush> = request
             .eyes
@@ -213,35 +209,35 @@ impl Accumulator {
             1,
         ];
         let fresh = std::mem::take(&mut self.fresh);
-        let (ctx, pipeline, layout, timestamps) = (
-            &self.ctx,
-            &self.pipeline,
-            &self.layout,
-            &mut self.timestamps,
-        );
+        let (ctx, pipeline, layout, layers) =
+            (&self.ctx, &self.pipeline, &self.layout, &self.layers);
+        let (descriptors, timestamps) = (&mut self.descriptors, &mut self.timestamps);
+        let mut recorded = Ok(());
         ctx.submit_and_wait("accumulate", |cmd| {
-            timestamps.cmd_reset(cmd);
-            if fresh {
-                means.cmd_prepare_for_write(cmd);
-            }
-            // The frame's compute writes (an earlier submission) before this pass reads them
-            // and overwrites the frame with what it shows.
-            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-            for (e, push) in pushes.iter().enumerate() {
-                if e > 0 {
-                    // The eyes share the frame and the means (each eye its own half).
-                    ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
+            recorded = (|| {
+                if fresh {
+                    means.cmd_prepare_for_write(cmd);
                 }
-                let name = match (eyes, e) {
-                    (1, _) => "accumulate",
-                    (_, 0) => "left accumulate",
-                    _ => "right accumulate",
-                };
-                timestamps.cmd_timed(cmd, name, || {
-                    pipeline.cmd_dispatch(cmd, layout, push, groups)
-                });
-            }
+                // The graph starts after the frame's own submission (which wrote the frame).
+                let mut g = FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps)?;
+                // An eye per pass: the eyes write their own halves of the frame and the
+                // means, but a storage image is one resource to the synchronization checks.
+                for (e, push) in pushes.iter().enumerate() {
+                    let name = match (eyes, e) {
+                        (1, _) => "accumulate",
+                        (_, 0) => "left accumulate",
+                        _ => "right accumulate",
+                    };
+                    g.pass()
+                        .reads(BINDING_LAYERS, layers)
+                        .reads_writes(BINDING_OUTPUT, request.frame)
+                        .reads_writes(BINDING_LAYER_IMAGES, means)
+                        .record(|r| r.dispatch(name, pipeline, push, groups));
+                }
+                g.finish()
+            })();
         })?;
+        recorded?;
         self.counts[index as usize] += 1;
         Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
     }

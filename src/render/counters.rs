@@ -2,13 +2,13 @@
 //! trace counted, per eye and layer the lattice points the plan traced, and the trace's
 //! indirect dispatch sizes, and with a profiling trace its traversal work. They live in device memory, where atomics and the indirect
 //! dispatch are fast on a GPU, are zeroed by the frame's first command and copied by its last
-//! into the frame slot's host-visible buffer (frames in flight each have their own).
+//! into the frame slot's host-visible buffer (passes.rs) (frames in flight each have their own).
 
 use super::frame::{EyeCounters, TraversalCounts};
 use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::shared::*;
-use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, Scope};
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -63,24 +63,9 @@ impl FrameCounters {
         plan
     }
 
-    /// Records zeroing every counter before the passes that add to them.
-    pub fn cmd_reset(&self, ctx: &GpuContext, cmd: vk::CommandBuffer) {
-        self.device.cmd_zero(cmd, BYTES);
-        // vkCmdFillBuffer is a clear in synchronization2's terms, a copy-stage transfer to
-        // the installed validation layer (1.3.239): the barrier names both.
-        ctx.cmd_barrier(
-            cmd,
-            Scope::FILL_WRITE.and(Scope::COPY_WRITE),
-            Scope::COMPUTE_READ_WRITE,
-        );
-    }
-
-    /// Records copying the counters into frame slot `slot`'s read-back, after every pass
-    /// that wrote them.
-    pub fn cmd_collect(&self, ctx: &GpuContext, cmd: vk::CommandBuffer, slot: usize) {
-        ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
-        self.device.cmd_copy_to(cmd, &self.host[slot], BYTES);
-        ctx.cmd_barrier(cmd, Scope::COPY_WRITE, Scope::HOST_READ);
+    /// Frame slot `slot`'s read-back of the counters.
+    pub fn read_back(&self, slot: usize) -> &Buffer {
+        &self.host[slot]
     }
 
     /// The counters of slot `slot`'s frame (its fence has signalled).

@@ -1,15 +1,21 @@
-//! The frame's passes, each a short function over typed handles: plan (which lattice points
-//! every layer traces, decided on the GPU, compacted into work lists), trace (the work lists,
-//! through indirect dispatches the GPU sized), resolve (every pixel once) and, for whoever
-//! presents or accumulates frames, a copy of the pixels into an image. Each pass
-//! records every eye's dispatch before the next pass: the eyes have their own lattice values,
-//! work lists and halves of the output, so nothing orders one eye after the other and a GPU
-//! may run them side by side; the barriers order only the passes.
+//! The frame's passes, each a short function that declares what it reads and writes and
+//! records its dispatches (graph.rs derives the bindings and barriers): counters zeroed, plan
+//! (which lattice points every layer traces, decided on the GPU, compacted into work lists),
+//! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), resolve
+//! (every pixel once), then with history temporal and denoise, and for whoever presents or
+//! accumulates frames a copy of the pixels into an image; last the counters copied where the
+//! host reads them. Each pass records every eye's dispatch: the eyes have their own lattice
+//! values, work lists and halves of the output, so nothing orders one eye after the other and
+//! a GPU may run them side by side.
 
 use super::counters::FrameCounters;
+use super::graph::FrameGraph;
+use super::history::History;
+use super::scene_buffers::SceneBuffers;
+use super::settings::Traversal;
 use super::targets::FrameTargets;
 use crate::gpu::shared::*;
-use crate::gpu::{vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, Scope, TimestampPool};
+use crate::gpu::{Buffer, ComputePipeline};
 
 /// The frame's pipelines (trace specialised for the scene, integrator and depth).
 pub struct FramePipelines<'a> {
@@ -19,19 +25,24 @@ pub struct FramePipelines<'a> {
     pub resolve: &'a ComputePipeline,
     /// With history on (render/history.rs).
     pub temporal: Option<&'a ComputePipeline>,
-    /// With history on and a layer that asks for denoising: the pipeline, the most
-    /// iterations any layer asks for, and the buffer it ping-pongs with the pixels.
-    pub denoise: Option<(&'a ComputePipeline, u32, &'a Buffer)>,
+    /// With history on and a layer that asks for denoising: the pipeline and the most
+    /// iterations any layer asks for.
+    pub denoise: Option<(&'a ComputePipeline, u32)>,
 }
 
-/// Everything one frame's commands use.
+/// Everything one frame's passes use.
 pub struct FramePasses<'a> {
-    pub ctx: &'a GpuContext,
-    pub layout: &'a PipelineLayout,
     pub pipelines: FramePipelines<'a>,
-    pub timestamps: &'a mut TimestampPool,
+    pub scene: &'a SceneBuffers,
+    /// How the trace finds the scene (the TLAS or the BVH nodes it binds).
+    pub traversal: Traversal,
     pub counters: &'a FrameCounters,
     pub targets: &'a FrameTargets,
+    /// The lens's visibility masks (BINDING_VISIBILITY).
+    pub visibility: &'a Buffer,
+    /// The temporal history, when on (temporal and denoise need it; trace then also writes
+    /// the lattice points' surfaces).
+    pub history: Option<&'a History>,
     /// Every eye's push constants (camera, image, the slot's layers; the gaze is in the
     /// targets' layer buffer).
     pub eyes: &'a [EyePush],
@@ -51,11 +62,11 @@ impl FramePasses<'_> {
     }
 
     /// Every timed pass this frame records: plan, dispatch sizes and trace when `traced`
-    /// (compose gives the lattice instead), resolve, temporal, each denoise iteration and its
-    /// copy back, the output image. The timestamp pool is sized from it.
+    /// (a test may give the lattice instead), resolve, temporal, each denoise iteration and
+    /// its copy back, the output image. The timestamp pool is sized from it.
     pub fn timed_passes(&self, traced: bool) -> u32 {
         let eyes = self.eyes.len() as u32;
-        let denoise = self.pipelines.denoise.map_or(0, |(_, n, _)| n);
+        let denoise = self.pipelines.denoise.map_or(0, |(_, n)| n);
         let per_eye = 2 * traced as u32 // plan, trace
             + 1 // resolve
             + self.pipelines.temporal.is_some() as u32
@@ -66,176 +77,200 @@ impl FramePasses<'_> {
             + self.targets.output.is_some() as u32
     }
 
-    /// Makes the timestamp pool large enough for this frame's passes (its slot is free).
-    pub fn size_timestamps(&mut self, traced: bool) -> Result<(), crate::gpu::GpuError> {
-        let passes = self.timed_passes(traced);
-        self.timestamps.ensure_passes(passes)
+    /// Workgroups of a pass over every pixel of an eye, `per_x` pixels per invocation in x.
+    fn pixel_groups(&self, per_x: u32) -> [u32; 3] {
+        let key = &self.targets.key;
+        [
+            key.width.div_ceil(WORKGROUP_SIZE_X * per_x),
+            key.height.div_ceil(WORKGROUP_SIZE_Y),
+            1,
+        ]
     }
 
-    /// Starts the frame: the frames before it finished with the targets and counters they
-    /// share with it (frames in flight), timings reset, counters zeroed.
-    pub fn begin(&mut self, cmd: vk::CommandBuffer) {
-        self.ctx
-            .cmd_barrier(cmd, Scope::EARLIER_WORK, Scope::LATER_WORK);
-        self.timestamps.cmd_reset(cmd);
-        self.counters.cmd_reset(self.ctx, cmd);
+    /// Zeroes every counter before the passes that add to them.
+    pub fn reset_counters(&self, g: &mut FrameGraph) {
+        let stats = &self.counters.device;
+        g.pass()
+            .fills(stats)
+            .record(|r| stats.cmd_zero(r.cmd, stats.size));
     }
 
     /// Plan: per eye, one thread per run of lattice points of every layer's box decides which
-    /// are traced and appends them to the eye's work list; then one tiny dispatch turns each
-    /// list's length into the trace's workgroup counts. The plan's own workgroup counts depend
-    /// on the gaze, so they are read from the buffer the CPU writes with it, at submission.
-    pub fn plan(&mut self, cmd: vk::CommandBuffer) {
-        let (p, layout) = (&self.pipelines, self.layout);
-        let args = &self.targets.plan_dispatch;
-        for (e, push) in self.eyes.iter().enumerate() {
-            let name = self.name(e, "plan");
-            let offset = self.targets.plan_dispatch_offset(self.slot, e);
-            self.timestamps.cmd_timed(cmd, &name, || {
-                p.plan
-                    .cmd_dispatch_indirect(cmd, layout, push, args, offset)
+    /// are traced and appends them to the eye's work list. The plan's own workgroup counts
+    /// depend on the gaze, so they are read from the buffer the CPU writes with it, at
+    /// submission.
+    pub fn plan(&self, g: &mut FrameGraph) {
+        let t = self.targets;
+        g.pass()
+            .reads(BINDING_LAYERS, &t.layers)
+            .reads(BINDING_VISIBILITY, self.visibility)
+            .writes(BINDING_WORK, &t.work)
+            .reads_writes(BINDING_STATS, &self.counters.device)
+            .indirect_args(&t.plan_dispatch)
+            .record(|r| {
+                for (e, push) in self.eyes.iter().enumerate() {
+                    let offset = t.plan_dispatch_offset(self.slot, e);
+                    let (name, plan) = (self.name(e, "plan"), self.pipelines.plan);
+                    r.dispatch_indirect(&name, plan, push, &t.plan_dispatch, offset);
+                }
             });
-        }
-        // The counts are complete only when every plan workgroup has added to them.
-        self.ctx
-            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-        let eyes = self.eyes.len() as u32;
-        self.timestamps.cmd_timed(cmd, "dispatch sizes", || {
-            p.plan_args.cmd_dispatch(cmd, layout, &(), [eyes, 1, 1])
-        });
-        // The trace reads the work lists and the counts, and its dispatch sizes.
-        self.ctx.cmd_barrier(
-            cmd,
-            Scope::COMPUTE_WRITE,
-            Scope::COMPUTE_READ.and(Scope::INDIRECT_READ),
-        );
     }
 
-    /// Trace: per eye, one thread per work-list entry writes the point's lattice value.
-    pub fn trace(&mut self, cmd: vk::CommandBuffer) {
-        let (p, layout) = (&self.pipelines, self.layout);
-        for (e, push) in self.eyes.iter().enumerate() {
-            let name = self.name(e, "trace");
-            let args = &self.counters.device;
-            let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
-            self.timestamps.cmd_timed(cmd, &name, || {
-                p.trace
-                    .cmd_dispatch_indirect(cmd, layout, push, args, offset)
+    /// Dispatch sizes: one tiny dispatch turns each eye's work-list length into the trace's
+    /// workgroup counts.
+    pub fn dispatch_sizes(&self, g: &mut FrameGraph) {
+        let eyes = self.eyes.len() as u32;
+        g.pass()
+            .reads_writes(BINDING_STATS, &self.counters.device)
+            .record(|r| {
+                r.dispatch(
+                    "dispatch sizes",
+                    self.pipelines.plan_args,
+                    &(),
+                    [eyes, 1, 1],
+                )
             });
+    }
+
+    /// Trace: per eye, one thread per work-list entry writes the point's lattice value (and
+    /// with history its surface).
+    pub fn trace(&self, g: &mut FrameGraph) {
+        let (t, stats) = (self.targets, &self.counters.device);
+        let mut pass = self
+            .scene
+            .declare(g.pass(), self.traversal)
+            .reads(BINDING_WORK, &t.work)
+            .reads(BINDING_LAYERS, &t.layers)
+            .writes(BINDING_LATTICE, &t.lattice)
+            .reads_writes(BINDING_STATS, stats)
+            .indirect_args(stats);
+        if let Some(h) = self.history {
+            pass = pass.writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces);
         }
-        // Resolve reads the lattice values.
-        self.ctx
-            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ);
+        pass.record(|r| {
+            for (e, push) in self.eyes.iter().enumerate() {
+                let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
+                let (name, trace) = (self.name(e, "trace"), self.pipelines.trace);
+                r.dispatch_indirect(&name, trace, push, stats, offset);
+            }
+        });
     }
 
     /// Resolve: per eye, every output pixel from its one or two layers.
-    pub fn resolve(&mut self, cmd: vk::CommandBuffer) {
-        let (p, layout) = (&self.pipelines, self.layout);
+    pub fn resolve(&self, g: &mut FrameGraph) {
         let t = self.targets;
-        let groups = [
-            t.key
-                .width
-                .div_ceil(WORKGROUP_SIZE_X * PIXELS_PER_INVOCATION),
-            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
-            1,
-        ];
-        for (e, push) in self.eyes.iter().enumerate() {
-            let name = self.name(e, "resolve");
-            self.timestamps.cmd_timed(cmd, &name, || {
-                p.resolve.cmd_dispatch(cmd, layout, push, groups)
+        let groups = self.pixel_groups(PIXELS_PER_INVOCATION);
+        g.pass()
+            .reads(BINDING_LAYERS, &t.layers)
+            .reads(BINDING_VISIBILITY, self.visibility)
+            .reads(BINDING_LATTICE_TEXELS, &t.lattice_texels)
+            .writes(BINDING_PIXELS, &t.pixels)
+            .record(|r| {
+                for (e, push) in self.eyes.iter().enumerate() {
+                    let name = self.name(e, "resolve");
+                    r.dispatch(&name, self.pipelines.resolve, push, groups);
+                }
             });
-        }
     }
 
     /// Temporal (with history on): per eye, every pixel's history carried into this frame,
     /// its own new samples added, and what is shown rewritten from it.
-    pub fn temporal(&mut self, cmd: vk::CommandBuffer) {
-        let Some(pipeline) = self.pipelines.temporal else {
+    pub fn temporal(&self, g: &mut FrameGraph) {
+        let (Some(pipeline), Some(h)) = (self.pipelines.temporal, self.history) else {
             return;
         };
-        // It reads the resolved pixels and the lattice values and surfaces.
-        self.ctx
-            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
         let t = self.targets;
-        let groups = [
-            t.key.width.div_ceil(WORKGROUP_SIZE_X),
-            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
-            1,
-        ];
-        for (e, push) in self.eyes.iter().enumerate() {
-            let name = self.name(e, "temporal");
-            self.timestamps.cmd_timed(cmd, &name, || {
-                pipeline.cmd_dispatch(cmd, self.layout, push, groups)
+        let groups = self.pixel_groups(1);
+        g.pass()
+            .reads(BINDING_LATTICE, &t.lattice)
+            .reads(BINDING_LAYERS, &t.layers)
+            .reads(BINDING_VISIBILITY, self.visibility)
+            .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+            .reads(BINDING_HISTORY_VIEWS, &h.views)
+            .reads_writes(BINDING_PIXELS, &t.pixels)
+            .reads_writes(BINDING_HISTORY, &h.pixels[0])
+            .reads_writes(BINDING_HISTORY_1, &h.pixels[1])
+            .reads_writes(BINDING_HISTORY_SURFACE, &h.surfaces[0])
+            .reads_writes(BINDING_HISTORY_SURFACE_1, &h.surfaces[1])
+            .record(|r| {
+                for (e, push) in self.eyes.iter().enumerate() {
+                    r.dispatch(&self.name(e, "temporal"), pipeline, push, groups);
+                }
             });
-        }
     }
 
     /// Denoise (when a layer asks for it): iterations of the a-trous filter, each over every
     /// pixel of each eye, alternating between the pixels and the denoiser's buffer; an odd
     /// count ends with a copy back into the pixels.
-    pub fn denoise(&mut self, cmd: vk::CommandBuffer) {
-        let Some((pipeline, iterations, other)) = self.pipelines.denoise else {
+    pub fn denoise(&self, g: &mut FrameGraph) {
+        let (Some((pipeline, iterations)), Some(h)) = (self.pipelines.denoise, self.history) else {
             return;
         };
         let t = self.targets;
-        let groups = [
-            t.key.width.div_ceil(WORKGROUP_SIZE_X),
-            t.key.height.div_ceil(WORKGROUP_SIZE_Y),
-            1,
-        ];
+        let groups = self.pixel_groups(1);
         for i in 0..iterations {
-            self.ctx
-                .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COMPUTE_READ_WRITE);
-            for (e, push) in self.eyes.iter().enumerate() {
-                let push = DenoisePush {
-                    cam: push.cam,
-                    eye: push.eye,
-                    iteration: i,
-                    reads_denoise: i % 2,
-                    ..Default::default()
-                };
-                let name = self.name(e, "denoise");
-                self.timestamps.cmd_timed(cmd, &name, || {
-                    pipeline.cmd_dispatch(cmd, self.layout, &push, groups)
+            let reads_denoise = i % 2;
+            let (from, into) = match reads_denoise {
+                0 => ((BINDING_PIXELS, &t.pixels), (BINDING_DENOISE, &h.denoise)),
+                _ => ((BINDING_DENOISE, &h.denoise), (BINDING_PIXELS, &t.pixels)),
+            };
+            g.pass()
+                .reads(BINDING_LAYERS, &t.layers)
+                .reads(BINDING_HISTORY_SURFACE, &h.surfaces[0])
+                .reads(BINDING_HISTORY_SURFACE_1, &h.surfaces[1])
+                .reads(from.0, from.1)
+                .writes(into.0, into.1)
+                .record(|r| {
+                    for (e, push) in self.eyes.iter().enumerate() {
+                        let push = DenoisePush {
+                            cam: push.cam,
+                            eye: push.eye,
+                            iteration: i,
+                            reads_denoise,
+                            ..Default::default()
+                        };
+                        r.dispatch(&self.name(e, "denoise"), pipeline, &push, groups);
+                    }
                 });
-            }
         }
         if iterations % 2 == 1 {
-            // The copy reads the last iteration's output and overwrites what the one before
-            // wrote into the pixels.
-            self.ctx.cmd_barrier(
-                cmd,
-                Scope::COMPUTE_WRITE,
-                Scope::COPY_READ.and(Scope::COPY_WRITE),
-            );
-            self.timestamps.cmd_timed(cmd, "denoise copy", || {
-                other.cmd_copy_to(cmd, &t.pixels, t.pixels.size)
-            });
-            self.ctx.cmd_barrier(
-                cmd,
-                Scope::COPY_WRITE,
-                Scope::COMPUTE_READ_WRITE.and(Scope::COPY_READ),
-            );
+            g.pass()
+                .copies_from(&h.denoise)
+                .copies_into(&t.pixels)
+                .record(|r| {
+                    r.timed("denoise copy", |cmd| {
+                        h.denoise.cmd_copy_to(cmd, &t.pixels, t.pixels.size)
+                    })
+                });
         }
     }
 
     /// Output image (when the targets have one): the eyes' pixels copied side by side into it.
     /// A copy, not resolve's stores: on lavapipe an imageStore per pixel cost more than a
     /// storage-buffer store plus this copy (about 31 ms per 1440x1600 eye against 16 + 7).
-    pub fn output_image(&mut self, cmd: vk::CommandBuffer) {
+    pub fn output_image(&self, g: &mut FrameGraph) {
         let t = self.targets;
         let Some(image) = &t.output else { return };
-        self.ctx
-            .cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::COPY_READ);
         let eyes = self.eyes.len() as u32;
-        self.timestamps.cmd_timed(cmd, "output image", || {
-            image.cmd_copy_tiles_from(cmd, &t.pixels, eyes)
-        });
+        g.pass()
+            .copies_from(&t.pixels)
+            .copies_into(image)
+            .record(|r| {
+                r.timed("output image", |cmd| {
+                    image.cmd_copy_tiles_from(cmd, &t.pixels, eyes)
+                })
+            });
     }
 
-    /// Ends the frame: the counters copied where the host reads them after the fence.
-    pub fn finish(&mut self, cmd: vk::CommandBuffer) {
-        self.counters.cmd_collect(self.ctx, cmd, self.slot);
+    /// The counters copied into the frame slot's read-back, which the host reads after the
+    /// fence.
+    pub fn collect_counters(&self, g: &mut FrameGraph) {
+        let (stats, host) = (&self.counters.device, self.counters.read_back(self.slot));
+        g.pass()
+            .copies_from(stats)
+            .copies_into(host)
+            .record(|r| stats.cmd_copy_to(r.cmd, host, stats.size));
+        g.host_reads(host);
     }
 }
 

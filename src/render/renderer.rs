@@ -8,41 +8,26 @@
 use super::counters::FrameCounters;
 use super::eye_params::{eye_layers, eye_push, EyeLayers};
 use super::frame::Frame;
+use super::graph::FrameGraph;
 use super::history::{History, HistoryKey, TemporalSettings};
 use super::in_flight::{frame_results, FrameKnown, PendingFrame, MAX_FRAMES_IN_FLIGHT};
 use super::passes::{FramePasses, FramePipelines};
 use super::request::{DebugView, EyeView, FrameRequest};
+use super::scene_buffers::SceneBuffers;
 use super::settings::{RenderSettings, Traversal};
 use super::targets::{FrameTargets, TargetKey};
 use super::RenderError;
 use crate::foveation::{FoveationConfig, Gaze, VisibilityMask};
 use crate::gpu::shared::*;
-use crate::gpu::AccelStructures;
 use crate::gpu::{
-    shaders, vk, Buffer, ComputePipeline, GpuContext, PipelineLayout, PlannedAllocation, Scope,
-    StorageImage, TexelView, TimestampPool,
+    shaders, vk, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
+    StorageImage, TimestampPool,
 };
-use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use gpu_allocator::MemoryLocation;
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 use std::time::Instant;
-
-/// Static scene data on the GPU, one buffer per binding.
-struct SceneBuffers {
-    // The scene's arrays are read through texel views of their buffers (see TexelView).
-    /// Every BLAS's nodes, then the TLAS's (GpuSceneInfo::tlas_root).
-    nodes: TexelView,
-    triangles: TexelView,
-    objects: TexelView,
-    materials: TexelView,
-    emitters: TexelView,
-    _storage: [Buffer; 5],
-    info: Buffer,
-    /// The same scene for ray queries, where the context has them.
-    accel: Option<AccelStructures>,
-}
 
 /// A lattice point whose value [`Renderer::compose`] asks for: eye, layer (innermost first)
 /// and the point's pixel (which may lie off the image; those are never read).
@@ -65,10 +50,7 @@ pub struct Renderer {
     frames_in_flight: usize,
     /// The slot of the next submitted frame (round the ring of MAX_FRAMES_IN_FLIGHT).
     next_slot: usize,
-    /// Whether a binding changed since the descriptor set was last written (it may not be
-    /// written while a frame in flight uses it).
-    bindings_stale: bool,
-    /// Trace pipelines by (integrator, max bounces, profiling, traversal).
+    /// Trace pipelines by (integrator, max bounces, profiling, traversal, surfaces).
     trace: HashMap<TraceKey, ComputePipeline>,
     /// Whether the trace counts its traversal work (FrameStats::traversal).
     profile_traversal: bool,
@@ -84,9 +66,6 @@ pub struct Renderer {
     /// needed it.
     temporal: Option<TemporalSettings>,
     history: Option<History>,
-    /// What the history bindings point at while history is off: a buffer of their own, as
-    /// the trace (which writes LATTICE_SURFACE only with history on) still declares one.
-    history_stand_in: Buffer,
     raycast: HashMap<Traversal, ComputePipeline>,
     /// One pool per frame slot.
     timestamps: Vec<TimestampPool>,
@@ -95,7 +74,6 @@ pub struct Renderer {
     /// configs (regular and foveated frames of a bench) does not rebuild the ray buffer and
     /// reallocate the images every frame.
     spare_targets: Option<FrameTargets>,
-    probe: Option<(Buffer, Buffer)>,
     /// Per eye, the lens's visibility mask (OpenXR): hidden pixels are never traced, and
     /// resolve makes them black.
     masks: Vec<VisibilityMask>,
@@ -105,15 +83,14 @@ pub struct Renderer {
     visibility_key: Option<([u32; 2], Vec<u32>)>,
     visibility_stale: bool,
     counters: FrameCounters,
-    buffers: SceneBuffers,
+    /// Per frame slot, the descriptor sets of its frame's passes.
+    descriptors: Vec<DescriptorArena>,
+    scene: SceneBuffers,
     layout: PipelineLayout,
-    features: SceneFeatures,
-    /// The scene as uploaded ([`GpuScene::fingerprint`]).
-    scene_fingerprint: u64,
     ctx: Arc<GpuContext>,
 }
 
-type TraceKey = (u32, u32, bool, Traversal);
+type TraceKey = (u32, u32, bool, Traversal, bool);
 
 /// Commands recorded at the end of a frame's submission, reading its output image (a copy
 /// into a headset's swapchain images).
@@ -127,45 +104,13 @@ const TIMED_PASSES: u32 = 8;
 impl Renderer {
     /// Builds the BVHs and uploads the scene once.
     pub fn new(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Self, RenderError> {
-        let gpu = GpuScene::build(scene)?;
-        ctx.check_memory(
-            &format!("scene '{}'", scene.name),
-            &scene_plan(&gpu),
-            "simplify the scene (fewer or smaller meshes)",
-        )?;
-        let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
-        let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
-        let triangles = upload("triangles", bytemuck::cast_slice(&gpu.triangles))?;
-        let objects = upload("objects", bytemuck::cast_slice(&gpu.objects))?;
-        let materials = upload("materials", bytemuck::cast_slice(&gpu.materials))?;
-        let emitters = upload("emitters", bytemuck::cast_slice(&gpu.emitters))?;
-        let buffers = SceneBuffers {
-            nodes: TexelView::new(&nodes, "bvh nodes")?,
-            triangles: TexelView::new(&triangles, "triangles")?,
-            objects: TexelView::new(&objects, "objects")?,
-            materials: TexelView::new(&materials, "materials")?,
-            emitters: TexelView::new(&emitters, "emitters")?,
-            _storage: [nodes, triangles, objects, materials, emitters],
-            info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
-            accel: match ctx.info.ray_query {
-                Some(_) => Some(AccelStructures::build(
-                    ctx,
-                    &gpu.triangles,
-                    &gpu.accel_objects(),
-                )?),
-                None => None,
-            },
-        };
+        let scene = SceneBuffers::upload(ctx, scene)?;
         let layout = PipelineLayout::new(ctx)?;
-        if let Some(accel) = &buffers.accel {
-            layout.bind_tlas(accel);
-        }
         Ok(Self {
             in_flight: VecDeque::new(),
             finished: VecDeque::new(),
             frames_in_flight: 1,
             next_slot: 0,
-            bindings_stale: true,
             trace: HashMap::new(),
             profile_traversal: false,
             traversal: Traversal::preferred(ctx),
@@ -177,29 +122,22 @@ impl Renderer {
             denoise: None,
             temporal: None,
             history: None,
-            history_stand_in: Buffer::new(
-                ctx,
-                "history stand-in",
-                16,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::GpuOnly,
-            )?,
             raycast: HashMap::new(),
             timestamps: (0..MAX_FRAMES_IN_FLIGHT)
                 .map(|_| TimestampPool::new(ctx, TIMED_PASSES))
                 .collect::<Result<_, _>>()?,
             targets: None,
             spare_targets: None,
-            probe: None,
             masks: Vec::new(),
             visibility: Buffer::with_data(ctx, "visibility mask", &0u32.to_le_bytes())?,
             visibility_key: None,
             visibility_stale: false,
             counters: FrameCounters::new(ctx)?,
-            buffers,
+            descriptors: (0..MAX_FRAMES_IN_FLIGHT)
+                .map(|_| DescriptorArena::new(ctx))
+                .collect::<Result<_, _>>()?,
+            scene,
             layout,
-            features: gpu.features,
-            scene_fingerprint: gpu.fingerprint(),
             ctx: ctx.clone(),
         })
     }
@@ -207,11 +145,11 @@ impl Renderer {
     /// A fingerprint of the scene as this renderer uploaded it: a changed scene file or
     /// built-in changes it.
     pub fn scene_fingerprint(&self) -> u64 {
-        self.scene_fingerprint
+        self.scene.fingerprint
     }
 
     pub fn features(&self) -> SceneFeatures {
-        self.features
+        self.scene.features
     }
 
     pub fn context(&self) -> &Arc<GpuContext> {
@@ -245,7 +183,6 @@ impl Renderer {
         }
         // The buffer is replaced: no frame in flight may still read it.
         self.wait_all()?;
-        self.bindings_stale = true;
         // shared.h's layout: words per plane (0: no mask), then each eye's planes.
         let words: Vec<u32> = match applies {
             true => {
@@ -294,7 +231,6 @@ impl Renderer {
         // The history's buffers go: no frame in flight may still use them.
         self.wait_all()?;
         self.history = None;
-        self.bindings_stale = true;
         self.temporal = settings;
         Ok(())
     }
@@ -317,7 +253,7 @@ impl Renderer {
     /// The traversal the next frames (and ray casts) use. Ray queries need a context that
     /// enabled them (GpuOptions::ray_queries) on a device that has them.
     pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), RenderError> {
-        if traversal == Traversal::RayQuery && self.buffers.accel.is_none() {
+        if traversal == Traversal::RayQuery && self.scene.accel.is_none() {
             return Err(RenderError::Settings(format!(
                 "the ray-query traversal needs ray queries, which the device '{}' does not \
                  offer (or --traversal software turned off): use the software traversal",
@@ -335,14 +271,14 @@ impl Renderer {
     /// The traversals this renderer can run: software, and ray queries where enabled.
     pub fn traversals(&self) -> Vec<Traversal> {
         let mut all = vec![Traversal::Software];
-        if self.buffers.accel.is_some() {
+        if self.scene.accel.is_some() {
             all.push(Traversal::RayQuery);
         }
         all
     }
 
     fn specialization(&self, integrator: u32, max_bounces: u32) -> Vec<(u32, u32)> {
-        let f = self.features;
+        let f = self.scene.features;
         vec![
             (SPEC_HAS_TRIANGLES, f.triangles as u32),
             (SPEC_HAS_BOXES, f.boxes as u32),
@@ -361,6 +297,8 @@ impl Renderer {
             s.max_bounces,
             self.profile_traversal,
             self.traversal,
+            // With history the trace also writes the points' surfaces.
+            self.temporal.is_some(),
         )
     }
 
@@ -376,9 +314,11 @@ impl Renderer {
         if !self.trace.contains_key(&key) {
             let mut spec = self.specialization(key.0, key.1);
             spec.push((SPEC_PROFILE, key.2 as u32));
-            let spirv = match key.3 {
-                Traversal::Software => shaders::TRACE,
-                Traversal::RayQuery => shaders::TRACE_RQ,
+            let spirv = match (key.3, key.4) {
+                (Traversal::Software, false) => shaders::TRACE,
+                (Traversal::RayQuery, false) => shaders::TRACE_RQ,
+                (Traversal::Software, true) => shaders::TRACE_SURFACES,
+                (Traversal::RayQuery, true) => shaders::TRACE_RQ_SURFACES,
             };
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", spirv, &spec)?;
             self.trace.insert(key, p);
@@ -414,79 +354,12 @@ impl Renderer {
         Ok(())
     }
 
-    /// Points every binding at this renderer's buffers and the current targets, if any of
-    /// them changed (which waited for the frames in flight).
-    fn bind(&mut self) {
-        if !std::mem::take(&mut self.bindings_stale) {
-            return;
-        }
-        let b = &self.buffers;
-        let t = self
-            .targets
-            .as_ref()
-            .expect("targets are ensured before binding");
-        let mut list: Vec<(u32, &Buffer)> = vec![
-            (BINDING_SCENE_INFO, &b.info),
-            (BINDING_STATS, &self.counters.device),
-            (BINDING_LATTICE, &t.lattice),
-            (BINDING_WORK, &t.work),
-            (BINDING_PIXELS, &t.pixels),
-            (BINDING_LAYERS, &t.layers),
-            (BINDING_VISIBILITY, &self.visibility),
-        ];
-        // The probe bindings must be valid even for trace.comp; reuse the counters until
-        // raycast() creates real ones.
-        match &self.probe {
-            Some((rays, hits)) => {
-                list.extend([(BINDING_PROBE_RAYS, rays), (BINDING_PROBE_HITS, hits)])
-            }
-            None => list.extend([
-                (BINDING_PROBE_RAYS, &self.counters.device),
-                (BINDING_PROBE_HITS, &self.counters.device),
-            ]),
-        }
-        // Without history no pass reads the history bindings, which must still be valid.
-        let stand_in = &self.history_stand_in;
-        list.extend(match &self.history {
-            Some(h) => [
-                (BINDING_LATTICE_SURFACE, &h.lattice_surfaces),
-                (BINDING_HISTORY, &h.pixels[0]),
-                (BINDING_HISTORY_1, &h.pixels[1]),
-                (BINDING_HISTORY_SURFACE, &h.surfaces[0]),
-                (BINDING_HISTORY_SURFACE_1, &h.surfaces[1]),
-                (BINDING_HISTORY_VIEWS, &h.views),
-                (BINDING_DENOISE, &h.denoise),
-            ],
-            None => [
-                (BINDING_LATTICE_SURFACE, stand_in),
-                (BINDING_HISTORY, stand_in),
-                (BINDING_HISTORY_1, stand_in),
-                (BINDING_HISTORY_SURFACE, stand_in),
-                (BINDING_HISTORY_SURFACE_1, stand_in),
-                (BINDING_HISTORY_VIEWS, stand_in),
-                (BINDING_DENOISE, stand_in),
-            ],
-        });
-        // LAYER_IMAGES is accumulate.comp's alone: no frame pass uses it.
-        let texels = [
-            (BINDING_NODES, &b.nodes),
-            (BINDING_TRIANGLES, &b.triangles),
-            (BINDING_OBJECTS, &b.objects),
-            (BINDING_MATERIALS, &b.materials),
-            (BINDING_EMITTERS, &b.emitters),
-            (BINDING_LATTICE_TEXELS, &t.lattice_texels),
-        ];
-        // OUTPUT is written by a copy, not by a frame pass: only accumulate.comp binds it.
-        self.layout.bind(&list, &[], &texels);
-    }
-
     fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
         if self.targets.as_ref().is_some_and(|t| t.key == key) {
             return Ok(());
         }
         // Other targets: no frame in flight may still use the current ones.
         self.wait_all()?;
-        self.bindings_stale = true;
         if self.spare_targets.as_ref().is_some_and(|t| t.key == key) {
             std::mem::swap(&mut self.targets, &mut self.spare_targets);
             return Ok(());
@@ -678,10 +551,7 @@ impl Renderer {
             let targets = self.targets.as_mut().expect("prepared");
             let lattice = given_lattice(&self.ctx, targets, &eyes, value)?;
             targets.replace_lattice(lattice)?;
-            self.bindings_stale = true;
         }
-        self.bind();
-
         let slot = self.next_slot;
         let recording = Instant::now();
         let targets = self.targets.as_ref().expect("prepared");
@@ -695,46 +565,60 @@ impl Renderer {
                 push
             })
             .collect();
-        let mut passes = FramePasses {
-            ctx: &self.ctx,
-            layout: &self.layout,
+        let passes = FramePasses {
             pipelines: FramePipelines {
                 plan: self.plan.as_ref().expect("prepared"),
                 plan_args: self.plan_args.as_ref().expect("prepared"),
                 trace: &self.trace[&self.trace_key(&request.settings)],
                 resolve: self.resolve.as_ref().expect("prepared"),
-                temporal: history.as_ref().and(self.temporal_pass.as_ref()),
+                temporal: history.and(self.temporal_pass.as_ref()),
                 denoise: match (
                     history,
                     &self.denoise,
                     request.foveation.denoise_iterations(),
                 ) {
-                    (Some(h), Some(pipeline), n) if n > 0 => Some((pipeline, n, &h.denoise)),
+                    (Some(_), Some(pipeline), n) if n > 0 => Some((pipeline, n)),
                     _ => None,
                 },
             },
-            timestamps: &mut self.timestamps[slot],
+            scene: &self.scene,
+            traversal: self.traversal,
             counters: &self.counters,
             targets,
+            visibility: &self.visibility,
+            history,
             eyes: &pushes,
             slot,
         };
-        passes.size_timestamps(given.is_none())?;
-        let mut commands = self.ctx.record_owned("frame", |cmd| {
-            passes.begin(cmd);
-            if given.is_none() {
-                passes.plan(cmd);
-                passes.trace(cmd);
-            }
-            passes.resolve(cmd);
-            passes.temporal(cmd);
-            passes.denoise(cmd);
-            passes.output_image(cmd);
-            if let (Some(after), Some(image)) = (after, &targets.output) {
-                after(cmd, image);
-            }
-            passes.finish(cmd);
+        let traced = given.is_none();
+        let timestamps = &mut self.timestamps[slot];
+        timestamps.ensure_passes(passes.timed_passes(traced))?;
+        let descriptors = &mut self.descriptors[slot];
+        let (ctx, layout) = (&self.ctx, &self.layout);
+        let mut recorded = Ok(());
+        let mut commands = ctx.record_owned("frame", |cmd| {
+            recorded = (|| {
+                let mut g = FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps)?;
+                passes.reset_counters(&mut g);
+                if traced {
+                    passes.plan(&mut g);
+                    passes.dispatch_sizes(&mut g);
+                    passes.trace(&mut g);
+                }
+                passes.resolve(&mut g);
+                passes.temporal(&mut g);
+                passes.denoise(&mut g);
+                passes.output_image(&mut g);
+                // Commands of the caller's (a copy into a headset's swapchain image), which
+                // order their own reads of the output image.
+                if let (Some(after), Some(image)) = (after, &targets.output) {
+                    after(cmd, image);
+                }
+                passes.collect_counters(&mut g);
+                g.finish()
+            })();
         })?;
+        recorded?;
         let record_ms = recording.elapsed().as_secs_f64() * 1e3;
 
         // The latch: the newest gaze, planned and written where the recorded commands read it.
@@ -850,7 +734,6 @@ impl Renderer {
             return Ok(());
         }
         self.wait_all()?;
-        self.bindings_stale = true;
         self.history = None;
         self.history = Some(History::new(&self.ctx, key, settings)?);
         Ok(())
@@ -872,10 +755,8 @@ impl Renderer {
             self.raycast.insert(self.traversal, pipeline);
         }
         let hit_bytes = std::mem::size_of_val(rays) as u64 / 2;
-        // The probe buffers are rebound and the counters reused: nothing may be in flight.
+        // The counters are reused: nothing may be in flight.
         self.wait_all()?;
-        self.bindings_stale = true;
-        self.probe = None;
         let ray_buffer = Buffer::with_data(&self.ctx, "probe rays", bytemuck::cast_slice(rays))?;
         let hit_buffer = Buffer::new(
             &self.ctx,
@@ -884,70 +765,45 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
-        self.probe = Some((ray_buffer, hit_buffer));
-        // Every binding must be valid: any targets will do, the smallest if there are none.
-        if self.targets.is_none() {
-            self.ensure_targets(TargetKey {
-                config: FoveationConfig::regular(1),
-                width: 1,
-                height: 1,
-                fovs: vec![crate::foveation::EyeFov {
-                    left: -0.5,
-                    right: 0.5,
-                    up: 0.5,
-                    down: -0.5,
-                }],
-                image: false,
-            })?;
-        }
-        self.bind();
         let push = RaycastPush {
             probe_count: rays.len() as u32,
         };
         let groups = [(rays.len() as u32).div_ceil(PROBE_WORKGROUP_SIZE), 1, 1];
         let pipeline = &self.raycast[&self.traversal];
-        let layout = &self.layout;
-        let ctx = &self.ctx;
-        let counters = &self.counters;
+        let (ctx, layout, counters, scene) = (&self.ctx, &self.layout, &self.counters, &self.scene);
+        let traversal = self.traversal;
+        let mut descriptors = DescriptorArena::new(ctx)?;
+        let mut timestamps = TimestampPool::new(ctx, 1)?;
+        let mut recorded = Ok(());
         ctx.submit_and_wait("raycast", |cmd| {
-            counters.cmd_reset(ctx, cmd);
-            pipeline.cmd_dispatch(cmd, layout, &push, groups);
-            // The hits, read by the host after the fence.
-            ctx.cmd_barrier(cmd, Scope::COMPUTE_WRITE, Scope::HOST_READ);
-            counters.cmd_collect(ctx, cmd, 0);
+            recorded = (|| {
+                let mut g = FrameGraph::begin(ctx, cmd, layout, &mut descriptors, &mut timestamps)?;
+                let stats = &counters.device;
+                g.pass()
+                    .fills(stats)
+                    .record(|r| stats.cmd_zero(r.cmd, stats.size));
+                scene
+                    .declare(g.pass(), traversal)
+                    .reads(BINDING_PROBE_RAYS, &ray_buffer)
+                    .writes(BINDING_PROBE_HITS, &hit_buffer)
+                    .reads_writes(BINDING_STATS, stats)
+                    .record(|r| r.dispatch("raycast", pipeline, &push, groups));
+                g.host_reads(&hit_buffer);
+                let host = counters.read_back(0);
+                g.pass()
+                    .copies_from(stats)
+                    .copies_into(host)
+                    .record(|r| stats.cmd_copy_to(r.cmd, host, stats.size));
+                g.host_reads(host);
+                g.finish()
+            })();
         })?;
+        recorded?;
         let overflows = self.counters.read(0)?.eyes[0].stack_overflows;
-        let (_, hits) = self.probe.as_ref().expect("set above");
-        let hits: Vec<GpuProbeHit> = bytemuck::pod_collect_to_vec(&hits.read()?[..rays.len() * 16]);
+        let hits: Vec<GpuProbeHit> =
+            bytemuck::pod_collect_to_vec(&hit_buffer.read()?[..rays.len() * 16]);
         Ok((hits, overflows))
     }
-}
-
-/// Every allocation [`Renderer::new`] makes for a scene, for the memory check before them.
-fn scene_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
-    use std::mem::size_of_val;
-    // Buffer::new gives an empty array one 16-byte element.
-    let bytes = |b: usize| (b as u64).max(16);
-    let buffers = [
-        (
-            "bvh nodes",
-            bytes(size_of_val(gpu.blas_nodes.as_slice()) + size_of_val(gpu.tlas_nodes.as_slice())),
-        ),
-        ("triangles", bytes(size_of_val(gpu.triangles.as_slice()))),
-        ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
-        ("materials", bytes(size_of_val(gpu.materials.as_slice()))),
-        ("emitters", bytes(size_of_val(gpu.emitters.as_slice()))),
-        ("scene info", bytes(size_of_val(&gpu.info))),
-    ];
-    let largest = buffers.iter().map(|b| b.1).max().unwrap_or(0);
-    let mut plan: Vec<PlannedAllocation> = buffers
-        .iter()
-        .map(|(name, b)| PlannedAllocation::storage(name, *b))
-        .collect();
-    // Each buffer is uploaded through its own staging buffer, freed before the next.
-    plan.push(PlannedAllocation::host("upload staging", largest, false));
-    plan.extend(FrameCounters::plan());
-    plan
 }
 
 /// The lattice values `value` gives every lattice point of every eye and layer, uploaded

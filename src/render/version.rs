@@ -10,6 +10,8 @@ pub fn renderer_version() -> u64 {
     [
         shaders::TRACE,
         shaders::TRACE_RQ,
+        shaders::TRACE_SURFACES,
+        shaders::TRACE_RQ_SURFACES,
         shaders::PLAN,
         shaders::PLAN_ARGS,
         shaders::RESOLVE,

@@ -1,0 +1,222 @@
+//! Descriptor sets made per pass: a pass names exactly the resources it touches (its
+//! bindings of shared.h), and gets a set with those and nothing else. A binding the pass's
+//! shader uses but did not name is left unwritten, which the validation layer reports at the
+//! dispatch: declarations cannot silently fall behind the shaders, and no pass needs a
+//! stand-in buffer for a binding it never reads.
+//!
+//! Sets come from an arena (a descriptor pool) that is reset as a whole once the work that
+//! used them has completed: a frame slot's arena when the slot is reused, a one-off
+//! submission's right after it.
+
+use super::accel::AccelStructures;
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+use super::memory::{Buffer, StorageImage, TexelView};
+use super::pipeline::PipelineLayout;
+use ash::vk;
+use std::sync::Arc;
+
+/// What a binding points at.
+#[derive(Clone, Copy)]
+pub enum Bound<'a> {
+    /// A storage buffer.
+    Storage(&'a Buffer),
+    /// A uniform texel buffer (see TexelView).
+    Texels(&'a TexelView),
+    /// A storage image (GENERAL layout).
+    Image(&'a StorageImage),
+    /// The top-level acceleration structure.
+    Tlas(&'a AccelStructures),
+}
+
+impl Bound<'_> {
+    /// The memory behind the binding, for tracking accesses: a texel view is its buffer.
+    pub fn resource(&self) -> u64 {
+        use ash::vk::Handle;
+        match self {
+            Bound::Storage(b) => b.buffer.as_raw(),
+            Bound::Texels(t) => t.buffer.as_raw(),
+            Bound::Image(i) => i.image.as_raw(),
+            Bound::Tlas(a) => a.tlas.as_raw(),
+        }
+    }
+}
+
+impl<'a> From<&'a Buffer> for Bound<'a> {
+    fn from(b: &'a Buffer) -> Self {
+        Bound::Storage(b)
+    }
+}
+
+impl<'a> From<&'a TexelView> for Bound<'a> {
+    fn from(t: &'a TexelView) -> Self {
+        Bound::Texels(t)
+    }
+}
+
+impl<'a> From<&'a StorageImage> for Bound<'a> {
+    fn from(i: &'a StorageImage) -> Self {
+        Bound::Image(i)
+    }
+}
+
+/// Sets per arena: the most passes one frame records (plan, dispatch sizes, trace, resolve,
+/// temporal, denoise: one set each; their eyes and iterations share it), with room to spare.
+const SETS: u32 = 32;
+/// Descriptors of each type per set, at most (shared.h's bindings).
+const PER_SET: u32 = 24;
+
+pub struct DescriptorArena {
+    ctx: Arc<GpuContext>,
+    pool: vk::DescriptorPool,
+    made: u32,
+}
+
+impl DescriptorArena {
+    pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, GpuError> {
+        let size = |ty| vk::DescriptorPoolSize {
+            ty,
+            descriptor_count: SETS * PER_SET,
+        };
+        let mut sizes = vec![
+            size(vk::DescriptorType::STORAGE_BUFFER),
+            size(vk::DescriptorType::STORAGE_IMAGE),
+            size(vk::DescriptorType::UNIFORM_TEXEL_BUFFER),
+        ];
+        if ctx.info.ray_query.is_some() {
+            sizes.push(vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                descriptor_count: SETS,
+            });
+        }
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(SETS)
+            .pool_sizes(&sizes);
+        // SAFETY: valid device and create info.
+        let pool = unsafe { ctx.device.create_descriptor_pool(&info, None) }
+            .vk("vkCreateDescriptorPool")?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pool,
+            made: 0,
+        })
+    }
+
+    /// Frees every set made since the last reset. The caller guarantees that no pending
+    /// command buffer uses them (their submission completed, or was never made).
+    pub fn reset(&mut self) -> Result<(), GpuError> {
+        // SAFETY: per the caller's guarantee no set of this pool is in use.
+        unsafe {
+            self.ctx
+                .device
+                .reset_descriptor_pool(self.pool, vk::DescriptorPoolResetFlags::empty())
+        }
+        .vk("vkResetDescriptorPool")?;
+        self.made = 0;
+        Ok(())
+    }
+
+    /// A new set of `layout` with exactly `bindings` written.
+    pub fn set(
+        &mut self,
+        layout: &PipelineLayout,
+        bindings: &[(u32, Bound)],
+    ) -> Result<vk::DescriptorSet, GpuError> {
+        if self.made == SETS {
+            return Err(GpuError::Limit(format!(
+                "one submission asked for more than {SETS} descriptor sets (one per pass): \
+                 a frame records fewer passes; this is a bug in fovea"
+            )));
+        }
+        let layouts = [layout.set_layout];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.pool)
+            .set_layouts(&layouts);
+        // SAFETY: the pool has room for the set (counted above; every type sized for a full
+        // set of shared.h's bindings).
+        let set = unsafe { self.ctx.device.allocate_descriptor_sets(&info) }
+            .vk("vkAllocateDescriptorSets")?[0];
+        self.made += 1;
+        write_set(&self.ctx, set, bindings);
+        Ok(set)
+    }
+}
+
+impl Drop for DescriptorArena {
+    fn drop(&mut self) {
+        // SAFETY: no pending command buffer uses its sets (owners wait for their work before
+        // dropping); destroying the pool frees them.
+        unsafe { self.ctx.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+/// Writes each binding of a set that no pending command buffer uses.
+fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]) {
+    // The infos each write points at, kept alive until the update.
+    let buffers: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
+        .iter()
+        .map(|(_, bound)| match bound {
+            Bound::Storage(b) => [vk::DescriptorBufferInfo::default()
+                .buffer(b.buffer)
+                .range(vk::WHOLE_SIZE)],
+            _ => [vk::DescriptorBufferInfo::default()],
+        })
+        .collect();
+    let images: Vec<[vk::DescriptorImageInfo; 1]> = bindings
+        .iter()
+        .map(|(_, bound)| match bound {
+            Bound::Image(i) => [vk::DescriptorImageInfo::default()
+                .image_view(i.view)
+                .image_layout(vk::ImageLayout::GENERAL)],
+            _ => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let views: Vec<[vk::BufferView; 1]> = bindings
+        .iter()
+        .map(|(_, bound)| match bound {
+            Bound::Texels(t) => [t.view],
+            _ => [vk::BufferView::null()],
+        })
+        .collect();
+    let tlases: Vec<[vk::AccelerationStructureKHR; 1]> = bindings
+        .iter()
+        .map(|(_, bound)| match bound {
+            Bound::Tlas(a) => [a.tlas],
+            _ => [vk::AccelerationStructureKHR::null()],
+        })
+        .collect();
+    let mut tlas_writes: Vec<vk::WriteDescriptorSetAccelerationStructureKHR> = tlases
+        .iter()
+        .map(|t| {
+            vk::WriteDescriptorSetAccelerationStructureKHR::default().acceleration_structures(t)
+        })
+        .collect();
+    let mut writes = Vec::with_capacity(bindings.len());
+    for (i, ((binding, bound), tlas)) in bindings.iter().zip(&mut tlas_writes).enumerate() {
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(*binding);
+        writes.push(match bound {
+            Bound::Storage(_) => write
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&buffers[i]),
+            Bound::Image(_) => write
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .image_info(&images[i]),
+            Bound::Texels(_) => write
+                .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .texel_buffer_view(&views[i]),
+            Bound::Tlas(_) => {
+                let mut write = write
+                    .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+                    .push_next(tlas);
+                // The count is the chained structure's; the builder leaves it at 0.
+                write.descriptor_count = 1;
+                write
+            }
+        });
+    }
+    // SAFETY: the set is new (no command buffer uses it); every resource is alive, and the
+    // infos outlive the call.
+    unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+}

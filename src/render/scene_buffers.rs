@@ -1,0 +1,116 @@
+//! The scene on the GPU: its BVHs and arrays uploaded once, after a check that they fit the
+//! device, and the bindings a pass that traces rays declares to read them.
+
+use super::counters::FrameCounters;
+use super::graph::Pass;
+use super::settings::Traversal;
+use super::RenderError;
+use crate::gpu::shared::*;
+use crate::gpu::{AccelStructures, Bound, Buffer, GpuContext, PlannedAllocation, TexelView};
+use crate::scene::gpu_layout::GpuScene;
+use crate::scene::{Scene, SceneFeatures};
+use std::sync::Arc;
+
+/// Static scene data on the GPU, one buffer per binding.
+pub struct SceneBuffers {
+    // The scene's arrays are read through texel views of their buffers (see TexelView).
+    /// Every BLAS's nodes, then the TLAS's (GpuSceneInfo::tlas_root).
+    nodes: TexelView,
+    triangles: TexelView,
+    objects: TexelView,
+    materials: TexelView,
+    emitters: TexelView,
+    _storage: [Buffer; 5],
+    info: Buffer,
+    /// The same scene for ray queries, where the context has them.
+    pub accel: Option<AccelStructures>,
+    /// What the scene has, for specializing the shaders.
+    pub features: SceneFeatures,
+    /// The scene as uploaded ([`GpuScene::fingerprint`]).
+    pub fingerprint: u64,
+}
+
+impl SceneBuffers {
+    /// Builds the BVHs, checks that the scene fits the device, and uploads it.
+    pub fn upload(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Self, RenderError> {
+        let gpu = GpuScene::build(scene)?;
+        ctx.check_memory(
+            &format!("scene '{}'", scene.name),
+            &memory_plan(&gpu),
+            "simplify the scene (fewer or smaller meshes)",
+        )?;
+        let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
+        let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
+        let triangles = upload("triangles", bytemuck::cast_slice(&gpu.triangles))?;
+        let objects = upload("objects", bytemuck::cast_slice(&gpu.objects))?;
+        let materials = upload("materials", bytemuck::cast_slice(&gpu.materials))?;
+        let emitters = upload("emitters", bytemuck::cast_slice(&gpu.emitters))?;
+        let accel = match ctx.info.ray_query {
+            Some(_) => Some(AccelStructures::build(
+                ctx,
+                &gpu.triangles,
+                &gpu.accel_objects(),
+            )?),
+            None => None,
+        };
+        Ok(Self {
+            nodes: TexelView::new(&nodes, "bvh nodes")?,
+            triangles: TexelView::new(&triangles, "triangles")?,
+            objects: TexelView::new(&objects, "objects")?,
+            materials: TexelView::new(&materials, "materials")?,
+            emitters: TexelView::new(&emitters, "emitters")?,
+            _storage: [nodes, triangles, objects, materials, emitters],
+            info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
+            accel,
+            features: gpu.features,
+            fingerprint: gpu.fingerprint(),
+        })
+    }
+
+    /// Declares that `pass` traces rays through the scene with `traversal`: the arrays it
+    /// reads, and the BVH nodes (software) or the TLAS (ray queries).
+    pub fn declare<'g, 'a, 'r>(
+        &'r self,
+        pass: Pass<'g, 'a, 'r>,
+        traversal: Traversal,
+    ) -> Pass<'g, 'a, 'r> {
+        let pass = pass
+            .reads(BINDING_TRIANGLES, &self.triangles)
+            .reads(BINDING_OBJECTS, &self.objects)
+            .reads(BINDING_MATERIALS, &self.materials)
+            .reads(BINDING_EMITTERS, &self.emitters)
+            .reads(BINDING_SCENE_INFO, &self.info);
+        match (traversal, &self.accel) {
+            (Traversal::RayQuery, Some(accel)) => pass.reads(BINDING_TLAS, Bound::Tlas(accel)),
+            _ => pass.reads(BINDING_NODES, &self.nodes),
+        }
+    }
+}
+
+/// Every allocation [`SceneBuffers::upload`] and the renderer make for a scene, for the
+/// memory check before them.
+fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
+    use std::mem::size_of_val;
+    // Buffer::new gives an empty array one 16-byte element.
+    let bytes = |b: usize| (b as u64).max(16);
+    let buffers = [
+        (
+            "bvh nodes",
+            bytes(size_of_val(gpu.blas_nodes.as_slice()) + size_of_val(gpu.tlas_nodes.as_slice())),
+        ),
+        ("triangles", bytes(size_of_val(gpu.triangles.as_slice()))),
+        ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
+        ("materials", bytes(size_of_val(gpu.materials.as_slice()))),
+        ("emitters", bytes(size_of_val(gpu.emitters.as_slice()))),
+        ("scene info", bytes(size_of_val(&gpu.info))),
+    ];
+    let largest = buffers.iter().map(|b| b.1).max().unwrap_or(0);
+    let mut plan: Vec<PlannedAllocation> = buffers
+        .iter()
+        .map(|(name, b)| PlannedAllocation::storage(name, *b))
+        .collect();
+    // Each buffer is uploaded through its own staging buffer, freed before the next.
+    plan.push(PlannedAllocation::host("upload staging", largest, false));
+    plan.extend(FrameCounters::plan());
+    plan
+}
