@@ -44,7 +44,7 @@ pub struct FrameGraph<'a> {
     layout: &'a PipelineLayout,
     descriptors: &'a mut DescriptorArena,
     timestamps: &'a mut TimestampPool,
-    states: HashMap<u64, State>,
+    tracker: Tracker,
     /// A pass's descriptor set that failed to be made: reported by `finish`.
     error: Option<GpuError>,
 }
@@ -85,7 +85,7 @@ impl<'a> FrameGraph<'a> {
             layout,
             descriptors,
             timestamps,
-            states: HashMap::new(),
+            tracker: Tracker::default(),
             error: None,
         })
     }
@@ -114,8 +114,24 @@ impl<'a> FrameGraph<'a> {
         self.error.map_or(Ok(()), Err)
     }
 
-    /// Records the barrier `accesses` need (none when they wait for nothing) and notes them.
+    /// Records the barrier `accesses` need, if any.
     fn wait_for(&mut self, accesses: &[Access]) {
+        if let Some((before, after)) = self.tracker.barrier(accesses) {
+            self.ctx.cmd_barrier(self.cmd, before, after);
+        }
+    }
+}
+
+/// What every resource's accesses so far ask of the next ones.
+#[derive(Default)]
+struct Tracker {
+    states: HashMap<u64, State>,
+}
+
+impl Tracker {
+    /// The barrier (before, after) that `accesses` need, none when they wait for nothing;
+    /// notes them as done.
+    fn barrier(&mut self, accesses: &[Access]) -> Option<(Scope, Scope)> {
         let mut before = Scope::NOTHING;
         let mut after = Scope::NOTHING;
         for a in accesses {
@@ -135,9 +151,6 @@ impl<'a> FrameGraph<'a> {
                 after = after.and(a.scope);
             }
         }
-        if after != Scope::NOTHING {
-            self.ctx.cmd_barrier(self.cmd, before, after);
-        }
         for a in accesses {
             let state = self.states.get_mut(&a.resource).expect("entered above");
             if state.written.is_some() {
@@ -153,6 +166,7 @@ impl<'a> FrameGraph<'a> {
                 state.read_by |= a.scope.stages;
             }
         }
+        (after != Scope::NOTHING).then_some((before, after))
     }
 }
 
@@ -273,5 +287,82 @@ impl Recorder<'_> {
     pub fn timed(&mut self, name: &str, work: impl FnOnce(vk::CommandBuffer)) {
         let cmd = self.cmd;
         self.timestamps.cmd_timed(cmd, name, || work(cmd));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(resource: u64, scope: Scope) -> Access {
+        Access {
+            resource,
+            scope,
+            writes: false,
+        }
+    }
+
+    fn write(resource: u64, scope: Scope) -> Access {
+        Access {
+            resource,
+            scope,
+            writes: true,
+        }
+    }
+
+    #[test]
+    fn a_first_access_waits_for_nothing() {
+        let mut t = Tracker::default();
+        assert_eq!(t.barrier(&[read(1, Scope::COMPUTE_READ)]), None);
+        assert_eq!(t.barrier(&[write(2, Scope::COMPUTE_WRITE)]), None);
+    }
+
+    #[test]
+    fn a_read_waits_for_the_write_once() {
+        let mut t = Tracker::default();
+        t.barrier(&[write(1, Scope::COMPUTE_WRITE)]);
+        assert_eq!(
+            t.barrier(&[read(1, Scope::COMPUTE_READ)]),
+            Some((Scope::COMPUTE_WRITE, Scope::COMPUTE_READ))
+        );
+        // Made visible to compute reads already: a second reader needs nothing.
+        assert_eq!(t.barrier(&[read(1, Scope::COMPUTE_READ)]), None);
+        // A copy reading it does: the write was not made visible to copies.
+        assert_eq!(
+            t.barrier(&[read(1, Scope::COPY_READ)]),
+            Some((Scope::COMPUTE_WRITE, Scope::COPY_READ))
+        );
+    }
+
+    #[test]
+    fn a_write_waits_for_the_write_and_the_reads_before_it() {
+        let mut t = Tracker::default();
+        t.barrier(&[write(1, Scope::COMPUTE_READ_WRITE)]);
+        t.barrier(&[read(1, Scope::COPY_READ)]);
+        let (before, after) = t.barrier(&[write(1, Scope::COMPUTE_WRITE)]).unwrap();
+        // The earlier write's writes only (not its reads), and the copy's execution.
+        assert_eq!(
+            before,
+            Scope::COMPUTE_WRITE.and(Scope::stages(vk::PipelineStageFlags2::COPY))
+        );
+        assert_eq!(after, Scope::COMPUTE_WRITE);
+    }
+
+    #[test]
+    fn one_barrier_covers_every_access_of_a_pass() {
+        let mut t = Tracker::default();
+        t.barrier(&[write(1, Scope::COMPUTE_WRITE), write(2, Scope::COPY_WRITE)]);
+        let pass = [
+            read(1, Scope::COMPUTE_READ),
+            read(2, Scope::INDIRECT_READ),
+            read(3, Scope::COMPUTE_READ),
+        ];
+        assert_eq!(
+            t.barrier(&pass),
+            Some((
+                Scope::COMPUTE_WRITE.and(Scope::COPY_WRITE),
+                Scope::COMPUTE_READ.and(Scope::INDIRECT_READ)
+            ))
+        );
     }
 }
