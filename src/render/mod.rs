@@ -1,7 +1,10 @@
 //! The frame: scene upload, per-eye planning, the passes in order, timing and read-back.
 
 pub mod accumulate;
+#[cfg(any(test, feature = "test-hooks"))]
+mod compose;
 mod counters;
+mod entry_points;
 mod eye_params;
 mod frame;
 mod graph;
@@ -9,18 +12,26 @@ mod history;
 mod in_flight;
 pub mod output;
 mod passes;
+mod pipelines;
+mod probe;
+mod record;
 mod renderer;
 mod request;
 mod scene_buffers;
 mod settings;
 mod targets;
 mod version;
+mod visibility;
 
+#[cfg(any(test, feature = "test-hooks"))]
+pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
 pub use in_flight::MAX_FRAMES_IN_FLIGHT;
-pub use renderer::{LatticePoint, Renderer};
-pub use request::{eye_views, DebugView, EyeView, FovChoice, FrameRequest, IPD};
+pub use renderer::Renderer;
+pub use request::{
+    eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
+};
 pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
 pub use version::renderer_version;
 

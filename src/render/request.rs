@@ -132,3 +132,48 @@ pub fn eye_views(
         eye(1.0, right_fov, gaze.right),
     ]
 }
+
+/// Commands recorded at the end of a frame's submission, reading its output image (a copy
+/// into a headset's swapchain images).
+pub type AfterFrame<'a> = dyn FnMut(crate::gpu::vk::CommandBuffer, &crate::gpu::StorageImage) + 'a;
+
+/// How [`crate::render::Renderer::frame`] renders a frame: what it waits for, reads back
+/// and latches.
+#[derive(Default)]
+pub struct FrameOptions<'a> {
+    /// Wait for the frame and return it; else it is left in flight and comes from
+    /// `Renderer::next_finished`, in submission order (the oldest frame in flight is waited
+    /// for first when as many as allowed are, `Renderer::set_frames_in_flight`).
+    pub wait: bool,
+    /// Read the frame's pixels back (`Frame::rgb`). Frame-time measurements leave them on
+    /// the GPU, as a headset frame does.
+    pub read_pixels: bool,
+    /// Every eye's gaze (the request's are not used), called after the frame's commands are
+    /// recorded, as the last thing before they are submitted: the gaze is the latest the
+    /// caller can give. Planning from it (O(layers) numbers per eye, `FrameStats::plan_ms`)
+    /// is all that happens on the CPU between the two.
+    pub latch: Option<&'a mut dyn FnMut() -> Vec<crate::foveation::Gaze>>,
+    /// Commands that read the frame's output image, recorded into the frame's own
+    /// submission (a copy into a swapchain image); not called without an output image
+    /// (`Renderer::set_output_image`).
+    pub after: Option<&'a mut AfterFrame<'a>>,
+}
+
+impl FrameOptions<'_> {
+    /// Wait and read the pixels back: a frame to write or compare.
+    pub fn pixels() -> Self {
+        Self {
+            wait: true,
+            read_pixels: true,
+            ..Default::default()
+        }
+    }
+
+    /// Wait, but leave the pixels on the GPU: a frame to time.
+    pub fn measure() -> Self {
+        Self {
+            wait: true,
+            ..Default::default()
+        }
+    }
+}

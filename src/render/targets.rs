@@ -7,6 +7,7 @@
 use super::eye_params::EyeLayers;
 use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::passes::{groups_1d, PLAN_DISPATCH_BYTES};
+use super::settings::MAX_SIDE;
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::shared::{GpuLayer, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
@@ -202,6 +203,7 @@ impl FrameTargets {
         })
     }
 
+    #[cfg(any(test, feature = "test-hooks"))]
     /// Puts `lattice` (made with UNIFORM_TEXEL_BUFFER usage) in place of the lattice values,
     /// and its texel view in place of theirs.
     pub fn replace_lattice(&mut self, lattice: Buffer) -> Result<(), RenderError> {
@@ -258,5 +260,59 @@ impl FrameTargets {
     /// Lattice points per eye (the ray buffer's entries).
     pub fn lattice_len(&self) -> usize {
         self.buffer.offsets.len()
+    }
+}
+
+/// The current frame targets, and the ones used before them, kept so that alternating
+/// between two configs (regular and foveated frames of a bench) does not rebuild the ray
+/// buffer and reallocate the images every frame.
+#[derive(Default)]
+pub struct TargetCache {
+    current: Option<FrameTargets>,
+    spare: Option<FrameTargets>,
+}
+
+impl TargetCache {
+    /// Whether the current targets are `key`'s.
+    pub fn holds(&self, key: &TargetKey) -> bool {
+        self.current.as_ref().is_some_and(|t| t.key == *key)
+    }
+
+    /// Makes `key`'s targets current: the spare ones if they are, else new ones (no frame in
+    /// flight may use the current ones).
+    pub fn switch(&mut self, ctx: &Arc<GpuContext>, key: TargetKey) -> Result<(), RenderError> {
+        if self.spare.as_ref().is_some_and(|t| t.key == key) {
+            std::mem::swap(&mut self.current, &mut self.spare);
+            return Ok(());
+        }
+        // Make room before anything is built: drop the spare targets, then the current ones,
+        // if the new ones would not fit beside them; if they still do not, say why (sizes).
+        if key.check_images(ctx).is_err() {
+            self.spare = None;
+        }
+        if key.check_images(ctx).is_err() {
+            self.current = None;
+        }
+        key.check_images(ctx)?;
+        let eyes = key.fovs.len() as u64;
+        if key.width as u64 * eyes > MAX_SIDE as u64 {
+            return Err(RenderError::Settings(format!(
+                "{eyes} eyes of width {} do not fit one {MAX_SIDE}-pixel-wide image; use a \
+                 smaller --width",
+                key.width
+            )));
+        }
+        self.spare = self.current.take();
+        self.current = Some(FrameTargets::new(ctx, key)?);
+        Ok(())
+    }
+
+    /// The current targets, if a frame made any.
+    pub fn current(&self) -> Option<&FrameTargets> {
+        self.current.as_ref()
+    }
+
+    pub fn current_mut(&mut self) -> Option<&mut FrameTargets> {
+        self.current.as_mut()
     }
 }
