@@ -9,6 +9,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define PASS_PUSH AccumulatePush
 #include "view.glsl"
+#include "colour.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -66,8 +67,7 @@ void main() {
         float range = float(ACCUM_HEAT_LOG2_MAX - ACCUM_HEAT_LOG2_MIN);
         vec3 colour = spp > 0.0 ? turbo((log2(spp) - float(ACCUM_HEAT_LOG2_MIN)) / range) : vec3(0.0);
         // The image's luminance shows through faintly, to see where in the scene a colour is.
-        float luminance = clamp(dot(mean, vec3(0.2126, 0.7152, 0.0722)), 0.0, 1.0);
-        shown = pow(colour, vec3(2.2)) * (0.6 + 0.4 * luminance);
+        shown = pow(colour, vec3(2.2)) * (0.6 + 0.4 * clamp(luminance(mean), 0.0, 1.0));
     } else {
         shown = mean;
     }

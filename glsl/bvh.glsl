@@ -38,7 +38,7 @@ void profile_step(uint lane_counter, uint group_counter) {
 
 struct Hit {
     float t;
-    uint object;    // TLAS object index, or NO_EMITTER for a miss
+    uint object;    // TLAS object index, or NO_OBJECT for a miss
     uint primitive; // global triangle index for instances
     bool overflow;
 };
@@ -137,8 +137,8 @@ LevelRay level_ray(vec3 o, vec3 d) {
 Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     Hit hit;
     hit.t = INF;
-    hit.object = NO_EMITTER;
-    hit.primitive = NO_EMITTER;
+    hit.object = NO_OBJECT;
+    hit.primitive = NO_PRIMITIVE;
     hit.overflow = false;
     if (!(HAS_TRIANGLES || HAS_BOXES || HAS_SPHERES) || scene_info.tlas_node_count == 0u) return hit;
     LevelRay world = level_ray(o, d);
@@ -206,7 +206,7 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
                     t_max = t;
                     hit.t = t;
                     hit.object = index;
-                    hit.primitive = NO_EMITTER; // not a triangle (one hit before may have been)
+                    hit.primitive = NO_PRIMITIVE; // not a triangle (one hit before may have been)
                     if (any_hit) return hit;
                 }
             }

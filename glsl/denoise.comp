@@ -14,6 +14,8 @@
 #define READS_PIXELS
 #define PASS_PUSH DenoisePush
 #include "plan.glsl"
+#include "surface.glsl"
+#include "colour.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -23,7 +25,7 @@ const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
 
 uint pixel_index(ivec2 p) {
-    return (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
+    return eye_pixel_index(p);
 }
 
 vec4 read_input(ivec2 p) {
@@ -36,16 +38,6 @@ void write_output(ivec2 p, vec4 c) {
     } else {
         pixels[pixel_index(p)] = c;
     }
-}
-
-float luminance(vec3 c) {
-    return dot(c, vec3(0.2126, 0.7152, 0.0722));
-}
-
-vec3 from_octahedral(vec2 e) {
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return normalize(n);
 }
 
 bool on_image(ivec2 q) {

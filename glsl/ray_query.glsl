@@ -23,8 +23,8 @@ const float RAY_QUERY_T_LIMIT = 3.4028235e38;
 Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     Hit hit;
     hit.t = INF;
-    hit.object = NO_EMITTER;
-    hit.primitive = NO_EMITTER;
+    hit.object = NO_OBJECT;
+    hit.primitive = NO_PRIMITIVE;
     hit.overflow = false; // the driver's traversal has no stack of ours to overflow
     if (!(HAS_TRIANGLES || HAS_BOXES || HAS_SPHERES) || scene_info.object_count == 0u) return hit;
     vec3 sd = safe_direction(d);

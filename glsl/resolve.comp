@@ -31,10 +31,11 @@
 #define PASS_PUSH EyePush
 #include "plan.glsl"
 #include "view.glsl"
+#include "colour.glsl"
 
 // The frame's pixel p of this eye (PIXELS: eye after eye, rows of pc.eye.width).
 void store_pixel(ivec2 p, vec3 c) {
-    pixels[(pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x)] = vec4(c, 1.0);
+    pixels[eye_pixel_index(p)] = vec4(c, 1.0);
 }
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -58,7 +59,7 @@ vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
 // lattice values) instead of 16 per pixel. The layer's parameters are read once per run:
 // on lavapipe every buffer read per pixel costs about as much as the arithmetic.
 struct Columns {
-    uint k; // the layer (an index into LAYERS), NO_EMITTER before the first use
+    uint k; // the layer (an index into LAYERS), NO_LAYER before the first use
     ivec2 anchor;
     int d;
     float inv_d;
@@ -146,8 +147,7 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
 // A layer's value as shown: itself, or tinted by its layer in the layers debug view.
 vec3 tint(vec3 c, uint depth) {
     if (pc.eye.debug == DEBUG_LAYERS) {
-        float luminance = dot(c, vec3(0.2126, 0.7152, 0.0722));
-        return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance, 0.0, 1.0));
+        return LAYER_COLOURS[min(depth, 7u)] * (0.3 + 0.7 * clamp(luminance(c), 0.0, 1.0));
     }
     return c;
 }
@@ -239,8 +239,8 @@ void main() {
     // Columns of the pixel's layer and of the next one out (blend bands).
     Columns inner;
     Columns outer;
-    inner.k = NO_EMITTER;
-    outer.k = NO_EMITTER;
+    inner.k = NO_LAYER;
+    outer.k = NO_LAYER;
     for (int x = x0; x < x1; ++x) {
         ivec2 p = ivec2(x, y);
         vec3 u = tan_direction(tan_map.xy + vec2(p) * tan_map.zw);

@@ -81,7 +81,11 @@
 #define KIND_SPHERE 2
 #define KIND_TRIANGLE 3 // emitters only: one world-space triangle of an emissive instance
 
-#define NO_EMITTER 0xffffffffu
+#define NO_EMITTER 0xffffffffu  // an object without emitters, a hit on no emitter
+#define NO_OBJECT 0xffffffffu   // a ray that hit nothing (Hit.object, GpuProbeHit.object, SURFACE)
+#define NO_PRIMITIVE 0xffffffffu // a hit on no triangle (an analytic shape or nothing)
+#define NO_MATERIAL 0xffffffffu // a surface without material (nothing was hit)
+#define NO_LAYER 0xffffffffu    // no layer chosen yet
 
 // ---- stats counters (BINDING_STATS), reported after every frame ----------------------------
 #define STAT_NONFINITE 0       // samples that came out NaN/inf and were dropped (counted as black)
@@ -288,7 +292,7 @@ struct GpuLayer {
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
 // the pixel centre's ray (float bits; SURFACE_NONE: the ray left the scene), y the unit normal
 // facing the camera (octahedral, packSnorm2x16), z the object (TLAS index), w its material
-// (z and w NO_EMITTER: none).
+// (z NO_OBJECT and w NO_MATERIAL: none).
 #define SURFACE_NONE 0xbf800000u // -1.0f
 #define SURFACE_HIDDEN 0xfffffffeu // material of a pixel the lens or the occlusion mask hides
 
@@ -312,8 +316,8 @@ struct GpuProbeRay {
 
 struct GpuProbeHit {
     float t; // +inf when nothing was hit
-    uint object; // TLAS object index (after BVH reordering) or NO_EMITTER
-    uint primitive; // triangle index within TRIANGLES, or NO_EMITTER
+    uint object; // TLAS object index (after BVH reordering) or NO_OBJECT
+    uint primitive; // triangle index within TRIANGLES, or NO_PRIMITIVE
     uint overflow; // 1 when the traversal stack overflowed
 };
 

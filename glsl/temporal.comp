@@ -25,6 +25,7 @@
 #define PASS_PUSH EyePush
 #include "plan.glsl"
 #include "view.glsl"
+#include "surface.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -49,12 +50,6 @@ struct Surface {
     uint object;
     uint material;
 };
-
-vec3 from_octahedral(vec2 e) {
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return normalize(n);
-}
 
 Surface decode(uvec4 s) {
     Surface r;
@@ -92,7 +87,7 @@ bool same_surface(Surface a, Surface b, int spacing, float spread, bool near) {
 }
 
 uint history_index(ivec2 p) {
-    return (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
+    return eye_pixel_index(p);
 }
 
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
@@ -122,13 +117,13 @@ void main() {
     uint read_plane = (pc.eye.history >> 1) & 1u;
     uint write_plane = 1u - read_plane;
     GpuHistoryView view = history_views[(pc.eye.history >> 2) * STAT_EYES + pc.eye.index];
-    uint out_index = (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
+    uint out_index = eye_pixel_index(p);
     uint mask_words = visibility[0];
     vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
     bool shown = within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
-        history_store(write_plane, history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_EMITTER, SURFACE_HIDDEN));
+        history_store(write_plane, history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
         return;
     }
 

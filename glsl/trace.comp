@@ -11,6 +11,7 @@
 #include "integrators.glsl"
 #include "plan.glsl"
 #include "view.glsl"
+#include "surface.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
 
@@ -27,23 +28,15 @@ vec3 camera_ray(vec2 pixel, vec2 jitter) {
     return normalize(pc.cam.forward.xyz + t.x * pc.cam.right.xyz + t.y * pc.cam.up.xyz);
 }
 
-// Octahedral encoding of a unit vector into [-1, 1]^2 (packed with packSnorm2x16).
-vec2 octahedral(vec3 n) {
-    n /= abs(n.x) + abs(n.y) + abs(n.z);
-    vec2 e = n.xy;
-    if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return e;
-}
-
 // The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding).
 uvec4 centre_surface(ivec2 p, inout uint overflows) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
     Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
     if (h.overflow) overflows++;
-    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_EMITTER, NO_EMITTER);
+    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
     vec3 n = hit_normal(h, pc.cam.position.xyz + h.t * d);
     if (dot(n, d) > 0.0) n = -n;
-    return uvec4(floatBitsToUint(h.t), packSnorm2x16(octahedral(n)), h.object, load_object_ids(h.object).y);
+    return uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(n)), h.object, load_object_ids(h.object).y);
 }
 
 void main() {

@@ -26,6 +26,12 @@ bool within_angle(vec3 u, vec3 v, float cos_limit) {
     return dot(u, v) > cos_limit;
 }
 
+// Index of this eye's pixel p in PIXELS (and every per-pixel buffer laid out like it): the
+// eyes one after the other, rows of the eye's width.
+uint eye_pixel_index(ivec2 p) {
+    return (pc.eye.index * pc.eye.height + uint(p.y)) * pc.eye.width + uint(p.x);
+}
+
 // This eye's first layer in LAYERS, in the frame slot's set.
 uint eye_layer_base() { return pc.eye.layer_base + pc.eye.index * pc.eye.layer_count; }
 

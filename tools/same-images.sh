@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Do two fovea binaries render bit-identical images? Every built-in scene, mono and stereo,
-# regular and thesis-foveated, both traversals, and temporal sequences (thesis and the
-# denoised config) are rendered by each and their EXRs (linear f32 radiance) compared byte
-# for byte. For refactors that must not change what fovea draws.
+# regular and thesis-foveated, both traversals, the layers view, and temporal sequences
+# (thesis and the denoised config) are rendered by each, and their EXRs' pixels (linear f32
+# radiance) compared bit for bit. For refactors that must not change what fovea draws.
 #
 #   tools/same-images.sh OLD_FOVEA NEW_FOVEA [--size WxH] [--keep DIR]
 #
@@ -51,6 +51,7 @@ for scene in $scenes; do
                 cases+=("$scene-$eyes-$fov-$traversal|--scene $scene ${stereo[*]} ${trav[*]} --foveation $fov")
             done
         done
+        cases+=("$scene-$eyes-layers-view|--scene $scene ${stereo[*]} --foveation thesis --debug layers --gaze corner")
         for config in thesis thesis-denoised; do
             file=$config
             [[ $config == thesis-denoised ]] && file=$root/assets/foveation/thesis-denoised.toml
