@@ -13,8 +13,33 @@ use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
 use std::time::Duration;
 
-/// One 80-byte CWBVH node as the shaders read it (uvec4[5]).
-pub type GpuNode = [u32; 20];
+/// One compressed wide (8-ary) BVH node as glsl/bvh.glsl reads it: five RGBA32UI texels of
+/// BINDING_NODES, the layout of obvhs' `CwBvhNode` (Ylitie et al. 2017, "Efficient
+/// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"), field for field.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuNode {
+    /// The node box's min corner: the origin of its children's quantized grid.
+    pub origin: [f32; 3],
+    /// Per axis, the grid step as a float exponent: step = 2^(e - 127) (the bits e << 23).
+    pub exponents: [u8; 3],
+    /// Bit i: child slot i is an inner node (else a leaf or empty).
+    pub inner_mask: u8,
+    /// Index of the first inner child in the node array; inner children are consecutive.
+    pub child_base: u32,
+    /// Index of the first primitive of the leaf children, in leaf order.
+    pub primitive_base: u32,
+    /// Per child slot: 0 empty; a leaf: primitive count in unary in the high 3 bits, offset
+    /// from `primitive_base` in the low 5; an inner node: 001 then its slot + 24.
+    pub child_meta: [u8; 8],
+    /// Per child slot, its box in grid steps from `origin` (min and max, x, y, z).
+    pub child_min_x: [u8; 8],
+    pub child_max_x: [u8; 8],
+    pub child_min_y: [u8; 8],
+    pub child_max_y: [u8; 8],
+    pub child_min_z: [u8; 8],
+    pub child_max_z: [u8; 8],
+}
 
 pub struct GpuScene {
     pub blas_nodes: Vec<GpuNode>,
@@ -426,6 +451,45 @@ fn collect_emitters(
 mod tests {
     use super::*;
     use crate::scene::{Camera, Environment, Instance, Material, Mesh};
+
+    #[test]
+    fn a_gpu_node_is_obvhs_node_field_for_field() {
+        // Many triangles, so the root has inner children as well as leaves.
+        let tris: Vec<Triangle> = (0..200)
+            .map(|i| {
+                let o = Vec3A::new((i % 10) as f32, (i / 10) as f32 * 0.7, (i % 7) as f32 * 0.3);
+                Triangle {
+                    v0: o,
+                    v1: o + Vec3A::X * 0.5,
+                    v2: o + Vec3A::Y * 0.5,
+                }
+            })
+            .collect();
+        let bvh = build_cwbvh_from_tris(&tris, build_params(), &mut Duration::default());
+        let nodes = node_words(&bvh);
+        assert_eq!(nodes.len(), bvh.nodes.len());
+        assert_eq!(
+            std::mem::size_of::<GpuNode>(),
+            TEXELS_PER_NODE as usize * 16
+        );
+        for (gpu, cpu) in nodes.iter().zip(&bvh.nodes) {
+            assert_eq!(gpu.origin, cpu.p.to_array());
+            assert_eq!(gpu.exponents, cpu.e);
+            assert_eq!(gpu.inner_mask, cpu.imask);
+            assert_eq!(gpu.child_base, cpu.child_base_idx);
+            assert_eq!(gpu.primitive_base, cpu.primitive_base_idx);
+            assert_eq!(gpu.child_meta, cpu.child_meta);
+            assert_eq!(
+                [gpu.child_min_x, gpu.child_max_x, gpu.child_min_y],
+                [cpu.child_min_x, cpu.child_max_x, cpu.child_min_y]
+            );
+            assert_eq!(
+                [gpu.child_max_y, gpu.child_min_z, gpu.child_max_z],
+                [cpu.child_max_y, cpu.child_min_z, cpu.child_max_z]
+            );
+        }
+        assert!(nodes[0].inner_mask != 0, "the root has inner children");
+    }
 
     fn emissive_triangle_scene(transform: Mat4) -> Scene {
         Scene {
