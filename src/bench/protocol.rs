@@ -53,10 +53,6 @@ impl Mode {
     pub fn parse(s: &str) -> Option<Mode> {
         Mode::ALL.into_iter().find(|m| m.name() == s)
     }
-
-    pub fn is_foveated(self) -> bool {
-        self != Mode::Regular
-    }
 }
 
 /// Every parameter of a run. Serialized into plan.json and summary.json.
