@@ -12,12 +12,12 @@ use super::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
 use super::motion::{MotionScript, Sequence};
 use super::motion_images::Animation;
 use super::protocol::{BenchPlan, RunOptions, EYES};
-use super::quality::{self, eye_image, hidden_black, visible_pixels};
+use super::quality::{self, eye_image};
 use super::rows::{MotionJodRow, MotionRow, EYE_NAMES};
 use crate::foveation::{Gaze, GazeChoice};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::VideoJod;
-use crate::metrics::{self, BANDS};
+use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
 use crate::render::accumulate::frame_seed;
 use crate::render::{
     eye_views, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
@@ -175,8 +175,9 @@ pub fn run(
                     }
                 }
                 let (w, h) = (plan.width, plan.height);
+                let occlusion = plan.foveation.occlusion_deg;
                 for (e, video) in videos.iter_mut().enumerate() {
-                    let visible = visible_pixels(plan, &eyes[k as usize][e].image(w, h));
+                    let visible = visible_pixels(&eyes[k as usize][e].image(w, h), occlusion);
                     let eye_of =
                         |rgb: &[f32]| hidden_black(eye_image(rgb, EYES, w, h, e as u32), &visible);
                     video.push(&eye_of(&frame.rgb), &eye_of(&truth), frame.gazes[e].0)?;
@@ -187,7 +188,7 @@ pub fn run(
                     sequence,
                     &eye_image(&frame.rgb, EYES, w, h, 0),
                     &eye_image(&truth, EYES, w, h, 0),
-                    &visible_pixels(plan, &eyes[k as usize][0].image(w, h)),
+                    &visible_pixels(&eyes[k as usize][0].image(w, h), occlusion),
                     frame.gazes[0].0,
                 )?;
                 before = Some((truth, frame.rgb));
@@ -257,7 +258,7 @@ fn measure_frame(
         let eye_of = |rgb: &[f32]| eye_image(rgb, EYES, w, h, e as u32);
         let (test, reference) = (eye_of(&frame.rgb), eye_of(truth));
         let earlier = before.map(|(r, t)| (eye_of(r), eye_of(t)));
-        let visible = visible_pixels(plan, &image);
+        let visible = visible_pixels(&image, plan.foveation.occlusion_deg);
         let gaze = frame.gazes[e].0;
         let mut regions = vec![("whole".to_string(), visible.clone())];
         for (band, mut mask) in BANDS.iter().zip(metrics::band_masks(&image, gaze)?) {

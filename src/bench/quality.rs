@@ -5,9 +5,9 @@
 use super::error::BenchError;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{QualityRow, EYE_NAMES};
-use crate::foveation::{FoveationConfig, ImageGeometry};
+use crate::foveation::FoveationConfig;
 use crate::metrics::jod::Fvvdp;
-use crate::metrics::{self, BANDS};
+use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
 use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
 use crate::scene::fingerprint::Fingerprint;
 use std::path::{Path, PathBuf};
@@ -190,27 +190,6 @@ pub fn eye_image(rgb: &[f32], eyes: u32, width: u32, height: u32, eye: u32) -> V
         .collect()
 }
 
-/// The pixels an eye can see: pixels outside the occlusion mask are hidden by the lens,
-/// foveated frames leave them black, and no mode is judged on them.
-pub fn visible_pixels(plan: &BenchPlan, image: &ImageGeometry) -> Vec<bool> {
-    match plan.foveation.occlusion_deg {
-        Some(deg) => metrics::eccentricity_deg(image, image.axis_pixel())
-            .iter()
-            .map(|&e| e <= deg)
-            .collect(),
-        None => vec![true; (plan.width * plan.height) as usize],
-    }
-}
-
-/// `rgb` with the pixels outside `visible` black: what the lens hides is judged in neither
-/// image (and FLIP's edge filters do not see the mask's rim as an error).
-pub fn hidden_black(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
-    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
-        px.fill(0.0);
-    }
-    rgb
-}
-
 /// What one (scene, mode, spp) point of the sweep measured.
 pub struct Point {
     pub rows: Vec<QualityRow>,
@@ -259,7 +238,7 @@ pub fn measure_point(
     };
     for (e, eye) in eyes.iter().enumerate() {
         let image = eye.image(plan.width, plan.height);
-        let visible = visible_pixels(plan, &image);
+        let visible = visible_pixels(&image, plan.foveation.occlusion_deg);
         let test = hidden_black(
             eye_image(&frame.rgb, n, plan.width, plan.height, e as u32),
             &visible,
