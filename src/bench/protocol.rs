@@ -2,7 +2,7 @@
 //! forward gaze, corner gaze) × frames × repeats, both eyes, plus the quality sweep. A run's
 //! plan is written to `plan.json` first, so `--resume` repeats it exactly.
 
-use super::motion::MotionScript;
+use super::motion::script::MotionScript;
 use crate::foveation::FoveationConfig;
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};

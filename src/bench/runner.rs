@@ -1,43 +1,26 @@
 //! Runs a bench plan into a results directory: times every frame of every unit (modes
 //! interleaved), then sweeps spp for run time against error, writing each measurement as it
 //! is taken. Whatever the directory already holds is kept and not measured again, which is
-//! how `--resume` completes an interrupted run.
+//! how `--resume` completes an interrupted run. A plan with a motion script goes to
+//! [`motion::run`](super::motion::run) once its directory is open.
 
 use super::csv_log::CsvLog;
 use super::error::BenchError;
-use super::files::{strip_path, COMMANDS_FILE, FRAMES_FILE, PLAN_FILE, QUALITY_FILE, TRACE_FILE};
+use super::files::{strip_path, FRAMES_FILE, QUALITY_FILE, TRACE_FILE};
 use super::perfetto::TraceWriter;
 use super::protocol::{BenchPlan, FrameKey, Mode, RunOptions, EYES};
 use super::quality::{self, Point};
 use super::rows::{FrameRow, QualityRow};
+use super::setup::{open_run_dir, perceptual_metric, progress_bar};
 use super::{images, report};
 use crate::foveation::{Gaze, GazeChoice, GazeTrace};
 use crate::gpu::GpuContext;
-use crate::metrics::jod::{Fvvdp, JodError};
 use crate::render::{eye_views, DebugView, EyeView, FrameRequest, Renderer};
 use crate::scene::{self, Scene};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
-
-/// Reads the plan of an existing results directory (for `--resume`).
-pub fn read_plan(dir: &Path) -> Result<BenchPlan, BenchError> {
-    let path = dir.join(PLAN_FILE);
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        BenchError::file(
-            &path,
-            format!("{e}; --resume needs the directory of an earlier `fovea bench` run"),
-        )
-    })?;
-    serde_json::from_str(&text).map_err(|e| {
-        BenchError::file(
-            &path,
-            format!("not a bench plan of this version of fovea ({e})"),
-        )
-    })
-}
 
 /// The eyes of a mode's frames: both eyes, gaze on the view axis or the top-left corner.
 pub fn mode_eyes(scene: &Scene, plan: &BenchPlan, mode: Mode) -> Vec<EyeView> {
@@ -95,54 +78,6 @@ fn read_trace(plan: &BenchPlan) -> Result<Option<GazeTrace>, BenchError> {
     Ok(Some(trace))
 }
 
-/// Checks the plan and its scenes, writes plan.json (or checks that the directory's is the
-/// same) and adds this command line to commands.txt. Returns every command line so far.
-fn open_run_dir(plan: &BenchPlan, dir: &Path, options: &RunOptions) -> Result<String, BenchError> {
-    plan.validate().map_err(BenchError::Plan)?;
-    // Every scene must load before anything is written: a typo should not leave a run
-    // directory behind that can only fail again on resume.
-    let aspect = plan.width as f32 / plan.height as f32;
-    for name in &plan.scenes {
-        scene::load(name, aspect)?;
-    }
-    std::fs::create_dir_all(dir).map_err(|e| BenchError::file(dir, e))?;
-    let plan_path = dir.join(PLAN_FILE);
-    if plan_path.exists() {
-        if read_plan(dir)? != *plan {
-            return Err(BenchError::Plan(format!(
-                "{} holds a run with other parameters; resume it with --resume {} alone, or \
-                 measure into a new directory",
-                dir.display(),
-                dir.display()
-            )));
-        }
-    } else {
-        let json = serde_json::to_string_pretty(plan).expect("plans serialize");
-        std::fs::write(&plan_path, json).map_err(|e| BenchError::file(&plan_path, e))?;
-    }
-
-    let commands_path = dir.join(COMMANDS_FILE);
-    let mut commands = std::fs::read_to_string(&commands_path).unwrap_or_default();
-    commands.push_str(&options.command_line);
-    commands.push('\n');
-    std::fs::write(&commands_path, &commands).map_err(|e| BenchError::file(&commands_path, e))?;
-
-    Ok(commands)
-}
-
-/// FovVideoVDP, started once for the run; without its venv the run goes on without JOD
-/// scores and says how to get them.
-pub fn perceptual_metric() -> Result<Option<Fvvdp>, BenchError> {
-    match Fvvdp::start() {
-        Ok(metric) => Ok(Some(metric)),
-        Err(e @ JodError::NotFound { .. }) => {
-            eprintln!("fovea bench: no JOD scores in this run: {e}");
-            Ok(None)
-        }
-        Err(e) => Err(e.into()),
-    }
-}
-
 /// Runs `plan` into `dir` (created if missing) and writes the summary, report and plots.
 pub fn run(
     ctx: &Arc<GpuContext>,
@@ -153,7 +88,7 @@ pub fn run(
     let gaze_trace = read_trace(plan)?;
     let commands = open_run_dir(plan, dir, options)?;
     if let Some(script) = &plan.motion {
-        return super::motion_run::run(ctx, plan, script, dir, options, &commands);
+        return super::motion::run(ctx, plan, script, dir, options, &commands);
     }
     let aspect = plan.width as f32 / plan.height as f32;
 
@@ -203,11 +138,7 @@ pub fn run(
         })
         .filter(|p| !done_points.contains(p))
         .collect();
-    let bar = ProgressBar::new((pending_frames.len() + pending_points.len()) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} (eta {eta}) {msg}")
-            .expect("a valid template"),
-    );
+    let bar = progress_bar((pending_frames.len() + pending_points.len()) as u64);
     let mut measured = 0u64;
 
     for scene_name in &plan.scenes {

@@ -1,13 +1,15 @@
 //! A motion run's summary.json, report.md and plots, from its rows (motion.csv) alone.
 
-use super::error::BenchError;
-use super::files::{animation_path, ANIMATION_FRAME_MS, COMMANDS_FILE, MOTION_FILE, PLAN_FILE};
-use super::motion::{MotionScript, Sequence};
-use super::plots::{per_frame_lines, Series};
-use super::protocol::{flag_value, BenchPlan, EYES};
-use super::report::{header, layers_text, ReportHead};
-use super::rows::{MotionJodRow, MotionRow};
-use super::summary::{mean, utc_now, Device};
+use super::script::{MotionScript, Sequence};
+use crate::bench::error::BenchError;
+use crate::bench::files::{
+    animation_path, ANIMATION_FRAME_MS, COMMANDS_FILE, MOTION_FILE, PLAN_FILE,
+};
+use crate::bench::plots::{per_frame_lines, Series};
+use crate::bench::protocol::{flag_value, BenchPlan, EYES};
+use crate::bench::report::{header, layers_text, ReportHead};
+use crate::bench::rows::{MotionJodRow, MotionRow};
+use crate::bench::summary::{mean, utc_now, Device};
 use crate::gpu::DeviceInfo;
 use crate::metrics::BANDS;
 use serde::Serialize;

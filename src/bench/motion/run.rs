@@ -6,14 +6,15 @@
 //! A sequence is the unit of resume: one whose rows are all in motion.csv is not rendered
 //! again; a partial one starts over (its history cannot be restored mid-sequence).
 
-use super::csv_log::CsvLog;
-use super::error::BenchError;
-use super::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
-use super::motion::{MotionScript, Sequence};
-use super::motion_images::Animation;
-use super::protocol::{BenchPlan, RunOptions, EYES};
-use super::quality::{self, eye_image};
-use super::rows::{MotionJodRow, MotionRow, EYE_NAMES};
+use super::images::Animation;
+use super::script::{MotionScript, Sequence};
+use crate::bench::csv_log::CsvLog;
+use crate::bench::error::BenchError;
+use crate::bench::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
+use crate::bench::protocol::{BenchPlan, RunOptions, EYES};
+use crate::bench::quality::{self, eye_image};
+use crate::bench::rows::{MotionJodRow, MotionRow, EYE_NAMES};
+use crate::bench::setup::{perceptual_metric, progress_bar};
 use crate::foveation::{Gaze, GazeChoice};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::VideoJod;
@@ -23,7 +24,6 @@ use crate::render::{
     eye_views, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
 use crate::scene::{self, Scene};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 use std::sync::Arc;
@@ -83,13 +83,9 @@ pub fn run(
         .map(|r| (r.scene.clone(), r.sequence.clone()))
         .collect();
     let (mut jod_log, _) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
-    let mut metric = super::runner::perceptual_metric()?;
+    let mut metric = perceptual_metric()?;
     let sequences = Sequence::all(plan.spp);
-    let bar = ProgressBar::new(plan.scenes.len() as u64 * 4 * plan.frames as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} (eta {eta}) {msg}")
-            .expect("a valid template"),
-    );
+    let bar = progress_bar(plan.scenes.len() as u64 * 4 * plan.frames as u64);
     let aspect = plan.width as f32 / plan.height as f32;
     for scene_name in &plan.scenes {
         let animation_file = animation_path(dir, scene_name);
@@ -214,7 +210,7 @@ pub fn run(
     drop(jod_log);
     let (_, rows) = CsvLog::<MotionRow>::open(&dir.join(MOTION_FILE))?;
     let (_, jods) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
-    super::motion_report::write_all(
+    super::report::write_all(
         dir,
         plan,
         script,
