@@ -15,18 +15,22 @@ use crate::bench::protocol::{BenchPlan, RunOptions, EYES};
 use crate::bench::quality::{self, eye_image};
 use crate::bench::rows::{MotionJodRow, MotionRow, EYE_NAMES};
 use crate::bench::setup::{perceptual_metric, progress_bar};
-use crate::foveation::{Gaze, GazeChoice};
+use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
 use crate::gpu::GpuContext;
-use crate::metrics::jod::VideoJod;
+use crate::metrics::jod::{Fvvdp, VideoJod};
 use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
 use crate::render::accumulate::frame_seed;
 use crate::render::{
     eye_views, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
 use crate::scene::{self, Scene};
+use indicatif::ProgressBar;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 use std::sync::Arc;
+
+/// A sequence of a scene: (scene, sequence name).
+type SequenceKey = (String, String);
 
 /// Regions measured per eye: the whole visible image, then each eccentricity band.
 const REGIONS: u32 = 1 + BANDS.len() as u32;
@@ -58,6 +62,8 @@ pub fn frame_eyes(
         .collect()
 }
 
+/// Runs the motion `plan` into `dir` (opened by the caller, whose command lines so far are
+/// `commands`) and writes its summary, report, plots and animations.
 pub fn run(
     ctx: &Arc<GpuContext>,
     plan: &BenchPlan,
@@ -66,9 +72,37 @@ pub fn run(
     options: &RunOptions,
     commands: &str,
 ) -> Result<(), BenchError> {
+    let (log, done) = open_motion_log(dir, plan)?;
+    let (jod_log, _) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
+    let metric = perceptual_metric()?;
+    let mut run = MotionRun {
+        ctx,
+        plan,
+        script,
+        options,
+        sequences: Sequence::all(plan.spp),
+        done,
+        bar: progress_bar(plan.scenes.len() as u64 * 4 * plan.frames as u64),
+        log,
+        jod_log,
+        metric,
+    };
+    for scene_name in &plan.scenes {
+        run.scene(scene_name, &animation_path(dir, scene_name))?;
+    }
+    run.finish();
+    write_report(ctx, plan, script, dir, commands)
+}
+
+/// motion.csv, keeping the sequences whose rows are all there (a partial one starts over),
+/// and those sequences as (scene, sequence name).
+fn open_motion_log(
+    dir: &Path,
+    plan: &BenchPlan,
+) -> Result<(CsvLog<MotionRow>, HashSet<SequenceKey>), BenchError> {
     let per_sequence = plan.frames * EYES * REGIONS;
-    let (mut log, rows) = CsvLog::<MotionRow>::open_keeping(&dir.join(MOTION_FILE), |rows| {
-        let mut count: HashMap<(String, String), u32> = HashMap::new();
+    let (log, rows) = CsvLog::<MotionRow>::open_keeping(&dir.join(MOTION_FILE), |rows| {
+        let mut count: HashMap<SequenceKey, u32> = HashMap::new();
         for r in &rows {
             *count
                 .entry((r.scene.clone(), r.sequence.clone()))
@@ -78,136 +112,21 @@ pub fn run(
             .filter(|r| count[&(r.scene.clone(), r.sequence.clone())] == per_sequence)
             .collect()
     })?;
-    let done: HashSet<(String, String)> = rows
+    let done = rows
         .iter()
         .map(|r| (r.scene.clone(), r.sequence.clone()))
         .collect();
-    let (mut jod_log, _) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
-    let mut metric = perceptual_metric()?;
-    let sequences = Sequence::all(plan.spp);
-    let bar = progress_bar(plan.scenes.len() as u64 * 4 * plan.frames as u64);
-    let aspect = plan.width as f32 / plan.height as f32;
-    for scene_name in &plan.scenes {
-        let animation_file = animation_path(dir, scene_name);
-        let pending = |s: &Sequence| !done.contains(&(scene_name.clone(), s.name()));
-        if !sequences.iter().any(pending) && animation_file.exists() {
-            bar.inc(4 * plan.frames as u64);
-            continue;
-        }
-        let scene = scene::load(scene_name, aspect)?;
-        let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(scene_name))?;
-        renderer
-            .set_traversal(plan.traversal)
-            .map_err(BenchError::render(scene_name))?;
-        let eyes: Vec<Vec<EyeView>> = (0..plan.frames)
-            .map(|k| frame_eyes(&scene, plan, script, k))
-            .collect();
-        let reference = |renderer: &mut Renderer, k: u32| {
-            let eyes = &eyes[k as usize];
-            // Frames of one pose share a reference (a still sequence renders one).
-            let path = quality::ReferenceKey::new(renderer, plan, scene_name, eyes)
-                .path(&options.reference_cache);
-            quality::reference_image(renderer, plan, scene_name, eyes, &path, &mut |_, _| {})
-        };
-        let mut animation = Animation::new(plan.width, plan.height, plan.reference_spp, &sequences);
-        // References first, with the history off (they are regular frames).
-        renderer
-            .set_temporal(None)
-            .map_err(BenchError::render(scene_name))?;
-        for k in 0..plan.frames {
-            bar.set_message(format!("{scene_name}: reference of frame {k}"));
-            let rgb = reference(&mut renderer, k)?;
-            animation.add_reference(k, &eye_image(&rgb, EYES, plan.width, plan.height, 0));
-            bar.inc(1);
-        }
-        for (index, sequence) in sequences.iter().enumerate() {
-            let measured = !pending(sequence);
-            if measured && animation_file.exists() {
-                bar.inc(plan.frames as u64);
-                continue;
-            }
-            renderer
-                .set_temporal(sequence.temporal.then(TemporalSettings::default))
-                .map_err(BenchError::render(scene_name))?;
-            let config = sequence.config(&plan.foveation);
-            let request = |k: u32| FrameRequest {
-                settings: RenderSettings {
-                    seed: frame_seed(plan.seed, k),
-                    ..quality::settings(plan, sequence.spp)
-                },
-                foveation: &config,
-                eyes: &eyes[k as usize],
-                debug: DebugView::None,
-            };
-            // One warm-up frame, forgotten: the first dispatch of a pipeline (on lavapipe,
-            // its compilation) must not count as the sequence's first frame.
-            renderer
-                .measure_frame(&request(0))
-                .map_err(BenchError::render(scene_name))?;
-            renderer.reset_history();
-            let mut before: Option<(Vec<f32>, Vec<f32>)> = None;
-            // Each eye's sequence as a video for FovVideoVDP (when its venv is there).
-            let mut videos: Vec<VideoJod> = match (&metric, measured) {
-                (Some(_), false) => (eyes[0].iter())
-                    .map(|e| VideoJod::new(e.image(plan.width, plan.height)))
-                    .collect::<Result<_, _>>()?,
-                _ => Vec::new(),
-            };
-            for k in 0..plan.frames {
-                bar.set_message(format!("{scene_name}: {} frame {k}", sequence.name()));
-                let truth = reference(&mut renderer, k)?;
-                let frame = renderer
-                    .render_frame(&request(k))
-                    .map_err(BenchError::render(scene_name))?;
-                if !measured {
-                    let at = FrameAt {
-                        scene: scene_name,
-                        sequence,
-                        frame: k,
-                        eyes: &eyes[k as usize],
-                    };
-                    for row in measure_frame(plan, script, &at, &frame, &truth, before.as_ref())? {
-                        log.append(&row)?;
-                    }
-                }
-                let (w, h) = (plan.width, plan.height);
-                let occlusion = plan.foveation.occlusion_deg;
-                for (e, video) in videos.iter_mut().enumerate() {
-                    let visible = visible_pixels(&eyes[k as usize][e].image(w, h), occlusion);
-                    let eye_of =
-                        |rgb: &[f32]| hidden_black(eye_image(rgb, EYES, w, h, e as u32), &visible);
-                    video.push(&eye_of(&frame.rgb), &eye_of(&truth), frame.gazes[e].0)?;
-                }
-                animation.add_sequence(
-                    k,
-                    index,
-                    sequence,
-                    &eye_image(&frame.rgb, EYES, w, h, 0),
-                    &eye_image(&truth, EYES, w, h, 0),
-                    &visible_pixels(&eyes[k as usize][0].image(w, h), occlusion),
-                    frame.gazes[0].0,
-                )?;
-                before = Some((truth, frame.rgb));
-                bar.inc(1);
-            }
-            if let Some(metric) = metric.as_mut() {
-                for (e, video) in videos.iter().enumerate() {
-                    bar.set_message(format!("{scene_name}: {} JOD", sequence.name()));
-                    jod_log.append(&MotionJodRow {
-                        scene: scene_name.clone(),
-                        sequence: sequence.name(),
-                        eye: EYE_NAMES[e].to_string(),
-                        frames: video.frames() as u32,
-                        jod: video.score(metric, script.frame_rate_hz)?,
-                    })?;
-                }
-            }
-        }
-        animation.write(&animation_file, plan.frames)?;
-    }
-    bar.finish_and_clear();
-    drop(log);
-    drop(jod_log);
+    Ok((log, done))
+}
+
+/// Reads back everything the directory holds and writes the summary, report and plots.
+fn write_report(
+    ctx: &GpuContext,
+    plan: &BenchPlan,
+    script: &MotionScript,
+    dir: &Path,
+    commands: &str,
+) -> Result<(), BenchError> {
     let (_, rows) = CsvLog::<MotionRow>::open(&dir.join(MOTION_FILE))?;
     let (_, jods) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
     super::report::write_all(
@@ -219,6 +138,234 @@ pub fn run(
         &rows,
         &jods,
     )
+}
+
+/// What the motion run carries from scene to scene.
+struct MotionRun<'a> {
+    ctx: &'a Arc<GpuContext>,
+    plan: &'a BenchPlan,
+    script: &'a MotionScript,
+    options: &'a RunOptions,
+    sequences: [Sequence; 3],
+    /// (scene, sequence) whose rows are all in motion.csv.
+    done: HashSet<SequenceKey>,
+    bar: ProgressBar,
+    log: CsvLog<MotionRow>,
+    jod_log: CsvLog<MotionJodRow>,
+    metric: Option<Fvvdp>,
+}
+
+/// One scene, loaded: its renderer and both eyes of every frame.
+struct MotionScene<'a> {
+    name: &'a str,
+    renderer: Renderer,
+    eyes: Vec<Vec<EyeView>>,
+}
+
+impl MotionRun<'_> {
+    /// The scene's references, then each sequence not yet measured, then its animation at
+    /// `animation_file` (a sequence already measured is rendered again when the animation is
+    /// missing, for its panels). A scene with nothing left is not loaded.
+    fn scene(&mut self, scene_name: &str, animation_file: &Path) -> Result<(), BenchError> {
+        let plan = self.plan;
+        let pending = |s: &Sequence| !self.done.contains(&(scene_name.to_string(), s.name()));
+        if !self.sequences.iter().any(pending) && animation_file.exists() {
+            self.bar.inc(4 * plan.frames as u64);
+            return Ok(());
+        }
+        let measured: Vec<bool> = self.sequences.iter().map(|s| !pending(s)).collect();
+        let mut scene = self.load(scene_name)?;
+        let mut animation =
+            Animation::new(plan.width, plan.height, plan.reference_spp, &self.sequences);
+        // References first, with the history off (they are regular frames).
+        scene
+            .renderer
+            .set_temporal(None)
+            .map_err(BenchError::render(scene_name))?;
+        for k in 0..plan.frames {
+            self.bar
+                .set_message(format!("{scene_name}: reference of frame {k}"));
+            let rgb = self.reference(&mut scene, k)?;
+            animation.add_reference(k, &eye_image(&rgb, EYES, plan.width, plan.height, 0));
+            self.bar.inc(1);
+        }
+        for (index, measured) in measured.into_iter().enumerate() {
+            if measured && animation_file.exists() {
+                self.bar.inc(plan.frames as u64);
+                continue;
+            }
+            self.sequence(&mut scene, index, measured, &mut animation)?;
+        }
+        animation.write(animation_file, plan.frames)?;
+        Ok(())
+    }
+
+    /// Loads the scene and works out both eyes of every frame.
+    fn load<'n>(&self, scene_name: &'n str) -> Result<MotionScene<'n>, BenchError> {
+        let plan = self.plan;
+        let aspect = plan.width as f32 / plan.height as f32;
+        let scene = scene::load(scene_name, aspect)?;
+        let mut renderer =
+            Renderer::new(self.ctx, &scene).map_err(BenchError::render(scene_name))?;
+        renderer
+            .set_traversal(plan.traversal)
+            .map_err(BenchError::render(scene_name))?;
+        let eyes = (0..plan.frames)
+            .map(|k| frame_eyes(&scene, plan, self.script, k))
+            .collect();
+        Ok(MotionScene {
+            name: scene_name,
+            renderer,
+            eyes,
+        })
+    }
+
+    /// The converged reference of frame `k`'s pose (from the cache, or rendered into it).
+    /// Frames of one pose share a reference (a still sequence renders one).
+    fn reference(&self, scene: &mut MotionScene, k: u32) -> Result<Vec<f32>, BenchError> {
+        let (plan, name) = (self.plan, scene.name);
+        let eyes = &scene.eyes[k as usize];
+        let path = quality::ReferenceKey::new(&scene.renderer, plan, name, eyes)
+            .path(&self.options.reference_cache);
+        quality::reference_image(&mut scene.renderer, plan, name, eyes, &path, &mut |_, _| {})
+    }
+
+    /// Renders sequence `index` frame by frame: its rows (unless `measured` already), each
+    /// eye's video for FovVideoVDP and its JOD rows, and its panels of the animation.
+    fn sequence(
+        &mut self,
+        scene: &mut MotionScene,
+        index: usize,
+        measured: bool,
+        animation: &mut Animation,
+    ) -> Result<(), BenchError> {
+        let (plan, sequence) = (self.plan, self.sequences[index]);
+        scene
+            .renderer
+            .set_temporal(sequence.temporal.then(TemporalSettings::default))
+            .map_err(BenchError::render(scene.name))?;
+        let config = sequence.config(&plan.foveation);
+        // One warm-up frame, forgotten: the first dispatch of a pipeline (on lavapipe, its
+        // compilation) must not count as the sequence's first frame.
+        scene
+            .renderer
+            .measure_frame(&frame_request(plan, &sequence, &config, &scene.eyes[0], 0))
+            .map_err(BenchError::render(scene.name))?;
+        scene.renderer.reset_history();
+        let mut before: Option<(Vec<f32>, Vec<f32>)> = None;
+        // Each eye's sequence as a video for FovVideoVDP (when its venv is there).
+        let mut videos: Vec<VideoJod> = match (&self.metric, measured) {
+            (Some(_), false) => (scene.eyes[0].iter())
+                .map(|e| VideoJod::new(e.image(plan.width, plan.height)))
+                .collect::<Result<_, _>>()?,
+            _ => Vec::new(),
+        };
+        for k in 0..plan.frames {
+            self.bar
+                .set_message(format!("{}: {} frame {k}", scene.name, sequence.name()));
+            let truth = self.reference(scene, k)?;
+            let eyes = &scene.eyes[k as usize];
+            let frame = scene
+                .renderer
+                .render_frame(&frame_request(plan, &sequence, &config, eyes, k))
+                .map_err(BenchError::render(scene.name))?;
+            if !measured {
+                let at = FrameAt {
+                    scene: scene.name,
+                    sequence: &sequence,
+                    frame: k,
+                    eyes,
+                };
+                let rows = measure_frame(plan, self.script, &at, &frame, &truth, before.as_ref())?;
+                for row in rows {
+                    self.log.append(&row)?;
+                }
+            }
+            add_to_videos(plan, eyes, &frame, &truth, &mut videos)?;
+            animation.add_sequence(
+                k,
+                index,
+                &sequence,
+                &eye_image(&frame.rgb, EYES, plan.width, plan.height, 0),
+                &eye_image(&truth, EYES, plan.width, plan.height, 0),
+                &visible_pixels(
+                    &eyes[0].image(plan.width, plan.height),
+                    plan.foveation.occlusion_deg,
+                ),
+                frame.gazes[0].0,
+            )?;
+            before = Some((truth, frame.rgb));
+            self.bar.inc(1);
+        }
+        self.score_videos(scene.name, &sequence, &videos)
+    }
+
+    /// Appends each eye's JOD of the sequence to motion_jod.csv (with FovVideoVDP).
+    fn score_videos(
+        &mut self,
+        scene_name: &str,
+        sequence: &Sequence,
+        videos: &[VideoJod],
+    ) -> Result<(), BenchError> {
+        let Some(metric) = self.metric.as_mut() else {
+            return Ok(());
+        };
+        for (e, video) in videos.iter().enumerate() {
+            self.bar
+                .set_message(format!("{scene_name}: {} JOD", sequence.name()));
+            self.jod_log.append(&MotionJodRow {
+                scene: scene_name.to_string(),
+                sequence: sequence.name(),
+                eye: EYE_NAMES[e].to_string(),
+                frames: video.frames() as u32,
+                jod: video.score(metric, self.script.frame_rate_hz)?,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Closes the progress bar and the logs.
+    fn finish(self) {
+        self.bar.finish_and_clear();
+        drop(self.log);
+        drop(self.jod_log);
+    }
+}
+
+/// The request of frame `k` of `sequence`: its own seed, the sequence's spp and layers.
+fn frame_request<'a>(
+    plan: &BenchPlan,
+    sequence: &Sequence,
+    config: &'a FoveationConfig,
+    eyes: &'a [EyeView],
+    k: u32,
+) -> FrameRequest<'a> {
+    FrameRequest {
+        settings: RenderSettings {
+            seed: frame_seed(plan.seed, k),
+            ..quality::settings(plan, sequence.spp)
+        },
+        foveation: config,
+        eyes,
+        debug: DebugView::None,
+    }
+}
+
+/// Adds the frame and its reference, each eye's visible pixels, to that eye's video.
+fn add_to_videos(
+    plan: &BenchPlan,
+    eyes: &[EyeView],
+    frame: &Frame,
+    truth: &[f32],
+    videos: &mut [VideoJod],
+) -> Result<(), BenchError> {
+    let (w, h) = (plan.width, plan.height);
+    for (e, video) in videos.iter_mut().enumerate() {
+        let visible = visible_pixels(&eyes[e].image(w, h), plan.foveation.occlusion_deg);
+        let eye_of = |rgb: &[f32]| hidden_black(eye_image(rgb, EYES, w, h, e as u32), &visible);
+        video.push(&eye_of(&frame.rgb), &eye_of(truth), frame.gazes[e].0)?;
+    }
+    Ok(())
 }
 
 /// Which frame of which sequence a measurement belongs to.
