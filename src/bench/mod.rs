@@ -21,6 +21,8 @@ pub mod plots;
 pub mod protocol;
 pub mod quality;
 pub mod report;
+pub mod report_head;
+pub mod report_plots;
 pub mod rows;
 pub mod runner;
 pub mod setup;
