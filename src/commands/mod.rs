@@ -1,11 +1,10 @@
-//! One file per subcommand, plus what they share: GPU selection and the validation check.
+//! One file (or folder) per subcommand, plus what they share: GPU selection and the
+//! validation check.
 
 pub mod bench;
 pub mod check;
 pub mod gpu_report;
 pub mod render;
-pub mod render_bench;
-pub mod render_sequence;
 pub mod scenes;
 pub mod tune;
 pub mod view;

@@ -2,6 +2,7 @@
 //! moving each eye's foveation; or the same through the simulated headset.
 
 use super::check_validation_messages;
+use super::render::args::OnOff;
 use super::GpuArgs;
 use anyhow::{bail, Result};
 use clap::Args;
@@ -59,8 +60,8 @@ pub struct XrArgs {
     /// `fovea bench --motion` measured it under head turns and saccades to cut error in every
     /// eccentricity band and peripheral flicker 5-12x, at less GPU time than twice the spp
     /// without it (README, "Temporal history under motion").
-    #[arg(long, value_enum, default_value_t = super::render::OnOff::On)]
-    pub temporal: super::render::OnOff,
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub temporal: OnOff,
     /// Use the simulated headset linked into fovea instead of the system's OpenXR runtime
     /// (configured by SIM_HEADSET_* variables, see tools/sim-headset/README.md).
     #[arg(long)]
@@ -165,8 +166,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
         probe: args.probe,
         stop,
         frames_in_flight: args.frames_in_flight as usize,
-        temporal: (args.temporal == super::render::OnOff::On)
-            .then(fovea::render::TemporalSettings::default),
+        temporal: (args.temporal == OnOff::On).then(fovea::render::TemporalSettings::default),
     };
     if args.probe {
         let options = XrOptions {
