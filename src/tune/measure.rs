@@ -2,8 +2,8 @@
 //! it lands somewhere new) scored by FovVideoVDP against the scene's converged reference,
 //! then the timed frames whose median GPU time is the config's cost.
 
+use super::error::TuneError;
 use super::plan::{Budget, Cost, TuneGaze, TunePlan};
-use super::TuneError;
 use crate::bench::quality;
 use crate::bench::BenchPlan;
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
