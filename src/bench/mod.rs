@@ -4,12 +4,12 @@
 //! JSON, Markdown, SVG/PNG plots and a Perfetto trace.
 //!
 //! One direction, run → measure → report: `runner` runs the frames and calls the measuring
-//! (`quality`, `images`) and then the report (`summary`, `report`, `plots`); nothing imports
-//! the stage before it. A `--motion` run goes the same way in `motion/` (`run`, `images`,
-//! `report`; `script` is what it plays), handed over by `runner` once the directory is open.
-//! What they share is below them: `setup` (the results directory, FovVideoVDP, progress),
-//! `protocol` (the plan), `rows` (what is recorded), `files` (where), `csv_log`, `perfetto`,
-//! `stats` and `error`.
+//! (`quality`, `images`) and then the report (`summary`, `report`, `report_plots`, `plots`);
+//! nothing imports the stage before it. A `--motion` run goes the same way in `motion/`
+//! (`run`, `images`, `report`; `script` is what it plays), handed over by `runner` once the
+//! directory is open; both reports open with `report_head`. What they share is below them:
+//! `setup` (the results directory, FovVideoVDP, progress), `protocol` (the plan), `rows`
+//! (what is recorded), `files` (where), `csv_log`, `perfetto`, `stats` and `error`.
 
 pub mod csv_log;
 pub mod error;
