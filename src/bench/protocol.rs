@@ -2,7 +2,7 @@
 //! forward gaze, corner gaze) × frames × repeats, both eyes, plus the quality sweep. A run's
 //! plan is written to `plan.json` first, so `--resume` repeats it exactly.
 
-use super::motion::MotionScript;
+use super::motion::script::MotionScript;
 use crate::foveation::FoveationConfig;
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
@@ -52,10 +52,6 @@ impl Mode {
 
     pub fn parse(s: &str) -> Option<Mode> {
         Mode::ALL.into_iter().find(|m| m.name() == s)
-    }
-
-    pub fn is_foveated(self) -> bool {
-        self != Mode::Regular
     }
 }
 

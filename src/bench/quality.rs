@@ -5,10 +5,10 @@
 use super::error::BenchError;
 use super::protocol::{BenchPlan, Mode};
 use super::rows::{QualityRow, EYE_NAMES};
-use crate::foveation::{FoveationConfig, ImageGeometry};
+use crate::foveation::FoveationConfig;
 use crate::metrics::jod::Fvvdp;
-use crate::metrics::{self, BANDS};
-use crate::render::{DebugView, EyeView, FrameRequest, RenderSettings, Renderer};
+use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
+use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
 use crate::scene::fingerprint::Fingerprint;
 use std::path::{Path, PathBuf};
 
@@ -190,27 +190,6 @@ pub fn eye_image(rgb: &[f32], eyes: u32, width: u32, height: u32, eye: u32) -> V
         .collect()
 }
 
-/// The pixels an eye can see: pixels outside the occlusion mask are hidden by the lens,
-/// foveated frames leave them black, and no mode is judged on them.
-pub fn visible_pixels(plan: &BenchPlan, image: &ImageGeometry) -> Vec<bool> {
-    match plan.foveation.occlusion_deg {
-        Some(deg) => metrics::eccentricity_deg(image, image.axis_pixel())
-            .iter()
-            .map(|&e| e <= deg)
-            .collect(),
-        None => vec![true; (plan.width * plan.height) as usize],
-    }
-}
-
-/// `rgb` with the pixels outside `visible` black: what the lens hides is judged in neither
-/// image (and FLIP's edge filters do not see the mask's rim as an error).
-pub fn hidden_black(mut rgb: Vec<f32>, visible: &[bool]) -> Vec<f32> {
-    for (px, _) in rgb.chunks_mut(3).zip(visible).filter(|(_, v)| !**v) {
-        px.fill(0.0);
-    }
-    rgb
-}
-
 /// What one (scene, mode, spp) point of the sweep measured.
 pub struct Point {
     pub rows: Vec<QualityRow>,
@@ -242,84 +221,133 @@ pub fn measure_point(
     let frame = renderer
         .render_frame(&request)
         .map_err(BenchError::render(scene))?;
-    let mut gpu_ms = Vec::new();
-    for _ in 0..plan.sweep_frames {
-        let timed = renderer
-            .measure_frame(&request)
-            .map_err(BenchError::render(scene))?;
-        gpu_ms.push(timed.stats.gpu_ms());
-    }
-    let frame_gpu_ms = super::stats::summarize(&gpu_ms).map_or(f64::NAN, |s| s.median);
-
-    let n = eyes.len() as u32;
+    let frame_gpu_ms = median_gpu_ms(renderer, plan, scene, &request)?;
+    let at = PointAt {
+        scene,
+        mode,
+        spp,
+        eyes: eyes.len() as u32,
+        frame_gpu_ms,
+    };
     let mut point = Point {
         rows: Vec::new(),
         left_rgb: Vec::new(),
         left_flip: Vec::new(),
     };
     for (e, eye) in eyes.iter().enumerate() {
-        let image = eye.image(plan.width, plan.height);
-        let visible = visible_pixels(plan, &image);
-        let test = hidden_black(
-            eye_image(&frame.rgb, n, plan.width, plan.height, e as u32),
-            &visible,
-        );
-        let truth = hidden_black(
-            eye_image(reference, n, plan.width, plan.height, e as u32),
-            &visible,
-        );
-        let flip = metrics::flip(
-            &truth,
-            &test,
-            plan.width,
-            plan.height,
-            metrics::pixels_per_degree(&image),
-        )?;
-        let whole = metrics::image_error(&truth, &test, plan.width, plan.height, Some(&visible))?;
-        let gaze = frame.gazes[e].0;
-        let jod = match metric.as_deref_mut() {
-            Some(m) => Some(m.image(&test, &truth, &image, gaze)?),
-            None => None,
-        };
-        let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {
-            scene: scene.to_string(),
-            mode,
-            spp,
-            eye: EYE_NAMES[e].to_string(),
-            region: region.to_string(),
-            pixels: error.pixels,
-            mse: error.mse,
-            rel_mse: error.rel_mse,
-            psnr_db: error.psnr_db,
-            flip,
-            frame_gpu_ms,
-            jod: None,
-        };
-        point.rows.push(QualityRow {
-            jod,
-            ..row(
-                "whole",
-                whole,
-                metrics::flip_masked_mean(&flip.map, &visible)?,
-            )
-        });
-        // Regular frames are foveated around the view axis too (their gaze is "forward"),
-        // so their bands are the forward mode's.
-        let masks = metrics::band_masks(&image, gaze)?;
-        for (band, mut mask) in BANDS.iter().zip(masks) {
-            for (m, v) in mask.iter_mut().zip(&visible) {
-                *m &= v;
-            }
-            let error = metrics::image_error(&truth, &test, plan.width, plan.height, Some(&mask))?;
-            let flip = metrics::flip_masked_mean(&flip.map, &mask)?;
-            point.rows.push(row(band.name, error, flip));
-        }
+        let judged = judge_eye(plan, &at, &frame, reference, e, eye, metric.as_deref_mut())?;
+        point.rows.extend(judged.rows);
         if e == 0 {
-            point.left_rgb = test;
-            point.left_flip = flip.map;
+            point.left_rgb = judged.test;
+            point.left_flip = judged.flip_map;
         }
     }
     Ok(point)
+}
+
+/// The median GPU time of the plan's sweep frames of `request`.
+fn median_gpu_ms(
+    renderer: &mut Renderer,
+    plan: &BenchPlan,
+    scene: &str,
+    request: &FrameRequest,
+) -> Result<f64, BenchError> {
+    let mut gpu_ms = Vec::new();
+    for _ in 0..plan.sweep_frames {
+        let timed = renderer
+            .measure_frame(request)
+            .map_err(BenchError::render(scene))?;
+        gpu_ms.push(timed.stats.gpu_ms());
+    }
+    Ok(super::stats::summarize(&gpu_ms).map_or(f64::NAN, |s| s.median))
+}
+
+/// Which point of the sweep an eye's rows belong to, and its time.
+struct PointAt<'a> {
+    scene: &'a str,
+    mode: Mode,
+    spp: u32,
+    /// Eyes side by side in the frame.
+    eyes: u32,
+    frame_gpu_ms: f64,
+}
+
+/// One eye of a point, judged: its rows (whole image, then each band), and its image and
+/// FLIP map.
+struct JudgedEye {
+    rows: Vec<QualityRow>,
+    test: Vec<f32>,
+    flip_map: Vec<f32>,
+}
+
+/// Compares eye `e` of `frame` with the reference inside the lens: error and FLIP over the
+/// whole image and per band around the eye's gaze, and JOD of the whole image.
+fn judge_eye(
+    plan: &BenchPlan,
+    at: &PointAt,
+    frame: &Frame,
+    reference: &[f32],
+    e: usize,
+    eye: &EyeView,
+    metric: Option<&mut Fvvdp>,
+) -> Result<JudgedEye, BenchError> {
+    let n = at.eyes;
+    let (width, height) = (plan.width, plan.height);
+    let image = eye.image(width, height);
+    let visible = visible_pixels(&image, plan.foveation.occlusion_deg);
+    let test = hidden_black(eye_image(&frame.rgb, n, width, height, e as u32), &visible);
+    let truth = hidden_black(eye_image(reference, n, width, height, e as u32), &visible);
+    let flip = metrics::flip(
+        &truth,
+        &test,
+        width,
+        height,
+        metrics::pixels_per_degree(&image),
+    )?;
+    let whole = metrics::image_error(&truth, &test, width, height, Some(&visible))?;
+    let gaze = frame.gazes[e].0;
+    let jod = match metric {
+        Some(m) => Some(m.image(&test, &truth, &image, gaze)?),
+        None => None,
+    };
+    let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {
+        scene: at.scene.to_string(),
+        mode: at.mode,
+        spp: at.spp,
+        eye: EYE_NAMES[e].to_string(),
+        region: region.to_string(),
+        pixels: error.pixels,
+        mse: error.mse,
+        rel_mse: error.rel_mse,
+        psnr_db: error.psnr_db,
+        flip,
+        frame_gpu_ms: at.frame_gpu_ms,
+        jod: None,
+    };
+    let mut rows = vec![QualityRow {
+        jod,
+        ..row(
+            "whole",
+            whole,
+            metrics::flip_masked_mean(&flip.map, &visible)?,
+        )
+    }];
+    // Regular frames are foveated around the view axis too (their gaze is "forward"),
+    // so their bands are the forward mode's.
+    let masks = metrics::band_masks(&image, gaze)?;
+    for (band, mut mask) in BANDS.iter().zip(masks) {
+        for (m, v) in mask.iter_mut().zip(&visible) {
+            *m &= v;
+        }
+        let error = metrics::image_error(&truth, &test, width, height, Some(&mask))?;
+        let flip = metrics::flip_masked_mean(&flip.map, &mask)?;
+        rows.push(row(band.name, error, flip));
+    }
+    Ok(JudgedEye {
+        rows,
+        test,
+        flip_map: flip.map,
+    })
 }
 
 #[cfg(test)]
@@ -344,9 +372,8 @@ mod tests {
         assert_eq!(values, vec![10.0, 11.0, 12.0, 13.0]);
     }
 
-    #[test]
-    fn everything_that_changes_the_reference_changes_its_key() {
-        let plan = BenchPlan::quick();
+    /// One eye looking down +z from the origin, gaze forward.
+    fn one_eye() -> [EyeView; 1] {
         let camera = crate::scene::Camera::look_at(
             glam::Vec3::ZERO,
             glam::Vec3::Z,
@@ -354,18 +381,28 @@ mod tests {
             60.0,
             1.0,
         );
-        let eyes = [EyeView {
+        [EyeView {
             camera,
             gaze: crate::foveation::Gaze::Forward,
-        }];
-        let key = ReferenceKey {
+        }]
+    }
+
+    /// The key of the built-in control scene under `plan`, seen by `eyes`.
+    fn control_key<'a>(plan: &'a BenchPlan, eyes: &'a [EyeView]) -> ReferenceKey<'a> {
+        ReferenceKey {
             scene: "control",
             scene_contents: 1,
             renderer: 2,
-            plan: &plan,
-            eyes: &eyes,
-        };
-        let a = key.path(Path::new("c"));
+            plan,
+            eyes,
+        }
+    }
+
+    #[test]
+    fn every_setting_of_the_plan_that_changes_the_reference_changes_its_key() {
+        let plan = BenchPlan::quick();
+        let eyes = one_eye();
+        let a = control_key(&plan, &eyes).path(Path::new("c"));
         assert!(
             a.to_str()
                 .unwrap()
@@ -399,8 +436,17 @@ mod tests {
             },
         ];
         for p in &plans {
-            assert_ne!(ReferenceKey { plan: p, ..key }.path(Path::new("c")), a);
+            assert_ne!(control_key(p, &eyes).path(Path::new("c")), a);
         }
+    }
+
+    #[test]
+    fn the_scene_renderer_and_cameras_change_the_key_and_the_gaze_does_not() {
+        let plan = BenchPlan::quick();
+        let eyes = one_eye();
+        let key = control_key(&plan, &eyes);
+        let a = key.path(Path::new("c"));
+        let camera = eyes[0].camera;
         let moved = [EyeView {
             camera: crate::scene::Camera {
                 position: camera.position + glam::Vec3::X * 1e-3,

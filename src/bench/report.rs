@@ -2,14 +2,13 @@
 
 use super::error::BenchError;
 use super::files::{strip_path, COMMANDS_FILE, FRAMES_FILE, PLAN_FILE, QUALITY_FILE, TRACE_FILE};
-use super::plots::{self, Curve, CurvePoint, DotWhisker, Series};
 use super::protocol::flag_value;
 use super::protocol::{BenchPlan, Mode};
+use super::report_head::{header, layers_text, ReportHead};
+use super::report_plots::write_plots;
 use super::rows::{FrameRow, QualityRow};
-use super::summary::{summarize_run, Device, ModeSummary, SceneSummary, Summary};
-use crate::foveation::FoveationConfig;
+use super::summary::{summarize_run, ModeSummary, SceneSummary, Summary};
 use crate::gpu::DeviceInfo;
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -40,171 +39,6 @@ pub fn write_all(
     std::fs::write(&path, markdown(dir, &summary)).map_err(|e| BenchError::file(&path, e))
 }
 
-fn write_plots(
-    dir: &Path,
-    plan: &BenchPlan,
-    frames: &[FrameRow],
-    summary: &Summary,
-) -> Result<(), BenchError> {
-    let plots_dir = dir.join("plots");
-    for scene in &summary.scenes {
-        let name = &scene.scene;
-        // The thesis' per-frame line graph: one line per mode and repeat.
-        let mut runs: BTreeMap<(Mode, u32), Vec<(u32, f64)>> = BTreeMap::new();
-        for r in frames
-            .iter()
-            .filter(|r| r.scene == *name && r.eye == "left")
-        {
-            runs.entry((r.mode, r.repeat))
-                .or_default()
-                .push((r.frame, 1000.0 / r.frame_gpu_ms));
-        }
-        let series: Vec<Series> = runs
-            .into_iter()
-            .map(|((mode, repeat), mut fps)| {
-                fps.sort_by_key(|p| p.0);
-                Series {
-                    label: match plan.repeats(mode) {
-                        1 => mode.name().to_string(),
-                        _ => format!("{} r{}", mode.name(), repeat + 1),
-                    },
-                    values: fps.into_iter().map(|p| p.1).collect(),
-                }
-            })
-            .collect();
-        plots::frame_rate_lines(
-            &plots_dir.join(format!("{name}-frames")),
-            &format!("{name}: frame rate per frame (GPU time of both eyes)"),
-            &series,
-        )?;
-        let dots: Vec<DotWhisker> = scene
-            .modes
-            .iter()
-            .filter_map(|m| {
-                m.rates.map(|r| DotWhisker {
-                    label: m.mode.name().to_string(),
-                    mean: r.fps.mean,
-                    std: r.fps.std,
-                })
-            })
-            .collect();
-        plots::mean_std_dots(
-            &plots_dir.join(format!("{name}-mean-std")),
-            &format!("{name}: mean frame rate ± standard deviation"),
-            "frames per second",
-            &dots,
-        )?;
-        for (region, what) in [("whole", "whole image"), ("0-6", "fovea (0-6°)")] {
-            let curves: Vec<Curve> = plan
-                .modes()
-                .into_iter()
-                .map(|mode| Curve {
-                    label: mode.name().to_string(),
-                    points: scene
-                        .quality
-                        .iter()
-                        .filter(|q| q.mode == mode && q.region == region && q.pixels > 0)
-                        .map(|q| CurvePoint {
-                            ms: q.frame_gpu_ms,
-                            error: q.rel_mse,
-                            spp: q.spp,
-                        })
-                        .collect(),
-                })
-                .collect();
-            let file = if region == "whole" { "whole" } else { "fovea" };
-            plots::error_vs_time(
-                &plots_dir.join(format!("{name}-error-time-{file}")),
-                &format!("{name}: relMSE of the {what} against GPU time"),
-                "relMSE",
-                &curves,
-            )?;
-        }
-        jod_plot(&plots_dir, plan, scene)?;
-    }
-    Ok(())
-}
-
-/// Perceptual quality against GPU time: regular rendering over the sweep's spp is the
-/// baseline curve, each foveated mode a curve of points beside it.
-fn jod_plot(plots_dir: &Path, plan: &BenchPlan, scene: &SceneSummary) -> Result<(), BenchError> {
-    let curves: Vec<Curve> = plan
-        .modes()
-        .into_iter()
-        .map(|mode| Curve {
-            label: mode.name().to_string(),
-            points: (scene.quality.iter())
-                .filter(|q| q.mode == mode && q.region == "whole")
-                .filter_map(|q| {
-                    q.jod.map(|jod| CurvePoint {
-                        ms: q.frame_gpu_ms,
-                        error: jod,
-                        spp: q.spp,
-                    })
-                })
-                .collect(),
-        })
-        .collect();
-    let name = &scene.scene;
-    plots::jod_vs_time(
-        &plots_dir.join(format!("{name}-jod-time")),
-        &plots::JodChart {
-            title: &format!("{name}: FovVideoVDP JOD against GPU time (spp at each point)"),
-            curves: &curves,
-            scatter: &[],
-            budget_ms: None,
-            chosen: None,
-        },
-    )?;
-    Ok(())
-}
-
-/// What heads every report: its title, when and by which fovea on which device it was
-/// written, the commands that measured, and what is missing from an incomplete run.
-pub struct ReportHead<'a> {
-    pub title: &'a str,
-    pub written_at: &'a str,
-    pub fovea_version: &'a str,
-    pub device: &'a Device,
-    pub commands: &'a [String],
-    /// `Some("N of M rows measured")` for an incomplete run.
-    pub missing: Option<String>,
-}
-
-pub fn header(md: &mut String, head: &ReportHead, dir: &Path) {
-    let d = head.device;
-    let _ = writeln!(md, "# {}\n", head.title);
-    let _ = writeln!(
-        md,
-        "Written {} by fovea {}. Device: **{}** ({}, driver {}, Vulkan {}).\n",
-        head.written_at, head.fovea_version, d.name, d.kind, d.driver, d.api_version
-    );
-    for (i, command) in head.commands.iter().enumerate() {
-        let what = if i == 0 { "Command" } else { "Resumed by" };
-        let _ = writeln!(md, "{what}: `{command}`\n");
-    }
-    if let Some(missing) = &head.missing {
-        let _ = writeln!(
-            md,
-            "**Incomplete run**: {missing}. Complete it with `fovea bench --resume {}`.\n",
-            dir.display()
-        );
-    }
-}
-
-/// The layers as the reports name them: radius°/spacing, outermost "background/spacing".
-pub fn layers_text(config: &FoveationConfig) -> String {
-    config
-        .layers
-        .iter()
-        .map(|l| match l.radius_deg {
-            Some(r) => format!("{r}°/{}", l.spacing),
-            None => format!("background/{}", l.spacing),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 fn fmt_impact(m: &ModeSummary) -> String {
     match m.impact {
         Some(i) if i.max.is_finite() => format!("{:.2} ({:.2}–{:.2})", i.factor, i.min, i.max),
@@ -220,7 +54,6 @@ fn ms(s: Option<super::stats::Summary>) -> String {
 /// The report: what ran where, impact factors beside the thesis', per-scene statistics,
 /// quality, and links to every plot and picture.
 pub fn markdown(dir: &Path, s: &Summary) -> String {
-    let p = &s.parameters;
     let mut md = String::new();
     header(
         &mut md,
@@ -239,6 +72,17 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         },
         dir,
     );
+    protocol_paragraph(&mut md, &s.parameters);
+    impact_section(&mut md, s);
+    for scene in &s.scenes {
+        scene_section(&mut md, s, scene);
+    }
+    files_paragraph(&mut md);
+    md
+}
+
+/// What the run measured and how, in one paragraph.
+fn protocol_paragraph(md: &mut String, p: &BenchPlan) {
     let _ = writeln!(
         md,
         "Protocol (thesis §3.1): {} frames × {} repeats foveated, {} regular, both eyes at {}×{} per eye, \
@@ -261,7 +105,10 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
             .map_or("none".to_string(), |d| format!("{d}° (error is measured inside it only)")),
         p.traversal.name()
     );
+}
 
+/// The impact factors per scene beside the thesis', and the trace mode's.
+fn impact_section(md: &mut String, s: &Summary) {
     let _ = writeln!(md, "## Impact factors beside the thesis'\n");
     let mut trace_impacts = Vec::new();
     let _ = writeln!(
@@ -285,7 +132,7 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         );
     }
     let _ = writeln!(md);
-    if let Some(path) = &p.gaze_trace {
+    if let Some(path) = &s.parameters.gaze_trace {
         let _ = writeln!(
             md,
             "Mode `trace` follows the gaze trace `{}` (frame k of a repeat takes its row k); \
@@ -294,10 +141,10 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
             trace_impacts.join(", ")
         );
     }
+}
 
-    for scene in &s.scenes {
-        scene_section(&mut md, s, scene);
-    }
+/// What each file of the directory holds.
+fn files_paragraph(md: &mut String) {
     let _ = writeln!(md, "## Files\n");
     let _ = writeln!(
         md,
@@ -310,12 +157,19 @@ pub fn markdown(dir: &Path, s: &Summary) -> String {
         PLAN_FILE,
         COMMANDS_FILE
     );
-    md
 }
 
 fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
     let name = &scene.scene;
     let _ = writeln!(md, "## {name}\n");
+    timing_table(md, scene);
+    quality_table(md, s, scene);
+    error_time_pictures(md, s, name);
+}
+
+/// Each mode's frame rates, times and impact, and the frame-rate plots.
+fn timing_table(md: &mut String, scene: &SceneSummary) {
+    let name = &scene.scene;
     let _ = writeln!(
         md,
         "| mode | frames | fps mean ± std | median ms | p99 ms | plan / trace / resolve ms per eye | CPU ms | paths per frame | Msamples/s | impact (range) |"
@@ -361,7 +215,10 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
         md,
         "![frame rate per frame](plots/{name}-frames.png) ![mean and standard deviation](plots/{name}-mean-std.png)\n"
     );
+}
 
+/// Each mode's error at the protocol's spp, over the whole image and per band.
+fn quality_table(md: &mut String, s: &Summary, scene: &SceneSummary) {
     let spp = s.parameters.spp;
     let _ = writeln!(
         md,
@@ -398,6 +255,10 @@ fn scene_section(md: &mut String, s: &Summary, scene: &SceneSummary) {
             q.jod.map_or("–".to_string(), |j| format!("{j:.2}"))
         );
     }
+}
+
+/// The run-time-against-error plots and the strip of pictures.
+fn error_time_pictures(md: &mut String, s: &Summary, name: &str) {
     let _ = writeln!(
         md,
         "\nRun time against error, spp {:?}:\n",

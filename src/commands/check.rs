@@ -9,9 +9,11 @@ use clap::{Args, ValueEnum};
 use fovea::check::convergence::{self, ConvergenceOptions};
 use fovea::check::report::CheckReport;
 use fovea::check::{materials, scale, watertight};
+use fovea::gpu::GpuContext;
 use fovea::render::{RenderSettings, Traversal};
 use fovea::scene::{self, builtin::builtin};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Most watertightness rays a run may ask for: a billion takes hours on lavapipe.
@@ -57,6 +59,39 @@ pub struct CheckArgs {
 }
 
 pub fn run(args: &CheckArgs) -> Result<()> {
+    let convergence_options = checked_options(args)?;
+    let wanted = |s: Section| args.only.is_empty() || args.only.contains(&s);
+    let ctx = gpu_context(&args.gpu)?;
+    let mut report = CheckReport {
+        device: format!(
+            "{} ({}), by fovea {}",
+            ctx.info.name,
+            ctx.info.driver,
+            fovea::build_version()
+        ),
+        ..CheckReport::default()
+    };
+    if wanted(Section::Watertight) {
+        watertight_section(args, &ctx, &mut report)?;
+    }
+    if wanted(Section::Scale) {
+        scale_section(args, &ctx, &mut report)?;
+    }
+    if wanted(Section::Furnace) {
+        furnace_section(args, &ctx, &mut report)?;
+    }
+    if wanted(Section::Emission) {
+        emission_section(args, &ctx, &mut report)?;
+    }
+    if wanted(Section::Convergence) {
+        convergence_section(args, &ctx, &convergence_options, &mut report)?;
+    }
+    check_validation(&ctx)?;
+    print_verdict(&report)
+}
+
+/// Rejects out-of-range options before any GPU work; the convergence study's options.
+fn checked_options(args: &CheckArgs) -> Result<ConvergenceOptions> {
     if args.rays == 0 || args.rays > MAX_RAYS {
         bail!("--rays {} is out of range: use 1 to {MAX_RAYS}", args.rays);
     }
@@ -78,89 +113,106 @@ pub fn run(args: &CheckArgs) -> Result<()> {
         .validate()
         .map_err(anyhow::Error::msg)
         .context("convergence options")?;
-    let wanted = |s: Section| args.only.is_empty() || args.only.contains(&s);
-    let ctx = gpu_context(&args.gpu)?;
-    let mut report = CheckReport {
-        device: format!(
-            "{} ({}), by fovea {}",
-            ctx.info.name,
-            ctx.info.driver,
-            fovea::build_version()
-        ),
-        ..CheckReport::default()
-    };
-    let section = |name: &str, report: &CheckReport, started: Instant| -> Result<()> {
-        eprintln!("{name}: done in {:.1} s", started.elapsed().as_secs_f64());
-        if let Some(path) = &args.json {
-            write_json(path, report)?;
-        }
-        Ok(())
-    };
+    Ok(convergence_options)
+}
 
-    if wanted(Section::Watertight) {
-        let t = Instant::now();
-        eprintln!(
-            "watertight: {} rays from inside closed meshes...",
-            args.rays
-        );
-        report.watertight = watertight::run(&ctx, args.rays, 1, Traversal::preferred(&ctx))?;
-        section("watertight", &report, t)?;
+/// Says how long a section took and rewrites `--json` with the report so far.
+fn section_done(
+    args: &CheckArgs,
+    name: &str,
+    report: &CheckReport,
+    started: Instant,
+) -> Result<()> {
+    eprintln!("{name}: done in {:.1} s", started.elapsed().as_secs_f64());
+    if let Some(path) = &args.json {
+        write_json(path, report)?;
     }
-    if wanted(Section::Scale) {
-        let t = Instant::now();
-        eprintln!(
-            "scale: a lit plane at scales 1e-3..1e5 and 1e5 from the origin, cornell scaled..."
-        );
-        let scales = [1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4, 1e5];
-        report.plane = scale::plane_radiance(&ctx, args.size, args.spp, &scales, 1e5)?;
-        let cornell = builtin("cornell", 1.0)?;
-        report.scaled = scale::scaled_scene(
-            &ctx,
-            &cornell,
-            args.size,
-            args.spp.div_ceil(4),
-            &[1e-3, 1e-2, 1e-1, 1e1, 1e3, 1e5],
-        )?;
-        section("scale", &report, t)?;
-    }
-    if wanted(Section::Furnace) {
-        let t = Instant::now();
-        eprintln!("furnace: every material extreme in a white furnace...");
-        report.furnace = materials::white_furnace(&ctx, args.size, args.spp)?;
-        section("furnace", &report, t)?;
-    }
-    if wanted(Section::Emission) {
-        let t = Instant::now();
-        eprintln!("emission: cornell with its light x1e10, x1e20, x1e28...");
-        let cornell = builtin("cornell", 1.0)?;
-        report.emission =
-            materials::emission_scaling(&ctx, &cornell, args.size, args.spp, &[1e10, 1e20, 1e28])?;
-        section("emission", &report, t)?;
-    }
-    if wanted(Section::Convergence) {
-        for name in &args.convergence_scenes {
-            let t = Instant::now();
-            eprintln!("convergence: {name}, pt and seed against converged references...");
-            let scene = scene::load(name, 1.0)?;
-            let mut last_percent = u64::MAX;
-            let mut progress = |done: u64, total: u64| {
-                let percent = 100 * done / total.max(1);
-                if percent / 10 != last_percent / 10 {
-                    eprintln!("  {percent}%");
-                    last_percent = percent;
-                }
-            };
-            report.convergence.push(convergence::measure(
-                &ctx,
-                &scene,
-                &convergence_options,
-                &mut progress,
-            )?);
-            section(&format!("convergence on {name}"), &report, t)?;
-        }
-    }
-    check_validation(&ctx)?;
+    Ok(())
+}
 
+fn watertight_section(
+    args: &CheckArgs,
+    ctx: &Arc<GpuContext>,
+    report: &mut CheckReport,
+) -> Result<()> {
+    let t = Instant::now();
+    eprintln!(
+        "watertight: {} rays from inside closed meshes...",
+        args.rays
+    );
+    report.watertight = watertight::run(ctx, args.rays, 1, Traversal::preferred(ctx))?;
+    section_done(args, "watertight", report, t)
+}
+
+fn scale_section(args: &CheckArgs, ctx: &Arc<GpuContext>, report: &mut CheckReport) -> Result<()> {
+    let t = Instant::now();
+    eprintln!("scale: a lit plane at scales 1e-3..1e5 and 1e5 from the origin, cornell scaled...");
+    let scales = [1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4, 1e5];
+    report.plane = scale::plane_radiance(ctx, args.size, args.spp, &scales, 1e5)?;
+    let cornell = builtin("cornell", 1.0)?;
+    report.scaled = scale::scaled_scene(
+        ctx,
+        &cornell,
+        args.size,
+        args.spp.div_ceil(4),
+        &[1e-3, 1e-2, 1e-1, 1e1, 1e3, 1e5],
+    )?;
+    section_done(args, "scale", report, t)
+}
+
+fn furnace_section(
+    args: &CheckArgs,
+    ctx: &Arc<GpuContext>,
+    report: &mut CheckReport,
+) -> Result<()> {
+    let t = Instant::now();
+    eprintln!("furnace: every material extreme in a white furnace...");
+    report.furnace = materials::white_furnace(ctx, args.size, args.spp)?;
+    section_done(args, "furnace", report, t)
+}
+
+fn emission_section(
+    args: &CheckArgs,
+    ctx: &Arc<GpuContext>,
+    report: &mut CheckReport,
+) -> Result<()> {
+    let t = Instant::now();
+    eprintln!("emission: cornell with its light x1e10, x1e20, x1e28...");
+    let cornell = builtin("cornell", 1.0)?;
+    report.emission =
+        materials::emission_scaling(ctx, &cornell, args.size, args.spp, &[1e10, 1e20, 1e28])?;
+    section_done(args, "emission", report, t)
+}
+
+/// The convergence study on each scene, its progress every 10%.
+fn convergence_section(
+    args: &CheckArgs,
+    ctx: &Arc<GpuContext>,
+    options: &ConvergenceOptions,
+    report: &mut CheckReport,
+) -> Result<()> {
+    for name in &args.convergence_scenes {
+        let t = Instant::now();
+        eprintln!("convergence: {name}, pt and seed against converged references...");
+        let scene = scene::load(name, 1.0)?;
+        let mut last_percent = u64::MAX;
+        let mut progress = |done: u64, total: u64| {
+            let percent = 100 * done / total.max(1);
+            if percent / 10 != last_percent / 10 {
+                eprintln!("  {percent}%");
+                last_percent = percent;
+            }
+        };
+        report
+            .convergence
+            .push(convergence::measure(ctx, &scene, options, &mut progress)?);
+        section_done(args, &format!("convergence on {name}"), report, t)?;
+    }
+    Ok(())
+}
+
+/// Prints the report; fails naming every check that did not pass.
+fn print_verdict(report: &CheckReport) -> Result<()> {
     println!("fovea check on {}", report.device);
     for line in report.lines() {
         println!("{line}");

@@ -17,7 +17,7 @@ pub struct GpuReportArgs {
     #[arg(long)]
     pub quick: bool,
     /// Each eye's image, WIDTHxHEIGHT (the Vive Pro Eye's 1440x1600 by default).
-    #[arg(long, value_parser = super::xr::parse_size, default_value = "1440x1600")]
+    #[arg(long, value_parser = super::parse_size, default_value = "1440x1600")]
     pub size: [u32; 2],
     /// Only these built-in scenes, comma-separated (default: all of them).
     #[arg(long, value_delimiter = ',')]

@@ -1,11 +1,11 @@
-//! One file per subcommand, plus what they share: GPU selection and the validation check.
+//! One file (or folder) per subcommand, plus what they share: GPU selection, the validation
+//! check and the eye-size parser. `main.rs` dispatches to each; none imports another's
+//! entry.
 
 pub mod bench;
 pub mod check;
 pub mod gpu_report;
 pub mod render;
-pub mod render_bench;
-pub mod render_sequence;
 pub mod scenes;
 pub mod tune;
 pub mod view;
@@ -68,4 +68,19 @@ pub fn check_validation_messages(messages: &[String]) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A per-eye image size WIDTHxHEIGHT (`xr --size`, `gpu-report --size`).
+pub fn parse_size(text: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("size '{text}' is not understood: give WIDTHxHEIGHT, e.g. 720x800");
+    let (w, h) = text.split_once('x').ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 || w > fovea::render::MAX_SIDE || h > fovea::render::MAX_SIDE {
+        return Err(format!(
+            "size {w}x{h}: each side must be from 1 to {}",
+            fovea::render::MAX_SIDE
+        ));
+    }
+    Ok([w, h])
 }

@@ -7,9 +7,8 @@ use clap::{Args, ValueEnum};
 use fovea::foveation::FoveationConfig;
 use fovea::render::{FovChoice, Integrator, Traversal};
 use fovea::tune::files::TuneFiles;
-use fovea::tune::run::TuneOptions;
 use fovea::tune::space::Space;
-use fovea::tune::{self, Budget, Cost, TunePlan};
+use fovea::tune::{self, Budget, Cost, TuneOptions, TunePlan};
 use std::path::PathBuf;
 
 /// Which grid the search draws configs from.

@@ -1,8 +1,9 @@
 //! `fovea xr`: an OpenXR session in the headset (SteamVR on a Vive Pro Eye), the eye tracker
 //! moving each eye's foveation; or the same through the simulated headset.
 
-use super::check_validation_messages;
+use super::render::args::OnOff;
 use super::GpuArgs;
+use super::{check_validation_messages, parse_size};
 use anyhow::{bail, Result};
 use clap::Args;
 use fovea::bench::stats::Summary;
@@ -10,7 +11,7 @@ use fovea::foveation::gaze_filter::DEFAULT_HOLD_S;
 use fovea::foveation::FoveationConfig;
 use fovea::render::{DebugView, Integrator, RenderSettings};
 use fovea::scene;
-use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions};
+use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions, XrSummary};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -59,8 +60,8 @@ pub struct XrArgs {
     /// `fovea bench --motion` measured it under head turns and saccades to cut error in every
     /// eccentricity band and peripheral flicker 5-12x, at less GPU time than twice the spp
     /// without it (README, "Temporal history under motion").
-    #[arg(long, value_enum, default_value_t = super::render::OnOff::On)]
-    pub temporal: super::render::OnOff,
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub temporal: OnOff,
     /// Use the simulated headset linked into fovea instead of the system's OpenXR runtime
     /// (configured by SIM_HEADSET_* variables, see tools/sim-headset/README.md).
     #[arg(long)]
@@ -81,22 +82,77 @@ pub struct XrArgs {
     pub gpu: GpuArgs,
 }
 
-pub fn parse_size(text: &str) -> Result<[u32; 2], String> {
-    let bad = || format!("size '{text}' is not understood: give WIDTHxHEIGHT, e.g. 720x800");
-    let (w, h) = text.split_once('x').ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if w == 0 || h == 0 || w > fovea::render::MAX_SIDE || h > fovea::render::MAX_SIDE {
-        return Err(format!(
-            "size {w}x{h}: each side must be from 1 to {}",
-            fovea::render::MAX_SIDE
-        ));
+pub fn run(args: &XrArgs) -> Result<()> {
+    let (settings, foveation) = frame_settings(args)?;
+    let aspect = args.size.map_or(0.9, |s| s[0] as f32 / s[1] as f32);
+    let scene = scene::load(&args.scene, aspect)?;
+    let gpu = args.gpu.options();
+    if args.gpu.device.is_some() {
+        bail!("--device cannot be used with xr: the OpenXR runtime picks the GPU that drives the headset");
     }
-    Ok([w, h])
+    let mut recorder = SessionRecorder::new(
+        &scene.name,
+        foveation.layers.len() > 1 || foveation.layers[0].spacing > 1,
+        args.session.as_deref(),
+        args.record_gaze.as_deref(),
+    )?;
+    let stop = stop_on_signals()?;
+    let options = XrOptions {
+        source: match args.simulated {
+            true => RuntimeSource::Simulated,
+            false => RuntimeSource::Loader,
+        },
+        gpu,
+        scene,
+        size: args.size,
+        settings,
+        foveation,
+        debug: match args.debug.as_deref() {
+            Some("layers") => DebugView::Layers,
+            _ => DebugView::None,
+        },
+        frames: args.frames,
+        gaze_hold_s: args.gaze_hold,
+        visibility_mask: !args.no_visibility_mask,
+        probe: args.probe,
+        stop,
+        frames_in_flight: args.frames_in_flight as usize,
+        temporal: (args.temporal == OnOff::On).then(fovea::render::TemporalSettings::default),
+    };
+    if args.probe {
+        return probe(args, options);
+    }
+    let summary = xr::run(options, |record| recorder.frame(record))?;
+    let latency = recorder.latency();
+    recorder.finish(&summary)?;
+    print_session(&summary);
+    if latency.frames > 0 {
+        print_latency(
+            latency.gaze_to_photon_ms,
+            latency.latch_ms,
+            latency.gpu_done_ms,
+            latency.missed_frames,
+        );
+    }
+    if let Some(dir) = &args.session {
+        println!("session profile written to {}", dir.display());
+    }
+    check_validation_messages(&summary.validation)?;
+    match summary.end {
+        SessionEnd::Lost => bail!(
+            "the OpenXR session was lost after {} frames, in {} session(s): fovea started a new \
+             one after each loss, up to {} times; everything rendered until then was recorded",
+            summary.frames,
+            summary.sessions,
+            xr::SESSION_RETRIES
+        ),
+        SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
+    }
 }
 
-pub fn run(args: &XrArgs) -> Result<()> {
-    // The same ranges and messages as `fovea render`, before any session starts.
+/// The frame settings and layers the options ask for, checked with the same ranges and
+/// messages as `fovea render`, before any session starts.
+fn frame_settings(args: &XrArgs) -> Result<(RenderSettings, FoveationConfig)> {
     RenderSettings {
         spp: args.spp.unwrap_or(1),
         max_bounces: args.max_bounces,
@@ -127,65 +183,38 @@ pub fn run(args: &XrArgs) -> Result<()> {
     if args.frames == Some(0) {
         bail!("--frames 0 renders nothing: give 1 or more, or leave it out to run until stopped");
     }
-    let aspect = args.size.map_or(0.9, |s| s[0] as f32 / s[1] as f32);
-    let scene = scene::load(&args.scene, aspect)?;
-    let gpu = args.gpu.options();
-    if args.gpu.device.is_some() {
-        bail!("--device cannot be used with xr: the OpenXR runtime picks the GPU that drives the headset");
-    }
-    let mut recorder = SessionRecorder::new(
-        &scene.name,
-        foveation.layers.len() > 1 || foveation.layers[0].spacing > 1,
-        args.session.as_deref(),
-        args.record_gaze.as_deref(),
-    )?;
-    // Ctrl+C, SIGTERM, SIGHUP or a closed console window: end the session as --frames does,
-    // so the session files are complete.
+    Ok((settings, foveation))
+}
+
+/// Ctrl+C, SIGTERM, SIGHUP or a closed console window: end the session as --frames does, so
+/// the session files are complete. The flag they set.
+fn stop_on_signals() -> Result<Arc<AtomicBool>> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed))
         .map_err(|e| anyhow::anyhow!("cannot install the Ctrl+C handler: {e}"))?;
+    Ok(stop)
+}
+
+/// `--probe`: a session of empty frames, and what it found.
+fn probe(args: &XrArgs, options: XrOptions) -> Result<()> {
     let options = XrOptions {
-        source: match args.simulated {
-            true => RuntimeSource::Simulated,
-            false => RuntimeSource::Loader,
-        },
-        gpu,
-        scene,
-        size: args.size,
-        settings,
-        foveation,
-        debug: match args.debug.as_deref() {
-            Some("layers") => DebugView::Layers,
-            _ => DebugView::None,
-        },
-        frames: args.frames,
-        gaze_hold_s: args.gaze_hold,
-        visibility_mask: !args.no_visibility_mask,
-        probe: args.probe,
-        stop,
-        frames_in_flight: args.frames_in_flight as usize,
-        temporal: (args.temporal == super::render::OnOff::On)
-            .then(fovea::render::TemporalSettings::default),
+        frames: Some(args.frames.unwrap_or(xr::PROBE_FRAMES)),
+        ..options
     };
-    if args.probe {
-        let options = XrOptions {
-            frames: Some(args.frames.unwrap_or(xr::PROBE_FRAMES)),
-            ..options
-        };
-        let summary = xr::run(options, |_| Ok(()))?;
-        if let Some(report) = &summary.probe {
-            print!("{report}");
-        }
-        check_validation_messages(&summary.validation)?;
-        return match summary.end {
-            SessionEnd::Lost => bail!("the OpenXR session was lost while probing"),
-            SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
-        };
+    let summary = xr::run(options, |_| Ok(()))?;
+    if let Some(report) = &summary.probe {
+        print!("{report}");
     }
-    let summary = xr::run(options, |record| recorder.frame(record))?;
-    let latency = recorder.latency();
-    recorder.finish(&summary)?;
+    check_validation_messages(&summary.validation)?;
+    match summary.end {
+        SessionEnd::Lost => bail!("the OpenXR session was lost while probing"),
+        SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
+    }
+}
+
+/// What ran: runtime, device, size, frames, gaze and mask, and the session's states.
+fn print_session(summary: &XrSummary) {
     println!(
         "OpenXR runtime {}; device {}; {}x{} per eye ({}); {} frames; eye gaze: {}; visibility mask: {}",
         summary.runtime,
@@ -209,37 +238,31 @@ pub fn run(args: &XrArgs) -> Result<()> {
             .collect::<Vec<_>>()
             .join(" → ")
     );
-    if latency.frames > 0 {
-        let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
-        let quantiles = |s: Option<Summary>| (s.map(|s| s.median), s.map(|s| s.p99));
-        let g = quantiles(latency.gaze_to_photon_ms);
-        let l = quantiles(latency.latch_ms);
-        let d = quantiles(latency.gpu_done_ms);
-        println!(
-            "gaze to photon: median {} ms, p99 {} ms (the runtime's display time minus the gaze \
-             sample's); after xrWaitFrame: gaze latched at {} / {} ms, GPU done at {} / {} ms \
-             (median / p99); frames missed: {}",
-            ms(g.0),
-            ms(g.1),
-            ms(l.0),
-            ms(l.1),
-            ms(d.0),
-            ms(d.1),
-            latency.missed_frames
-        );
-    }
-    if let Some(dir) = &args.session {
-        println!("session profile written to {}", dir.display());
-    }
-    check_validation_messages(&summary.validation)?;
-    match summary.end {
-        SessionEnd::Lost => bail!(
-            "the OpenXR session was lost after {} frames, in {} session(s): fovea started a new \
-             one after each loss, up to {} times; everything rendered until then was recorded",
-            summary.frames,
-            summary.sessions,
-            xr::SESSION_RETRIES
-        ),
-        SessionEnd::Requested | SessionEnd::RuntimeExit => Ok(()),
-    }
+}
+
+/// The latency line: gaze to photon, when the gaze was latched and the GPU done after
+/// xrWaitFrame (median / p99), and the frames missed.
+fn print_latency(
+    gaze_to_photon_ms: Option<Summary>,
+    latch_ms: Option<Summary>,
+    gpu_done_ms: Option<Summary>,
+    missed_frames: u64,
+) {
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+    let quantiles = |s: Option<Summary>| (s.map(|s| s.median), s.map(|s| s.p99));
+    let g = quantiles(gaze_to_photon_ms);
+    let l = quantiles(latch_ms);
+    let d = quantiles(gpu_done_ms);
+    println!(
+        "gaze to photon: median {} ms, p99 {} ms (the runtime's display time minus the gaze \
+         sample's); after xrWaitFrame: gaze latched at {} / {} ms, GPU done at {} / {} ms \
+         (median / p99); frames missed: {}",
+        ms(g.0),
+        ms(g.1),
+        ms(l.0),
+        ms(l.1),
+        ms(d.0),
+        ms(d.1),
+        missed_frames
+    );
 }

@@ -83,30 +83,6 @@ pub struct TraceRow {
 }
 
 impl TraceRow {
-    /// A row from the gazes a frame was rendered with (one eye: written to both columns).
-    /// A pixel becomes its tangent; forward is the view axis (tangent 0, 0).
-    pub fn from_gazes(
-        frame: u64,
-        time_s: f64,
-        gazes: &[Gaze],
-        images: &[ImageGeometry],
-        status: TraceStatus,
-    ) -> Self {
-        let tan = |e: usize| match (gazes.get(e), images.get(e)) {
-            (Some(Gaze::Pixel(x, y)), Some(image)) => image.tan_of(*x, *y),
-            (Some(Gaze::Corner), Some(image)) => image.tan_of(0.5, 0.5),
-            _ => [0.0, 0.0],
-        };
-        let left = tan(0);
-        Self {
-            frame,
-            time_s,
-            left,
-            right: if gazes.len() > 1 { tan(1) } else { left },
-            status,
-        }
-    }
-
     /// Each eye's gaze (eye 0 the left, eye 1 the right; a single eye uses the left columns)
     /// as a pixel of its image; a centre row is the view axis.
     pub fn gazes(&self, images: &[ImageGeometry]) -> Vec<Gaze> {
@@ -497,28 +473,5 @@ mod tests {
             e.contains("cannot read gaze trace") && e.contains("gaze.csv"),
             "{e}"
         );
-    }
-
-    #[test]
-    fn rows_from_rendered_gazes_use_tangents() {
-        let images = [
-            ImageGeometry::new(64, 48, EyeFov::VIVE_PRO_EYE_LEFT),
-            ImageGeometry::new(64, 48, EyeFov::VIVE_PRO_EYE_RIGHT),
-        ];
-        let row = TraceRow::from_gazes(
-            3,
-            0.5,
-            &[Gaze::Pixel(10.0, 20.0), Gaze::Forward],
-            &images,
-            TraceStatus::Fixed,
-        );
-        assert_eq!(row.left, images[0].tan_of(10.0, 20.0));
-        assert_eq!(row.right, [0.0, 0.0]);
-        let mono = TraceRow::from_gazes(0, 0.0, &[Gaze::Corner], &images[..1], TraceStatus::Fixed);
-        assert_eq!(mono.left, mono.right);
-        assert_eq!(mono.gazes(&images[..1]), {
-            let p = images[0].pixel_of(images[0].tan_of(0.5, 0.5));
-            vec![Gaze::Pixel(p[0], p[1])]
-        });
     }
 }

@@ -11,6 +11,7 @@ pub mod error;
 pub mod flicker;
 pub mod flip;
 pub mod jod;
+pub mod visible;
 
 pub use bands::{band_errors, band_masks, eccentricity_deg, Band, BandError, BANDS, BANDS_DEG};
 pub use error::{image_error, ImageError};
@@ -18,6 +19,7 @@ pub use flicker::flicker;
 pub use flip::{
     flip, flip_masked_mean, magma_rgb8, pixels_per_degree, pixels_per_degree_at, FlipResult,
 };
+pub use visible::{hidden_black, visible_pixels};
 
 /// What was wrong with the input of a metric.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -3,7 +3,6 @@
 //! `FILE-front.csv` (the Pareto front, fastest first), `FILE-front.svg`/`.png` (JOD against
 //! GPU ms) and `FILE-tune.json` (the plan).
 
-use super::plan::TuneGaze;
 use crate::foveation::FoveationConfig;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -39,14 +38,6 @@ pub struct CandidateRow {
 }
 
 impl CandidateRow {
-    pub fn jod_at(&self, gaze: TuneGaze) -> f64 {
-        match gaze {
-            TuneGaze::Forward => self.jod_forward,
-            TuneGaze::OffAxis => self.jod_off_axis,
-            TuneGaze::Corner => self.jod_corner,
-        }
-    }
-
     pub fn foveation(&self) -> Result<FoveationConfig, String> {
         serde_json::from_str(&self.config_json)
             .map_err(|e| format!("candidate {} has an unreadable config ({e})", self.index))

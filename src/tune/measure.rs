@@ -2,13 +2,14 @@
 //! it lands somewhere new) scored by FovVideoVDP against the scene's converged reference,
 //! then the timed frames whose median GPU time is the config's cost.
 
+use super::error::TuneError;
 use super::plan::{Budget, Cost, TuneGaze, TunePlan};
-use super::TuneError;
-use crate::bench::quality::{self, hidden_black};
+use crate::bench::quality;
 use crate::bench::BenchPlan;
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
+use crate::metrics::{hidden_black, visible_pixels};
 use crate::render::{
     eye_views, DebugView, EyeView, FrameRequest, FrameStats, RenderSettings, Renderer,
     TemporalSettings,
@@ -123,13 +124,7 @@ impl SceneJudge {
         let path = quality::ReferenceKey::new(&renderer, &bench, name, &eyes[..1]).path(cache);
         let reference =
             quality::reference_image(&mut renderer, &bench, name, &eyes[..1], &path, progress)?;
-        let visible = match plan.space.occlusion_deg {
-            Some(deg) => crate::metrics::eccentricity_deg(&image, image.axis_pixel())
-                .iter()
-                .map(|&e| e <= deg)
-                .collect(),
-            None => vec![true; (plan.width * plan.height) as usize],
-        };
+        let visible = visible_pixels(&image, plan.space.occlusion_deg);
         Ok(Self {
             name: name.to_string(),
             renderer,

@@ -1,56 +1,25 @@
 //! `fovea tune`: searches foveation configs (layer count, radii, spacings, spp, denoising per
 //! layer) for the best perceptual quality (FovVideoVDP JOD, mean over scenes and gazes)
 //! within a GPU time budget, and writes the winner as a foveation TOML with the whole Pareto
-//! front. One direction: `space` proposes, `measure` judges, `front` chooses, `files` writes.
+//! front.
+//!
+//! One direction: `run` drives the search and imports the stages, none of which imports it:
+//! `search` picks the next config from the `space`, `measure` judges it, and `finish` takes
+//! the `front` and writes the `files`. Below them all: `plan` (what to search, how),
+//! `cost` (a config's cost against the budget) and `error`.
 
+pub mod cost;
+pub mod error;
 pub mod files;
+pub mod finish;
 pub mod front;
 pub mod measure;
 pub mod plan;
 pub mod run;
+pub mod search;
 pub mod space;
 
-pub use plan::{Budget, Cost, TuneGaze, TunePlan};
-pub use run::{run, TuneOutcome};
-
-use crate::bench::BenchError;
-use crate::metrics::jod::JodError;
-use crate::render::RenderError;
-
-/// Why a tune run stopped. Every message says what was wrong and what to do.
-#[derive(Debug, thiserror::Error)]
-pub enum TuneError {
-    #[error("{0}")]
-    Plan(String),
-    /// The renderer's message is in this one (not a `source`, which would print it twice).
-    #[error("{scene}: {problem}")]
-    Render { scene: String, problem: RenderError },
-    #[error(transparent)]
-    Bench(#[from] BenchError),
-    #[error("perceptual metric: {0}")]
-    Jod(#[from] JodError),
-    #[error(transparent)]
-    Log(#[from] crate::bench::csv_log::CsvLogError),
-    #[error(transparent)]
-    Plot(#[from] crate::bench::plots::PlotError),
-    #[error("{0}")]
-    File(String),
-    #[error(
-        "no config fits in the budget of {budget_ms:.3} ms per eye: the fastest measured took \
-         {fastest_ms:.3} ms; raise --budget-ms (the front is in {front})"
-    )]
-    NothingWithin {
-        budget_ms: f64,
-        fastest_ms: f64,
-        front: String,
-    },
-}
-
-impl TuneError {
-    pub fn render(scene: &str) -> impl FnOnce(RenderError) -> TuneError + '_ {
-        move |problem| TuneError::Render {
-            scene: scene.to_string(),
-            problem,
-        }
-    }
-}
+pub use error::TuneError;
+pub use finish::TuneOutcome;
+pub use plan::{Budget, Cost, TuneGaze, TuneOptions, TunePlan};
+pub use run::run;

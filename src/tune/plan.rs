@@ -5,6 +5,7 @@ use super::space::Space;
 use crate::foveation::{Gaze, ImageGeometry};
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 /// The GPU time a config may take.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -158,4 +159,12 @@ impl TunePlan {
         }
         Ok(())
     }
+}
+
+/// How a run is carried out, beside what it measures (not in the plan).
+pub struct TuneOptions {
+    /// Where converged references are cached, shared between runs.
+    pub reference_cache: PathBuf,
+    /// The command line, written into the chosen config's header.
+    pub command_line: String,
 }

@@ -7,10 +7,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{
-    axis_font, draw_legend, finite_bounds, line_style, linear_range, log_range, mode_color,
-    no_data, runs, Curve, CurvePoint, DotWhisker, DrawResult, Figure, Series, FONT, LEGEND_WIDTH,
+use super::canvas::{no_data, DrawResult, Figure, FONT};
+use super::style::{
+    axis_font, draw_legend, finite_bounds, line_style, linear_range, log_range, mode_color, runs,
+    LEGEND_WIDTH,
 };
+use super::types::{Curve, CurvePoint, DotWhisker, Series};
 
 pub(super) struct LinesFig<'a> {
     pub(super) title: &'a str,

@@ -6,10 +6,11 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{
-    axis_font, draw_legend, finite_bounds, linear_range, mode_color, no_data, runs, DrawResult,
-    Figure, JodChart, FONT, LEGEND_WIDTH,
+use super::canvas::{no_data, DrawResult, Figure, FONT};
+use super::style::{
+    axis_font, draw_legend, finite_bounds, linear_range, mode_color, runs, LEGEND_WIDTH,
 };
+use super::types::JodChart;
 
 pub(super) struct JodFig<'a>(pub(super) &'a JodChart<'a>);
 

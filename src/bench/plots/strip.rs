@@ -6,7 +6,8 @@ use plotters::backend::RGBPixel;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{create_parent, ensure_font, Panel, PlotError, FONT, STRIP_CAPTION_HEIGHT, STRIP_GAP};
+use super::canvas::{create_parent, ensure_font, FONT};
+use super::types::{Panel, PlotError, STRIP_CAPTION_HEIGHT, STRIP_GAP};
 
 /// Writes a PNG (at `path`, used as given) with the panels side by side, left
 /// to right, each under a caption band of [`STRIP_CAPTION_HEIGHT`] px, with

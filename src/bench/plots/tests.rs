@@ -1,4 +1,7 @@
+use super::canvas::SIZE;
+use super::style::{mode_color, PALETTE};
 use super::*;
+use plotters::prelude::{BLACK, BLUE, RED};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh, unique directory under the system temp dir.

@@ -6,16 +6,18 @@
 //! `--traversal auto` every traversal the device has is measured (software, and ray queries
 //! where enabled), interleaved like the modes; a named traversal measures only that one.
 
-use super::check_validation;
-use super::render::{render_named, with_source_gaze, RenderArgs};
+use super::args::RenderArgs;
+use super::gaze::with_source_gaze;
+use crate::commands::check_validation;
 use anyhow::{Context, Result};
 use fovea::bench::stats::median;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
 use fovea::render::{
-    eye_views, DebugView, FrameRequest, RenderSettings, Renderer, Traversal, TraversalChoice,
+    eye_views, DebugView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer, Traversal,
+    TraversalChoice,
 };
-use fovea::scene::{self, builtin::BUILTIN_SCENES};
+use fovea::scene::{self, builtin::BUILTIN_SCENES, Scene};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -67,6 +69,20 @@ impl Mode {
         })
     }
 
+    /// Adds a measured frame's times, paths and rays.
+    fn add(&mut self, s: &FrameStats) {
+        self.gpu_ms.push(s.gpu_ms());
+        self.trace_ms.push(
+            s.pass_ms
+                .iter()
+                .filter(|(p, _)| p.ends_with("trace"))
+                .map(|(_, ms)| ms)
+                .sum(),
+        );
+        self.samples.push(s.paths);
+        self.rays = s.rays;
+    }
+
     /// Mean camera paths of a frame (the trace mode's vary from frame to frame).
     fn mean_samples(&self) -> f64 {
         self.samples.iter().sum::<u64>() as f64 / self.samples.len().max(1) as f64
@@ -81,7 +97,50 @@ pub fn run(
     trace: Option<GazeTrace>,
 ) -> Result<()> {
     let foveated = !config.is_regular();
-    if let Some(trace) = &trace {
+    print_header(args, settings, trace.as_ref(), foveated);
+    let aspect = settings.width as f32 / settings.height as f32;
+    let mut records = Vec::new();
+    for (name, _) in BUILTIN_SCENES {
+        let scene = scene::builtin::builtin(name, aspect)?;
+        let renderer = Renderer::new(ctx, &scene)?;
+        let traversals = match args.gpu.traversal {
+            TraversalChoice::Auto => renderer.traversals(),
+            _ => vec![renderer.traversal()],
+        };
+        let (modes, replays) = scene_modes(&traversals, config, settings, trace.as_ref());
+        let mut timed = SceneTimes {
+            name,
+            scene,
+            renderer,
+            modes,
+            replays,
+        };
+        // Frame 0 of each mode is a warm-up (pipeline compilation, first-touch memory).
+        for frame_index in 0..=args.bench_frames {
+            timed.frame(args, settings, frame_index)?;
+        }
+        if let Some(path) = &args.json {
+            records.extend(timed.modes.iter().map(|m| m.record(name)));
+            write_json(path, ctx, args, settings, &records)?;
+        }
+        for traversal in traversals {
+            let of_traversal: Vec<&Mode> = (timed.modes.iter())
+                .filter(|m| m.traversal == traversal)
+                .collect();
+            print_scene(name, traversal, &of_traversal, foveated);
+        }
+    }
+    check_validation(ctx)
+}
+
+/// What is measured, and the table's header.
+fn print_header(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    trace: Option<&GazeTrace>,
+    foveated: bool,
+) {
+    if let Some(trace) = trace {
         println!(
             "mode trace: gaze from {} ({} rows; measured frame k takes row k)",
             trace.path.display(),
@@ -119,84 +178,85 @@ pub fn run(
             "scene", "traversal", "gpu ms", "Msamples/s", "Mrays/s"
         );
     }
-    let aspect = settings.width as f32 / settings.height as f32;
-    let mut records = Vec::new();
-    for (name, _) in BUILTIN_SCENES {
-        let scene = scene::builtin::builtin(name, aspect)?;
-        let mut renderer = Renderer::new(ctx, &scene)?;
-        let traversals = match args.gpu.traversal {
-            TraversalChoice::Auto => renderer.traversals(),
-            _ => vec![renderer.traversal()],
-        };
-        // Every scene replays the trace from its first row (per traversal).
-        let mut replays = Vec::new();
-        let mut modes = Vec::new();
-        for &traversal in &traversals {
-            modes.push(Mode::new(
-                "regular",
-                traversal,
-                FoveationConfig::regular(settings.spp),
-                Some(Gaze::Forward),
-            ));
-            if foveated {
-                for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
-                    modes.push(Mode::new(name, traversal, config.clone(), Some(gaze)));
-                }
-            }
-            if let Some(trace) = &trace {
-                modes.push(Mode::new("trace", traversal, config.clone(), None));
-                replays.push(TraceReplay::new(trace.clone()));
+}
+
+/// Per traversal: regular, then (foveated) forward and corner, then (with a trace) the trace
+/// mode, with one replay of the trace per traversal: every scene replays the trace from its
+/// first row.
+fn scene_modes(
+    traversals: &[Traversal],
+    config: &FoveationConfig,
+    settings: &RenderSettings,
+    trace: Option<&GazeTrace>,
+) -> (Vec<Mode>, Vec<TraceReplay>) {
+    let foveated = !config.is_regular();
+    let mut replays = Vec::new();
+    let mut modes = Vec::new();
+    for &traversal in traversals {
+        modes.push(Mode::new(
+            "regular",
+            traversal,
+            FoveationConfig::regular(settings.spp),
+            Some(Gaze::Forward),
+        ));
+        if foveated {
+            for (name, gaze) in [("forward", Gaze::Forward), ("corner", Gaze::Corner)] {
+                modes.push(Mode::new(name, traversal, config.clone(), Some(gaze)));
             }
         }
-        // Frame 0 of each mode is a warm-up (pipeline compilation, first-touch memory).
-        for frame_index in 0..=args.bench_frames {
-            let mut next_replay = replays.iter_mut();
-            for mode in &mut modes {
-                renderer.set_traversal(mode.traversal)?;
-                let gaze = GazeChoice {
-                    left: mode.gaze.unwrap_or(Gaze::Forward),
-                    right: mode.gaze.unwrap_or(Gaze::Forward),
-                };
-                let mut eyes = eye_views(&scene.camera, aspect, args.fov, args.stereo, gaze);
-                if let (None, Some(replay)) = (mode.gaze, next_replay.next()) {
-                    // The warm-up frame uses row 0 too.
-                    let row = frame_index.saturating_sub(1) as u64;
-                    eyes = with_source_gaze(&eyes, replay, row, settings);
-                }
-                let request = FrameRequest {
-                    settings: *settings,
-                    foveation: &mode.config,
-                    eyes: &eyes,
-                    debug: DebugView::None,
-                };
-                let frame = render_named(&mut renderer, &request, name)?;
-                if frame_index == 0 {
-                    continue;
-                }
-                let s = &frame.stats;
-                mode.gpu_ms.push(s.gpu_ms());
-                mode.trace_ms.push(
-                    s.pass_ms
-                        .iter()
-                        .filter(|(p, _)| p.ends_with("trace"))
-                        .map(|(_, ms)| ms)
-                        .sum(),
-                );
-                mode.samples.push(s.paths);
-                mode.rays = s.rays;
-            }
-        }
-        if let Some(path) = &args.json {
-            records.extend(modes.iter().map(|m| m.record(name)));
-            write_json(path, ctx, args, settings, &records)?;
-        }
-        for traversal in traversals {
-            let of_traversal: Vec<&Mode> =
-                modes.iter().filter(|m| m.traversal == traversal).collect();
-            print_scene(name, traversal, &of_traversal, foveated);
+        if let Some(trace) = trace {
+            modes.push(Mode::new("trace", traversal, config.clone(), None));
+            replays.push(TraceReplay::new(trace.clone()));
         }
     }
-    check_validation(ctx)
+    (modes, replays)
+}
+
+/// One built-in scene and its modes, timed frame by frame.
+struct SceneTimes {
+    name: &'static str,
+    scene: Scene,
+    renderer: Renderer,
+    modes: Vec<Mode>,
+    replays: Vec<TraceReplay>,
+}
+
+impl SceneTimes {
+    /// Renders frame `frame_index` of every mode, interleaved; frame 0 is not recorded.
+    fn frame(
+        &mut self,
+        args: &RenderArgs,
+        settings: &RenderSettings,
+        frame_index: u32,
+    ) -> Result<()> {
+        let aspect = settings.width as f32 / settings.height as f32;
+        let mut next_replay = self.replays.iter_mut();
+        for mode in &mut self.modes {
+            self.renderer.set_traversal(mode.traversal)?;
+            let gaze = GazeChoice {
+                left: mode.gaze.unwrap_or(Gaze::Forward),
+                right: mode.gaze.unwrap_or(Gaze::Forward),
+            };
+            let mut eyes = eye_views(&self.scene.camera, aspect, args.fov, args.stereo, gaze);
+            if let (None, Some(replay)) = (mode.gaze, next_replay.next()) {
+                // The warm-up frame uses row 0 too.
+                let row = frame_index.saturating_sub(1) as u64;
+                eyes = with_source_gaze(&eyes, replay, row, settings);
+            }
+            let request = FrameRequest {
+                settings: *settings,
+                foveation: &mode.config,
+                eyes: &eyes,
+                debug: DebugView::None,
+            };
+            let frame = render_named(&mut self.renderer, &request, self.name)?;
+            if frame_index == 0 {
+                continue;
+            }
+            mode.add(&frame.stats);
+        }
+        Ok(())
+    }
 }
 
 /// Prints one scene's row for one traversal: its modes' median GPU times and ratios.
@@ -282,4 +342,11 @@ fn write_json(
             path.display()
         )
     })
+}
+
+/// Renders one frame and names the scene on failure.
+fn render_named(renderer: &mut Renderer, request: &FrameRequest, name: &str) -> Result<Frame> {
+    renderer
+        .render_frame(request)
+        .with_context(|| format!("rendering {name}"))
 }

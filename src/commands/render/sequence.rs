@@ -2,8 +2,9 @@
 //! written as DIR/frame_NNNN.png (+ .exr), with a temporal history carried from frame to
 //! frame unless `--temporal off`.
 
-use super::check_validation;
-use super::render::{with_source_gaze, OnOff, RenderArgs};
+use super::args::{OnOff, RenderArgs};
+use super::gaze::with_source_gaze;
+use crate::commands::check_validation;
 use anyhow::{bail, Context, Result};
 use fovea::foveation::{FoveationConfig, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;

@@ -1,13 +1,15 @@
 //! A motion run's summary.json, report.md and plots, from its rows (motion.csv) alone.
 
-use super::error::BenchError;
-use super::files::{animation_path, ANIMATION_FRAME_MS, COMMANDS_FILE, MOTION_FILE, PLAN_FILE};
-use super::motion::{MotionScript, Sequence};
-use super::plots::{per_frame_lines, Series};
-use super::protocol::{flag_value, BenchPlan, EYES};
-use super::report::{header, layers_text, ReportHead};
-use super::rows::{MotionJodRow, MotionRow};
-use super::summary::{mean, utc_now, Device};
+use super::script::{MotionScript, Sequence};
+use crate::bench::error::BenchError;
+use crate::bench::files::{
+    animation_path, ANIMATION_FRAME_MS, COMMANDS_FILE, MOTION_FILE, PLAN_FILE,
+};
+use crate::bench::plots::{per_frame_lines, Series};
+use crate::bench::protocol::{flag_value, BenchPlan, EYES};
+use crate::bench::report_head::{header, layers_text, ReportHead};
+use crate::bench::rows::{MotionJodRow, MotionRow};
+use crate::bench::summary::{mean, utc_now, Device};
 use crate::gpu::DeviceInfo;
 use crate::metrics::BANDS;
 use serde::Serialize;
@@ -305,6 +307,33 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
     let name = &scene.scene;
     let _ = writeln!(md, "## {name}\n");
     let regions = region_names();
+    sequence_table(md, scene, &regions);
+    history_ratios(md, p, scene, &regions);
+    let _ = writeln!(md);
+    for region in ["whole", "0-6", "20+"] {
+        let _ = writeln!(
+            md,
+            "![relMSE {region}](plots/{name}-motion-error-{region}.png) ![flicker {region}](plots/{name}-motion-flicker-{region}.png)\n"
+        );
+    }
+    let animation = animation_path(Path::new(""), name);
+    let _ = writeln!(
+        md,
+        "![reference, each sequence and the error of history on, animated]({})\n",
+        animation.display()
+    );
+}
+
+/// `f` of the sequence's summary of `region`; NaN if it has none.
+fn region_value(seq: &SequenceSummary, region: &str, f: fn(&RegionSummary) -> f64) -> f64 {
+    seq.regions
+        .iter()
+        .find(|r| r.region == region)
+        .map_or(f64::NAN, f)
+}
+
+/// Each sequence's cost, JOD, and error and flicker per region.
+fn sequence_table(md: &mut String, scene: &MotionScene, regions: &[&str]) {
     let _ = writeln!(
         md,
         "| sequence | GPU ms | of it temporal ms | JOD (video) | {} | {} |",
@@ -320,20 +349,14 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
             .join(" | ")
     );
     let _ = writeln!(md, "|---|---|---|---|{}", "---|".repeat(2 * regions.len()));
-    let value = |seq: &SequenceSummary, region: &str, f: fn(&RegionSummary) -> f64| {
-        seq.regions
-            .iter()
-            .find(|r| r.region == region)
-            .map_or(f64::NAN, f)
-    };
     for seq in &scene.sequences {
         let errors: Vec<String> = regions
             .iter()
-            .map(|r| fmt(value(seq, r, |x| x.rel_mse)))
+            .map(|r| fmt(region_value(seq, r, |x| x.rel_mse)))
             .collect();
         let flickers: Vec<String> = regions
             .iter()
-            .map(|r| fmt(value(seq, r, |x| x.flicker)))
+            .map(|r| fmt(region_value(seq, r, |x| x.flicker)))
             .collect();
         let _ = writeln!(
             md,
@@ -346,46 +369,44 @@ fn scene_section(md: &mut String, p: &BenchPlan, scene: &MotionScene) {
             flickers.join(" | ")
         );
     }
+}
+
+/// The history's effect: the history-on sequence against off at the same and at twice the
+/// spp, as ratios per region (when all three were measured).
+fn history_ratios(md: &mut String, p: &BenchPlan, scene: &MotionScene, regions: &[&str]) {
     let find = |s: Sequence| scene.sequences.iter().find(|x| x.sequence == s.name());
     let [off, on, off_2x] = Sequence::all(p.spp);
-    if let (Some(on), Some(off), Some(off_2x)) = (find(on), find(off), find(off_2x)) {
-        let _ = writeln!(
-            md,
-            "\nHistory on against off (ratio < 1: on is better), per region {}:\n",
-            regions.join(", ")
-        );
-        for (against, label) in [(off, "the same spp"), (off_2x, "twice the spp")] {
-            let ratios = |f: fn(&RegionSummary) -> f64| -> String {
-                regions
-                    .iter()
-                    .map(|r| format!("{:.2}", value(on, r, f) / value(against, r, f)))
-                    .collect::<Vec<_>>()
-                    .join(" / ")
-            };
-            let _ = writeln!(
-                md,
-                "- against {} at {label} ({:.2} ms against {:.2} ms GPU): relMSE ×{}, settled (second half) ×{}, \
-                 flicker ×{}",
-                against.sequence,
-                on.gpu_ms,
-                against.gpu_ms,
-                ratios(|x| x.rel_mse),
-                ratios(|x| x.rel_mse_settled),
-                ratios(|x| x.flicker)
-            );
-        }
-    }
-    let _ = writeln!(md);
-    for region in ["whole", "0-6", "20+"] {
-        let _ = writeln!(
-            md,
-            "![relMSE {region}](plots/{name}-motion-error-{region}.png) ![flicker {region}](plots/{name}-motion-flicker-{region}.png)\n"
-        );
-    }
-    let animation = animation_path(Path::new(""), name);
+    let (Some(on), Some(off), Some(off_2x)) = (find(on), find(off), find(off_2x)) else {
+        return;
+    };
     let _ = writeln!(
         md,
-        "![reference, each sequence and the error of history on, animated]({})\n",
-        animation.display()
+        "\nHistory on against off (ratio < 1: on is better), per region {}:\n",
+        regions.join(", ")
     );
+    for (against, label) in [(off, "the same spp"), (off_2x, "twice the spp")] {
+        let ratios = |f: fn(&RegionSummary) -> f64| -> String {
+            regions
+                .iter()
+                .map(|r| {
+                    format!(
+                        "{:.2}",
+                        region_value(on, r, f) / region_value(against, r, f)
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(" / ")
+        };
+        let _ = writeln!(
+            md,
+            "- against {} at {label} ({:.2} ms against {:.2} ms GPU): relMSE ×{}, settled (second half) ×{}, \
+             flicker ×{}",
+            against.sequence,
+            on.gpu_ms,
+            against.gpu_ms,
+            ratios(|x| x.rel_mse),
+            ratios(|x| x.rel_mse_settled),
+            ratios(|x| x.flicker)
+        );
+    }
 }

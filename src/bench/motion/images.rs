@@ -2,10 +2,10 @@
 //! error of the temporal-history sequence side by side, scaled down so the animated PNG
 //! stays a file one opens in a browser, with each sequence's gaze marked.
 
-use super::error::BenchError;
-use super::files::ANIMATION_FRAME_MS;
-use super::motion::Sequence;
-use super::plots::{animated_strip, Panel};
+use super::script::Sequence;
+use crate::bench::error::BenchError;
+use crate::bench::files::ANIMATION_FRAME_MS;
+use crate::bench::plots::{animated_strip, Panel};
 use crate::metrics::magma_rgb8;
 use crate::render::output::linear_to_srgb8;
 use std::collections::BTreeMap;
@@ -199,6 +199,6 @@ mod tests {
         let control = info.animation_control().expect("an animated PNG");
         assert_eq!(control.num_frames, 3);
         // Five panels: reference, three sequences, error.
-        assert_eq!(info.width, 5 * 166 + 4 * super::super::plots::STRIP_GAP);
+        assert_eq!(info.width, 5 * 166 + 4 * crate::bench::plots::STRIP_GAP);
     }
 }
