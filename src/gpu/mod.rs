@@ -2,6 +2,7 @@
 //! passes; everything here owns raw handles and destroys them on drop.
 
 mod accel;
+mod commands;
 mod context;
 mod crash_markers;
 mod device_pick;
@@ -21,7 +22,8 @@ pub use validation::ValidationLog;
 
 pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
-pub use context::{Commands, ContextNeeds, GpuContext, VulkanCreator};
+pub use commands::Commands;
+pub use context::{ContextNeeds, GpuContext, VulkanCreator};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
 pub use memory::{Buffer, StorageImage, TexelView};
