@@ -3,6 +3,7 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
+use super::owned::Pending;
 use super::sync::Scope;
 use ash::vk;
 use std::ops::Deref;
@@ -46,25 +47,21 @@ impl GpuContext {
         if let Some(pair) = self.spare.lock().unwrap_or_else(|e| e.into_inner()).pop() {
             return Ok(pair);
         }
+        // SAFETY: fence creation with default info.
+        let fence = unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .vk("vkCreateFence")?;
+        let fence = Pending::new(&self.device, fence);
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(self.command_pool)
+            .command_pool(self.command_pool.handle)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: the pool belongs to this device and is only used from this thread.
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
             .vk("vkAllocateCommandBuffers")?[0];
-        // SAFETY: fence creation with default info.
-        match unsafe {
-            self.device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-        } {
-            Ok(fence) => Ok((cmd, fence)),
-            Err(e) => {
-                // SAFETY: the buffer was just allocated and never used.
-                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
-                Err(e).vk("vkCreateFence")
-            }
-        }
+        Ok((cmd, fence.keep()))
     }
 
     /// Takes back a command buffer and fence that no submission uses any more: kept as
@@ -88,7 +85,18 @@ impl GpuContext {
         // SAFETY: as above.
         unsafe {
             self.device.destroy_fence(fence, None);
-            self.device.free_command_buffers(self.command_pool, &[cmd]);
+            self.device
+                .free_command_buffers(self.command_pool.handle, &[cmd]);
+        }
+    }
+
+    /// Destroys the spare fences (the context's drop, once the device is idle; the spare
+    /// command buffers go with their pool).
+    pub(super) fn destroy_spares(&mut self) {
+        let spare = self.spare.get_mut().unwrap_or_else(|e| e.into_inner());
+        for (_, fence) in spare.drain(..) {
+            // SAFETY: the device is idle, and a spare is used by no submission.
+            unsafe { self.device.destroy_fence(fence, None) };
         }
     }
 }
