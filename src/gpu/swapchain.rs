@@ -78,9 +78,9 @@ pub enum Presented {
 /// this before the window.
 pub struct Swapchain {
     ctx: Arc<GpuContext>,
-    surface_fn: ash::khr::surface::Instance,
     swapchain_fn: ash::khr::swapchain::Device,
-    surface: vk::SurfaceKHR,
+    /// A field, so destroyed after `Drop::drop` has destroyed the swapchain made on it.
+    surface: Surface,
     swapchain: vk::SwapchainKHR,
     images: Vec<vk::Image>,
     format: vk::SurfaceFormatKHR,
@@ -101,34 +101,17 @@ impl Swapchain {
         size: [u32; 2],
         preference: PresentPreference,
     ) -> Result<Self, GpuError> {
-        // SAFETY: the handles come from a live window that the caller keeps alive until this
-        // swapchain is dropped (documented on the type); the instance has the extensions
-        // `surface_instance_extensions` named (the caller created the context with them).
-        let surface = unsafe {
-            ash_window::create_surface(ctx.entry(), &ctx.instance, display, window, None)
-        }
-        .vk("vkCreate*SurfaceKHR")?;
-        let surface_fn = ash::khr::surface::Instance::new(ctx.entry(), &ctx.instance);
+        let surface = Surface::new(ctx, display, window)?;
         let swapchain_fn = ash::khr::swapchain::Device::new(&ctx.instance, &ctx.device);
         // SAFETY: a valid device; default create info.
-        let acquire_fence = match unsafe {
+        let acquire_fence = unsafe {
             ctx.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
-        } {
-            Ok(f) => f,
-            Err(result) => {
-                // SAFETY: nothing was created from the surface.
-                unsafe { surface_fn.destroy_surface(surface, None) };
-                return Err(GpuError::Vulkan {
-                    call: "vkCreateFence",
-                    result,
-                });
-            }
-        };
+        }
+        .vk("vkCreateFence")?;
         // From here on, drop destroys what exists.
         let mut this = Self {
             ctx: ctx.clone(),
-            surface_fn,
             swapchain_fn,
             surface,
             swapchain: vk::SwapchainKHR::null(),
@@ -141,10 +124,10 @@ impl Swapchain {
         };
         // SAFETY: the physical device and the queue family are the context's; the surface is live.
         let supported = unsafe {
-            this.surface_fn.get_physical_device_surface_support(
+            this.surface.loader.get_physical_device_surface_support(
                 ctx.physical_device(),
                 ctx.queue_family(),
-                surface,
+                this.surface.handle,
             )
         }
         .vk("vkGetPhysicalDeviceSurfaceSupportKHR")?;
@@ -188,8 +171,10 @@ impl Swapchain {
     fn choose_format(&self) -> Result<vk::SurfaceFormatKHR, GpuError> {
         // SAFETY: the surface and the physical device are live.
         let formats = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_formats(self.ctx.physical_device(), self.surface)
+            self.surface.loader.get_physical_device_surface_formats(
+                self.ctx.physical_device(),
+                self.surface.handle,
+            )
         }
         .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
         let srgb = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];
@@ -216,8 +201,12 @@ impl Swapchain {
     fn choose_present_mode(&self) -> Result<vk::PresentModeKHR, GpuError> {
         // SAFETY: the surface and the physical device are live.
         let modes = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_present_modes(self.ctx.physical_device(), self.surface)
+            self.surface
+                .loader
+                .get_physical_device_surface_present_modes(
+                    self.ctx.physical_device(),
+                    self.surface.handle,
+                )
         }
         .vk("vkGetPhysicalDeviceSurfacePresentModesKHR")?;
         Ok(self
@@ -236,8 +225,12 @@ impl Swapchain {
     pub fn recreate(&mut self, size: [u32; 2]) -> Result<[u32; 2], GpuError> {
         // SAFETY: the surface and the physical device are live.
         let caps = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_capabilities(self.ctx.physical_device(), self.surface)
+            self.surface
+                .loader
+                .get_physical_device_surface_capabilities(
+                    self.ctx.physical_device(),
+                    self.surface.handle,
+                )
         }
         .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
         // u32::MAX means "the swapchain decides" (Wayland); otherwise the surface's size rules.
@@ -281,7 +274,7 @@ impl Swapchain {
         .find(|a| caps.supported_composite_alpha.contains(*a))
         .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
         let info = vk::SwapchainCreateInfoKHR::default()
-            .surface(self.surface)
+            .surface(self.surface.handle)
             .min_image_count(count)
             .image_format(self.format.format)
             .image_color_space(self.format.color_space)
@@ -392,11 +385,44 @@ impl Drop for Swapchain {
         // SAFETY: the queue is only used from this thread.
         let _ = unsafe { self.ctx.device.queue_wait_idle(self.ctx.queue) };
         self.destroy_swapchain();
-        // SAFETY: nothing uses the fence (no acquire is pending) or the surface (its swapchain
-        // is gone); the window is still alive (documented on the type).
-        unsafe {
-            self.ctx.device.destroy_fence(self.acquire_fence, None);
-            self.surface_fn.destroy_surface(self.surface, None);
+        // SAFETY: nothing uses the fence (no acquire is pending).
+        unsafe { self.ctx.device.destroy_fence(self.acquire_fence, None) };
+    }
+}
+
+/// A window's surface. The window must outlive it (see [`Swapchain`]).
+struct Surface {
+    loader: ash::khr::surface::Instance,
+    handle: vk::SurfaceKHR,
+    /// Keeps the instance the surface belongs to alive until it is destroyed.
+    _ctx: Arc<GpuContext>,
+}
+
+impl Surface {
+    fn new(
+        ctx: &Arc<GpuContext>,
+        display: RawDisplayHandle,
+        window: RawWindowHandle,
+    ) -> Result<Self, GpuError> {
+        // SAFETY: the handles come from a live window that the caller keeps alive until the
+        // swapchain is dropped (documented on Swapchain); the instance has the extensions
+        // `surface_instance_extensions` named (the caller created the context with them).
+        let handle = unsafe {
+            ash_window::create_surface(ctx.entry(), &ctx.instance, display, window, None)
         }
+        .vk("vkCreate*SurfaceKHR")?;
+        Ok(Self {
+            loader: ash::khr::surface::Instance::new(ctx.entry(), &ctx.instance),
+            handle,
+            _ctx: ctx.clone(),
+        })
+    }
+}
+
+impl Drop for Surface {
+    fn drop(&mut self) {
+        // SAFETY: no swapchain of the surface is left (Swapchain's drop destroyed it before
+        // its fields drop), and the window is still alive (documented on Swapchain).
+        unsafe { self.loader.destroy_surface(self.handle, None) };
     }
 }
