@@ -233,15 +233,7 @@ impl Swapchain {
                 )
         }
         .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
-        // u32::MAX means "the swapchain decides" (Wayland); otherwise the surface's size rules.
-        let extent = if caps.current_extent.width == u32::MAX {
-            [
-                size[0].clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                size[1].clamp(caps.min_image_extent.height, caps.max_image_extent.height),
-            ]
-        } else {
-            [caps.current_extent.width, caps.current_extent.height]
-        };
+        let extent = extent_for(&caps, size);
         // Nothing may use the old images any more: every submission of fovea is waited for,
         // but the presentation engine may still read the last presented one.
         // SAFETY: the queue is only used from this thread.
@@ -259,23 +251,9 @@ impl Swapchain {
                 "the window surface's images cannot be copied into (no TRANSFER_DST usage)".into(),
             ));
         }
-        // One more than the minimum, so acquiring never waits on the image being shown.
-        let mut count = caps.min_image_count + 1;
-        if caps.max_image_count > 0 {
-            count = count.min(caps.max_image_count);
-        }
-        let alpha = [
-            vk::CompositeAlphaFlagsKHR::OPAQUE,
-            vk::CompositeAlphaFlagsKHR::INHERIT,
-            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
-            vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
-        ]
-        .into_iter()
-        .find(|a| caps.supported_composite_alpha.contains(*a))
-        .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(self.surface.handle)
-            .min_image_count(count)
+            .min_image_count(image_count(&caps))
             .image_format(self.format.format)
             .image_color_space(self.format.color_space)
             .image_extent(vk::Extent2D {
@@ -286,7 +264,7 @@ impl Swapchain {
             .image_usage(vk::ImageUsageFlags::TRANSFER_DST)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
-            .composite_alpha(alpha)
+            .composite_alpha(composite_alpha(&caps))
             .present_mode(self.present_mode)
             .clipped(true)
             .old_swapchain(self.swapchain);
@@ -378,6 +356,41 @@ impl Swapchain {
             }),
         }
     }
+}
+
+/// The swapchain's size for a window of `size` pixels: the surface's own where it has one;
+/// u32::MAX means "the swapchain decides" (Wayland), then the window's, clamped.
+fn extent_for(caps: &vk::SurfaceCapabilitiesKHR, size: [u32; 2]) -> [u32; 2] {
+    if caps.current_extent.width == u32::MAX {
+        [
+            size[0].clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+            size[1].clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+        ]
+    } else {
+        [caps.current_extent.width, caps.current_extent.height]
+    }
+}
+
+/// One more than the minimum, so acquiring never waits on the image being shown.
+fn image_count(caps: &vk::SurfaceCapabilitiesKHR) -> u32 {
+    let count = caps.min_image_count + 1;
+    match caps.max_image_count > 0 {
+        true => count.min(caps.max_image_count),
+        false => count,
+    }
+}
+
+/// Opaque where the surface allows it, else the first mode it supports.
+fn composite_alpha(caps: &vk::SurfaceCapabilitiesKHR) -> vk::CompositeAlphaFlagsKHR {
+    [
+        vk::CompositeAlphaFlagsKHR::OPAQUE,
+        vk::CompositeAlphaFlagsKHR::INHERIT,
+        vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+        vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
+    ]
+    .into_iter()
+    .find(|a| caps.supported_composite_alpha.contains(*a))
+    .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE)
 }
 
 impl Drop for Swapchain {
