@@ -23,7 +23,7 @@ pub struct DeviceInfo {
     pub ray_query: Option<RayQueryLimits>,
 }
 
-/// What VK_KHR_acceleration_structure allows on a device (src/gpu/accel.rs checks a scene
+/// What VK_KHR_acceleration_structure allows on a device (src/gpu/accel/mod.rs checks a scene
 /// against them before building).
 #[derive(Clone, Copy, Debug)]
 pub struct RayQueryLimits {
