@@ -1,41 +1,41 @@
-//! The Vulkan instance, the chosen device and its compute queue, the memory allocator and a
-//! command pool: everything else in gpu/ borrows from a `GpuContext`.
+//! The Vulkan instance, the chosen device and its queue, the memory allocator and a command
+//! pool: everything else in gpu/ borrows from a `GpuContext`. Set-up is in instance.rs and
+//! device.rs; each object is held by its owner (owned.rs), so a set-up that fails half-way
+//! destroys what it made.
 
-use super::crash_markers::{create_marker_buffer, InjectedLoss, MarkerSet, Markers, MARKER_SETS};
-use super::device_pick::{
-    driver_env, pick_device, DeviceInfo, DeviceWanted, Picked, RAY_QUERY_EXTENSIONS,
-};
-use super::error::{human_bytes, GpuError, VkContext};
+use super::crash_markers::{InjectedLoss, Markers};
+use super::device::{create_device, RayQueryUse};
+use super::device_pick::{pick_device, DeviceInfo, DeviceWanted, Picked};
+use super::error::{human_bytes, GpuError};
+use super::instance::create_instance;
 use super::memory_budget::{memory_facts, MemoryFacts};
-use super::options::{GpuOptions, RayQueries, INJECT_DEVICE_LOST_VAR};
-use super::sync::Scope;
-use super::validation::{debug_callback, ValidationLog};
+use super::options::GpuOptions;
+use super::owned::{CommandPool, Device, Instance, Messenger};
+use super::validation::ValidationLog;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-use std::ffi::{c_char, CStr};
-use std::mem::ManuallyDrop;
-use std::ops::Deref;
+use std::ffi::CStr;
 use std::sync::atomic::AtomicU64;
 use std::sync::{Arc, Mutex};
 
-const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
-
+/// The fields that own Vulkan objects are declared in the order they are destroyed, the
+/// reverse of their creation (Rust drops fields in declaration order, after `Drop::drop`).
 pub struct GpuContext {
-    entry: ash::Entry,
-    pub(crate) instance: ash::Instance,
-    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-    validation_log: Arc<ValidationLog>,
-    pub(crate) device: ash::Device,
-    pub(crate) queue: vk::Queue,
-    /// vkCmdPipelineBarrier2 (VK_KHR_synchronization2: every barrier fovea records).
-    pub(super) sync2: ash::khr::synchronization2::Device,
-    pub(crate) command_pool: vk::CommandPool,
+    pub(super) markers: Mutex<Markers>,
     /// Command buffers and fences of finished submissions, reused by the next ones: a
     /// headset session submits every frame, and new handles each time make the validation
     /// layer's bookkeeping (and some drivers') grow.
-    spare: Mutex<Vec<(vk::CommandBuffer, vk::Fence)>>,
-    pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
-    pub(super) markers: Mutex<Markers>,
+    pub(super) spare: Mutex<Vec<(vk::CommandBuffer, vk::Fence)>>,
+    allocator: Mutex<Allocator>,
+    pub(super) command_pool: CommandPool,
+    /// vkCmdPipelineBarrier2 (VK_KHR_synchronization2: every barrier fovea records).
+    pub(super) sync2: ash::khr::synchronization2::Device,
+    pub(crate) queue: vk::Queue,
+    pub(crate) device: Device,
+    /// Held for its drop: validation messages are reported until it is destroyed.
+    _messenger: Option<Messenger>,
+    pub(crate) instance: Instance,
+    validation_log: Arc<ValidationLog>,
     pub(super) memory: MemoryFacts,
     /// Bytes fovea holds now: [device-local, host-visible].
     pub(super) allocated: [AtomicU64; 2],
@@ -47,13 +47,6 @@ pub struct GpuContext {
     physical_device: vk::PhysicalDevice,
     queue_family: u32,
 }
-
-/// An instance (and its debug messenger) whose device set-up failed, with the reason.
-type PartialInstance = (
-    GpuError,
-    ash::Instance,
-    Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-);
 
 /// What a caller beyond headless rendering needs from the context: a window needs surface
 /// extensions and a queue that can present; an OpenXR session needs the runtime to create the
@@ -91,354 +84,59 @@ impl GpuContext {
         Self::new_with(options, &ContextNeeds::default())
     }
 
+    /// Sets up instance, device, queue, command pool, allocator and crash markers, in that
+    /// order; an error on the way destroys what was made (each has its owner).
     pub fn new_with(options: &GpuOptions, needs: &ContextNeeds) -> Result<Self, GpuError> {
-        if let Some((var, value, problem)) = &options.env_problem {
-            return Err(GpuError::BadEnvironment {
-                var,
-                value: value.clone(),
-                problem: problem.clone(),
-            });
-        }
-        if let Some(Err(problem)) = options
-            .inject_device_lost
-            .as_deref()
-            .map(InjectedLoss::parse)
-        {
-            return Err(GpuError::BadEnvironment {
-                var: INJECT_DEVICE_LOST_VAR,
-                value: options.inject_device_lost.clone().unwrap_or_default(),
-                problem,
-            });
-        }
-        // SAFETY: loading the system Vulkan loader; its symbols are used only through ash.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
-        let mut layers: Vec<*const c_char> = Vec::new();
-        let mut extensions: Vec<*const c_char> = Vec::new();
-        if options.validation {
-            // SAFETY: plain enumeration call on a loaded entry.
-            let available = unsafe { entry.enumerate_instance_layer_properties() }
-                .vk("vkEnumerateInstanceLayerProperties")?;
-            if !available
-                .iter()
-                .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
-            {
-                return Err(GpuError::NoValidationLayer);
-            }
-            layers.push(VALIDATION_LAYER.as_ptr());
-            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
-        }
-        extensions.extend(needs.instance_extensions.iter().map(|e| e.as_ptr()));
-        let checks = validation_features(options);
-        if !checks.is_empty() {
-            // SAFETY: plain enumeration call on a loaded entry, for a layer that is present.
-            let offered =
-                unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
-                    .vk("vkEnumerateInstanceExtensionProperties")?;
-            if !offered
-                .iter()
-                .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::validation_features::NAME))
-            {
-                return Err(GpuError::NoValidationFeatures);
-            }
-            extensions.push(ash::ext::validation_features::NAME.as_ptr());
-        }
-        let mut features =
-            vk::ValidationFeaturesEXT::default().enabled_validation_features(&checks);
-        let app = vk::ApplicationInfo::default()
-            .application_name(c"fovea")
-            .engine_name(c"fovea")
-            .api_version(vk::API_VERSION_1_2);
-        let mut create = vk::InstanceCreateInfo::default()
-            .application_info(&app)
-            .enabled_layer_names(&layers)
-            .enabled_extension_names(&extensions);
-        if !checks.is_empty() {
-            create = create.push_next(&mut features);
-        }
-        let created = match needs.creator {
-            Some(creator) => creator.create_instance(&entry, &create).map(|handle| {
-                // SAFETY: the creator returned a live instance made from this entry's loader.
-                unsafe { ash::Instance::load(entry.static_fn(), handle) }
-            }),
-            // SAFETY: the create info and the arrays it points to live until the call returns.
-            None => {
-                unsafe { entry.create_instance(&create, None) }.map_err(|result| GpuError::Vulkan {
-                    call: "vkCreateInstance",
-                    result,
-                })
-            }
-        };
-        let instance = match created {
-            Ok(instance) => instance,
-            // What the loader returns when it finds no driver at all.
-            Err(GpuError::Vulkan {
-                result: result @ vk::Result::ERROR_INCOMPATIBLE_DRIVER,
-                ..
-            }) => {
-                return Err(GpuError::NoDevice {
-                    detail: format!(
-                        "the Vulkan loader found no driver (vkCreateInstance: {result}){}",
-                        driver_env()
-                    ),
-                })
-            }
-            Err(e) => return Err(e),
-        };
+        options.check_environment()?;
+        let inject = InjectedLoss::from_options(options)?;
         let validation_log = Arc::<ValidationLog>::default();
-        let debug = if options.validation {
-            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
-            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-                .message_severity(
-                    vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-                        | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
-                )
-                .message_type(
-                    vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                        | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
-                )
-                .pfn_user_callback(Some(debug_callback))
-                .user_data(Arc::as_ptr(&validation_log) as *mut std::ffi::c_void);
-            // SAFETY: the context holds an Arc of the log and destroys the messenger before dropping it.
-            match unsafe { loader.create_debug_utils_messenger(&info, None) } {
-                Ok(messenger) => Some((loader, messenger)),
-                Err(result) => {
-                    // SAFETY: nothing else was created from the instance.
-                    unsafe { instance.destroy_instance(None) };
-                    return Err(GpuError::Vulkan {
-                        call: "vkCreateDebugUtilsMessengerEXT",
-                        result,
-                    });
-                }
-            }
-        } else {
-            None
-        };
-        // The entry (the loaded library) must outlive the instance on the error path too.
-        match Self::with_instance(
-            entry.clone(),
-            instance,
-            debug,
-            validation_log,
-            options,
-            needs,
-        ) {
-            Ok(ctx) => Ok(ctx),
-            Err(failed) => {
-                let (e, instance, debug) = *failed;
-                // SAFETY: nothing was created from the instance but the messenger.
-                unsafe {
-                    if let Some((loader, messenger)) = debug {
-                        loader.destroy_debug_utils_messenger(messenger, None);
-                    }
-                    instance.destroy_instance(None);
-                }
-                Err(e)
-            }
-        }
-    }
-
-    /// Finishes set-up on a created instance; on failure hands the instance (and messenger)
-    /// back so the caller destroys them.
-    fn with_instance(
-        entry: ash::Entry,
-        instance: ash::Instance,
-        debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-        validation_log: Arc<ValidationLog>,
-        options: &GpuOptions,
-        needs: &ContextNeeds,
-    ) -> Result<Self, Box<PartialInstance>> {
-        let required = match needs.creator {
-            Some(creator) => match creator.physical_device(instance.handle()) {
-                Ok(pd) => Some(pd),
-                Err(e) => return Err(Box::new((e, instance, debug))),
-            },
-            None => None,
-        };
-        let wanted = DeviceWanted {
-            name: options.device.as_deref(),
-            physical_device: required,
-            graphics: needs.graphics_queue,
-            extensions: &needs.device_extensions,
-        };
-        let picked = match pick_device(&instance, &wanted) {
-            Ok(p) => p,
-            Err(e) => return Err(Box::new((e, instance, debug))),
-        };
-        let Picked {
-            physical_device,
-            family: queue_family,
-            mut info,
-            budget,
-            amd_marker,
-        } = picked;
-        match options.ray_queries {
-            RayQueries::Off => info.ray_query = None,
-            RayQueries::Required if info.ray_query.is_none() => {
-                let e = GpuError::NoRayQueries {
-                    device: info.name.clone(),
-                };
-                return Err(Box::new((e, instance, debug)));
-            }
-            _ => {}
-        }
-        let ray_query = info.ray_query.is_some();
-        // On a CPU driver ray queries run the driver's traversal on the same cores as ours,
-        // and lavapipe's measured 2.3-5.9x slower than fovea's (README, "Ray queries"): there
-        // `auto` keeps the software traversal (both stay available, e.g. to render --bench).
-        let prefers_ray_queries =
-            ray_query && (options.ray_queries == RayQueries::Required || info.kind != "CPU");
-        let priorities = [1.0f32];
-        let queue_info = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
-        let mut device_extensions = Vec::new();
-        if budget {
-            device_extensions.push(ash::ext::memory_budget::NAME.as_ptr());
-        }
-        if amd_marker {
-            device_extensions.push(ash::amd::buffer_marker::NAME.as_ptr());
-        }
-        device_extensions.push(ash::khr::synchronization2::NAME.as_ptr());
-        if ray_query {
-            device_extensions.extend(RAY_QUERY_EXTENSIONS.iter().map(|e| e.as_ptr()));
-        }
-        device_extensions.extend(needs.device_extensions.iter().map(|e| e.as_ptr()));
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
-            .host_query_reset(true)
-            .buffer_device_address(ray_query);
-        let mut sync2 =
-            vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
-        let mut accel_features = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
-            .acceleration_structure(true);
-        let mut query_features = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
-        let mut device_info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queue_info)
-            .enabled_extension_names(&device_extensions)
-            .push_next(&mut features12)
-            .push_next(&mut sync2);
-        if ray_query {
-            device_info = device_info
-                .push_next(&mut accel_features)
-                .push_next(&mut query_features);
-        }
-        let created = match needs.creator {
-            Some(creator) => creator
-                .create_device(&entry, physical_device, &device_info)
-                .map(|handle| {
-                    // SAFETY: the creator returned a live device of this instance.
-                    unsafe { ash::Device::load(instance.fp_v1_0(), handle) }
-                }),
-            // SAFETY: physical_device came from this instance; the create info outlives the call.
-            None => unsafe { instance.create_device(physical_device, &device_info, None) }.map_err(
-                |result| GpuError::Vulkan {
-                    call: "vkCreateDevice",
-                    result,
-                },
-            ),
-        };
-        let device = match created {
-            Ok(d) => d,
-            Err(e) => return Err(Box::new((e, instance, debug))),
-        };
-        // SAFETY: queue 0 of a family we requested.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let sync2 = ash::khr::synchronization2::Device::new(&instance, &device);
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid device and create info.
-        let command_pool = match unsafe { device.create_command_pool(&pool_info, None) } {
-            Ok(p) => p,
-            Err(result) => {
-                // SAFETY: the device has no child objects yet.
-                unsafe { device.destroy_device(None) };
-                return Err(Box::new((
-                    GpuError::Vulkan {
-                        call: "vkCreateCommandPool",
-                        result,
-                    },
-                    instance,
-                    debug,
-                )));
-            }
-        };
-        let mut allocator = match Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device,
-
-            debug_settings: Default::default(),
-            // Acceleration-structure build inputs and instances are given by device address.
-            buffer_device_address: ray_query,
-            allocation_sizes: Default::default(),
-        }) {
-            Ok(a) => a,
-            Err(e) => {
-                // SAFETY: only the pool was created on the device.
-                unsafe {
-                    device.destroy_command_pool(command_pool, None);
-                    device.destroy_device(None);
-                }
-                let err = GpuError::Allocation {
-                    what: "allocator".into(),
-                    detail: e.to_string(),
-                };
-                return Err(Box::new((err, instance, debug)));
-            }
-        };
-        let (buffer, allocation) = match create_marker_buffer(&device, &mut allocator) {
-            Ok(b) => b,
-            Err(err) => {
-                drop(allocator);
-                // SAFETY: the allocator (which freed its memory) and the pool are all that was
-                // created on the device.
-                unsafe {
-                    device.destroy_command_pool(command_pool, None);
-                    device.destroy_device(None);
-                }
-                return Err(Box::new((err, instance, debug)));
-            }
-        };
-        let markers = Markers {
-            buffer,
-            allocation: Some(allocation),
-            amd: amd_marker.then(|| ash::amd::buffer_marker::Device::new(&instance, &device)),
-            sets: (0..MARKER_SETS).map(|_| MarkerSet::default()).collect(),
-            recording: None,
-            // Checked by new_with.
-            inject: (options.inject_device_lost.as_deref())
-                .and_then(|t| InjectedLoss::parse(t).ok()),
-            inject_seen: 0,
-        };
-        let memory = memory_facts(&instance, physical_device, budget, options.memory_limit);
+        let (instance, messenger) = create_instance(options, needs, &validation_log)?;
+        let mut picked = pick(&instance, options, needs)?;
+        let ray_query = RayQueryUse::decide(options, &mut picked.info)?;
+        let device = create_device(&instance, &picked, ray_query.enabled, needs)?;
+        // SAFETY: queue 0 of the family the device was created with.
+        let queue = unsafe { device.get_device_queue(picked.family, 0) };
+        let command_pool = CommandPool::new(&device, picked.family)?;
+        let mut allocator = create_allocator(&instance, &device, &picked, ray_query.enabled)?;
+        let markers = Markers::new(
+            &instance,
+            &device,
+            &mut allocator,
+            picked.amd_marker,
+            inject,
+        )?;
+        let memory = memory_facts(
+            &instance,
+            picked.physical_device,
+            picked.budget,
+            options.memory_limit,
+        );
         tracing::info!(
             "Vulkan device: {} ({}, {}); heap {} of {}",
-            info.name,
-            info.kind,
-            info.driver,
+            picked.info.name,
+            picked.info.kind,
+            picked.info.driver,
             memory.device_heap,
             human_bytes(memory.heaps[memory.device_heap])
         );
         Ok(Self {
-            entry,
-            instance,
-            debug,
-            validation_log,
-
-            device,
-            queue,
-            sync2,
-            command_pool,
-            spare: Mutex::new(Vec::new()),
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
             markers: Mutex::new(markers),
+            spare: Mutex::new(Vec::new()),
+            allocator: Mutex::new(allocator),
+            command_pool,
+            sync2: ash::khr::synchronization2::Device::new(&instance, &device),
+            queue,
+            device,
+            _messenger: messenger,
+            instance,
+            validation_log,
             memory,
             allocated: [AtomicU64::new(0), AtomicU64::new(0)],
             peak_allocated: AtomicU64::new(0),
-            info,
-            prefers_ray_queries,
-            physical_device,
-            queue_family,
+            info: picked.info,
+            prefers_ray_queries: ray_query.preferred,
+            physical_device: picked.physical_device,
+            queue_family: picked.family,
         })
     }
 
@@ -449,7 +147,7 @@ impl GpuContext {
     }
 
     pub(crate) fn entry(&self) -> &ash::Entry {
-        &self.entry
+        self.instance.entry()
     }
 
     pub(crate) fn physical_device(&self) -> vk::PhysicalDevice {
@@ -482,312 +180,66 @@ impl GpuContext {
         self.validation_log.clone()
     }
 
-    pub fn validation_enabled(&self) -> bool {
-        self.debug.is_some()
-    }
-
     pub(crate) fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
-
-    /// Records commands with `record`, submits them and waits for completion. `submission`
-    /// names the work; passes recorded through the timestamp pool get crash markers, so a
-    /// device loss says which pass completed last and which was running.
-    pub fn submit_and_wait(
-        &self,
-        submission: &str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<(), GpuError> {
-        self.record(submission, record)?.submit_and_wait()
-    }
-
-    /// Records commands with `record` into a command buffer that is submitted later
-    /// ([`Commands::submit`]): what the host writes in between (into host-visible buffers
-    /// the commands read) is what the GPU sees — a frame's gaze is latched that way.
-    pub fn record(
-        &self,
-        submission: &str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<Commands<&GpuContext>, GpuError> {
-        Commands::record(self, submission, record)
-    }
-
-    /// Like [`Self::record`], for commands that outlive the borrow: a frame in flight, kept
-    /// by its renderer until its fence has signalled.
-    pub fn record_owned(
-        self: &Arc<Self>,
-        submission: &str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<Commands<Arc<GpuContext>>, GpuError> {
-        Commands::record(self.clone(), submission, record)
-    }
-
-    /// A spare command buffer and fence (unsignalled), or new ones.
-    fn command_buffer_and_fence(&self) -> Result<(vk::CommandBuffer, vk::Fence), GpuError> {
-        if let Some(pair) = self.spare.lock().unwrap_or_else(|e| e.into_inner()).pop() {
-            return Ok(pair);
-        }
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(self.command_pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool belongs to this device and is only used from this thread.
-        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }
-            .vk("vkAllocateCommandBuffers")?[0];
-        // SAFETY: fence creation with default info.
-        match unsafe {
-            self.device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-        } {
-            Ok(fence) => Ok((cmd, fence)),
-            Err(e) => {
-                // SAFETY: the buffer was just allocated and never used.
-                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
-                Err(e).vk("vkCreateFence")
-            }
-        }
-    }
-
-    /// Takes back a command buffer and fence that no submission uses any more: kept as
-    /// spares (reset) up to MAX_SPARES, else destroyed.
-    fn return_spare(&self, cmd: vk::CommandBuffer, fence: vk::Fence) {
-        // SAFETY: the caller guarantees that neither is in use (never submitted, or its
-        // submission completed or failed). Resetting the buffer puts it back in the initial
-        // state from any state but pending (a recording cut short included).
-        let reset = unsafe {
-            self.device.reset_fences(&[fence]).and_then(|()| {
-                self.device
-                    .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
-            })
-        };
-        let mut spare = self.spare.lock().unwrap_or_else(|e| e.into_inner());
-        if reset.is_ok() && spare.len() < MAX_SPARES {
-            spare.push((cmd, fence));
-            return;
-        }
-        drop(spare);
-        // SAFETY: as above.
-        unsafe {
-            self.device.destroy_fence(fence, None);
-            self.device.free_command_buffers(self.command_pool, &[cmd]);
-        }
-    }
 }
 
-/// Spare command buffers and fences kept at most (more are freed): frames in flight, and
-/// the odd upload or read-back between them.
-const MAX_SPARES: usize = 6;
-
-/// Where a [`Commands`]' work stands.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Progress {
-    Recorded,
-    Submitted,
-    /// Completed, or failed (a device loss): nothing of it runs any more.
-    Done,
+/// The physical device: the creator's (an OpenXR runtime names the GPU driving the headset),
+/// else the best one that can run fovea and matches `--device`.
+fn pick(
+    instance: &Instance,
+    options: &GpuOptions,
+    needs: &ContextNeeds,
+) -> Result<Picked, GpuError> {
+    let required = match needs.creator {
+        Some(creator) => Some(creator.physical_device(instance.handle())?),
+        None => None,
+    };
+    pick_device(
+        instance,
+        &DeviceWanted {
+            name: options.device.as_deref(),
+            physical_device: required,
+            graphics: needs.graphics_queue,
+            extensions: &needs.device_extensions,
+        },
+    )
 }
 
-/// A recorded command buffer and its fence (see [`GpuContext::record`]), through any handle
-/// to the context (a borrow, or an `Arc` for work kept in flight). Submitted at most once;
-/// back to the context's spares when dropped — after its work completed, which a drop of
-/// submitted, unfinished work waits for.
-pub struct Commands<C: Deref<Target = GpuContext>> {
-    ctx: C,
-    cmd: vk::CommandBuffer,
-    fence: vk::Fence,
-    submission: String,
-    progress: Progress,
-    /// This command buffer's crash-marker set (see crash_markers.rs), held until it is
-    /// dropped.
-    markers: usize,
-}
-
-impl<C: Deref<Target = GpuContext>> Commands<C> {
-    fn record(
-        ctx: C,
-        submission: &str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<Self, GpuError> {
-        let markers = ctx.begin_markers()?;
-        let (cmd, fence) = match ctx.command_buffer_and_fence() {
-            Ok(pair) => pair,
-            Err(e) => {
-                ctx.end_markers();
-                ctx.release_markers(markers);
-                return Err(e);
-            }
-        };
-        // Back to the spares (and the markers freed) on every path from here on, recorded
-        // or not.
-        let commands = Commands {
-            ctx,
-            cmd,
-            fence,
-            submission: submission.to_string(),
-            progress: Progress::Recorded,
-            markers,
-        };
-        let ctx = &*commands.ctx;
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
-        // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
-        if let Err(e) = unsafe { ctx.device.begin_command_buffer(cmd, &begin) } {
-            ctx.end_markers();
-            return Err(e).vk("vkBeginCommandBuffer");
-        }
-        record(cmd);
-        if ctx.end_markers() {
-            // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
-            // before the host reads them after a device loss.
-            ctx.cmd_barrier(
-                cmd,
-                Scope::ALL_WORK.and(Scope::FILL_WRITE),
-                Scope::HOST_READ,
-            );
-        }
-        // SAFETY: recording was begun above.
-        unsafe { ctx.device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
-        Ok(commands)
-    }
-
-    /// Submits the commands to the queue and returns at once; their fence signals when
-    /// they complete ([`Self::is_done`], [`Self::wait`]).
-    pub fn submit(&mut self) -> Result<(), GpuError> {
-        assert!(
-            self.progress == Progress::Recorded,
-            "recorded commands are submitted once"
-        );
-        let cmds = [self.cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: the queue is used only from this thread; cmd (ended, not pending) and the
-        // unsignalled fence are valid.
-        let submitted = unsafe {
-            self.ctx
-                .device
-                .queue_submit(self.ctx.queue, &submit, self.fence)
-        };
-        match submitted {
-            Ok(()) => {
-                self.progress = Progress::Submitted;
-                Ok(())
-            }
-            Err(e) => {
-                self.progress = Progress::Done;
-                Err(self.failed(e, "vkQueueSubmit"))
-            }
-        }
-    }
-
-    /// Whether the submitted commands have completed (their fence has signalled); never
-    /// blocks.
-    pub fn is_done(&self) -> Result<bool, GpuError> {
-        if self.progress != Progress::Submitted {
-            return Ok(self.progress == Progress::Done);
-        }
-        // SAFETY: the fence belongs to this device.
-        match unsafe { self.ctx.device.get_fence_status(self.fence) } {
-            Ok(done) => Ok(done),
-            Err(e) => Err(self.failed(e, "vkGetFenceStatus")),
-        }
-    }
-
-    /// Waits for the submitted commands to complete.
-    pub fn wait(&mut self) -> Result<(), GpuError> {
-        if self.progress != Progress::Submitted {
-            return Ok(());
-        }
-        // SAFETY: the fence belongs to this device and was submitted with the commands.
-        let waited = unsafe {
-            self.ctx
-                .device
-                .wait_for_fences(&[self.fence], true, u64::MAX)
-        };
-        self.progress = Progress::Done;
-        let injected = self.ctx.markers_cut(self.markers);
-        match (waited, injected) {
-            // The command buffer ended after the injected pass: fail as a driver would.
-            (Ok(()), true) => Err(self.failed(vk::Result::ERROR_DEVICE_LOST, "vkWaitForFences")),
-            (Ok(()), false) => Ok(()),
-            (Err(e), _) => Err(self.failed(e, "vkWaitForFences")),
-        }
-    }
-
-    /// Submits the commands and waits for them to complete.
-    pub fn submit_and_wait(mut self) -> Result<(), GpuError> {
-        self.submit()?;
-        self.wait()
-    }
-
-    /// The error of a failed call: a device loss names the pass it happened in.
-    fn failed(&self, e: vk::Result, call: &'static str) -> GpuError {
-        if e != vk::Result::ERROR_DEVICE_LOST {
-            return GpuError::Vulkan { call, result: e };
-        }
-        self.ctx.device_lost(&self.submission, self.markers)
-    }
-}
-
-impl<C: Deref<Target = GpuContext>> Drop for Commands<C> {
-    fn drop(&mut self) {
-        if self.progress == Progress::Submitted {
-            // SAFETY: the fence belongs to this device; the command buffer may not be freed
-            // or reused while pending. An error (a lost device) means nothing runs any more.
-            let _ = unsafe {
-                self.ctx
-                    .device
-                    .wait_for_fences(&[self.fence], true, u64::MAX)
-            };
-        }
-        self.ctx.return_spare(self.cmd, self.fence);
-        self.ctx.release_markers(self.markers);
-    }
-}
-
-/// The validation layer's optional checks that `options` asks for (none without validation).
-fn validation_features(options: &GpuOptions) -> Vec<vk::ValidationFeatureEnableEXT> {
-    let checks = &options.checks;
-    let mut enabled = Vec::new();
-    if options.validation && checks.synchronization {
-        enabled.push(vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION);
-    }
-    if options.validation && checks.gpu_assisted {
-        enabled.push(vk::ValidationFeatureEnableEXT::GPU_ASSISTED);
-    }
-    enabled
+fn create_allocator(
+    instance: &Instance,
+    device: &Device,
+    picked: &Picked,
+    ray_query: bool,
+) -> Result<Allocator, GpuError> {
+    Allocator::new(&AllocatorCreateDesc {
+        instance: ash::Instance::clone(instance),
+        device: ash::Device::clone(device),
+        physical_device: picked.physical_device,
+        debug_settings: Default::default(),
+        // Acceleration-structure build inputs and instances are given by device address.
+        buffer_device_address: ray_query,
+        allocation_sizes: Default::default(),
+    })
+    .map_err(|e| GpuError::Allocation {
+        what: "allocator".into(),
+        detail: e.to_string(),
+    })
 }
 
 impl Drop for GpuContext {
     fn drop(&mut self) {
+        // Everything made from the device holds the context (or borrows it), so it is gone;
+        // what it submitted may still run.
+        // SAFETY: the queue is used from this thread only, and nothing submits any more.
+        let _ = unsafe { self.device.device_wait_idle() };
+        let allocator = self.allocator.get_mut().unwrap_or_else(|e| e.into_inner());
         let markers = self.markers.get_mut().unwrap_or_else(|e| e.into_inner());
-        // SAFETY: all resources created from the device were dropped before the context (they
-        // borrow it); wait for idle, then destroy in reverse order of creation.
-        unsafe {
-            let _ = self.device.device_wait_idle();
-            if let Some(allocation) = markers.allocation.take() {
-                let _ = self
-                    .allocator
-                    .get_mut()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .free(allocation);
-            }
-            self.device.destroy_buffer(markers.buffer, None);
-            ManuallyDrop::drop(&mut self.allocator);
-            for (_, fence) in self
-                .spare
-                .get_mut()
-                .unwrap_or_else(|e| e.into_inner())
-                .drain(..)
-            {
-                self.device.destroy_fence(fence, None);
-            }
-            // Frees the spare command buffers too.
-            self.device.destroy_command_pool(self.command_pool, None);
-            self.device.destroy_device(None);
-            if let Some((loader, messenger)) = self.debug.take() {
-                loader.destroy_debug_utils_messenger(messenger, None);
-            }
-            self.instance.destroy_instance(None);
-        }
+        markers.destroy(&self.device, allocator);
+        self.destroy_spares();
+        // The fields drop next, in declaration order: the allocator (its memory), the
+        // command pool (the spare command buffers with it), the device, the messenger, the
+        // instance.
     }
 }

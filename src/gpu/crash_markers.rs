@@ -7,6 +7,8 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
+use super::options::{GpuOptions, INJECT_DEVICE_LOST_VAR};
+use super::owned::Pending;
 use super::sync::Scope;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
@@ -16,18 +18,18 @@ use gpu_allocator::MemoryLocation;
 /// pass's index into its own slot of a small host-visible buffer; on VK_ERROR_DEVICE_LOST the
 /// slots that were written say which pass completed last and so which one was running.
 pub(super) struct Markers {
-    pub(super) buffer: vk::Buffer,
-    pub(super) allocation: Option<Allocation>,
+    buffer: vk::Buffer,
+    allocation: Option<Allocation>,
     /// VK_AMD_buffer_marker where the device offers it (a write that the GPU performs once
     /// all earlier work is done, without a barrier); otherwise a barrier and vkCmdFillBuffer.
-    pub(super) amd: Option<ash::amd::buffer_marker::Device>,
+    amd: Option<ash::amd::buffer_marker::Device>,
     /// One per command buffer that may be alive at once (see [`MARKER_SETS`]).
-    pub(super) sets: Vec<MarkerSet>,
+    sets: Vec<MarkerSet>,
     /// The set of the command buffer being recorded, if one is.
-    pub(super) recording: Option<usize>,
+    recording: Option<usize>,
     /// The device loss to inject, and how many command buffers have recorded its pass.
-    pub(super) inject: Option<InjectedLoss>,
-    pub(super) inject_seen: u32,
+    inject: Option<InjectedLoss>,
+    inject_seen: u32,
 }
 
 /// The markers of one command buffer: its passes, in order (slot i belongs to pass i).
@@ -77,52 +79,84 @@ impl InjectedLoss {
             )),
         }
     }
+
+    /// The loss [`GpuOptions::inject_device_lost`] asks for, if any; a value that does not
+    /// parse is refused (before anything touches Vulkan) with what is wrong.
+    pub(super) fn from_options(options: &GpuOptions) -> Result<Option<Self>, GpuError> {
+        let Some(text) = options.inject_device_lost.as_deref() else {
+            return Ok(None);
+        };
+        Self::parse(text)
+            .map(Some)
+            .map_err(|problem| GpuError::BadEnvironment {
+                var: INJECT_DEVICE_LOST_VAR,
+                value: text.to_owned(),
+                problem,
+            })
+    }
 }
 
-/// The crash-marker buffer: MARKER_SETS × MARKER_SLOTS u32s in host-visible memory, written
-/// by transfers.
-pub(super) fn create_marker_buffer(
-    device: &ash::Device,
-    allocator: &mut Allocator,
-) -> Result<(vk::Buffer, Allocation), GpuError> {
-    let info = vk::BufferCreateInfo::default()
-        .size((MARKER_SETS * MARKER_SLOTS * 4) as u64)
-        .usage(vk::BufferUsageFlags::TRANSFER_DST);
-    // SAFETY: valid device and create info.
-    let buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
-    // SAFETY: buffer was created from this device.
-    let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-    let allocation = allocator.allocate(&AllocationCreateDesc {
-        name: "crash markers",
-        requirements,
-        location: MemoryLocation::GpuToCpu,
-        linear: true,
-        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-    });
-    let allocation = match allocation {
-        Ok(a) => a,
-        Err(e) => {
-            // SAFETY: unbound, unused buffer.
-            unsafe { device.destroy_buffer(buffer, None) };
-            return Err(GpuError::Allocation {
+impl Markers {
+    /// The marker buffer (MARKER_SETS × MARKER_SLOTS u32s in host-visible memory, written by
+    /// transfers or AMD's buffer markers), every set free, and the loss to inject.
+    pub(super) fn new(
+        instance: &ash::Instance,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        amd_marker: bool,
+        inject: Option<InjectedLoss>,
+    ) -> Result<Self, GpuError> {
+        let info = vk::BufferCreateInfo::default()
+            .size((MARKER_SETS * MARKER_SLOTS * 4) as u64)
+            .usage(vk::BufferUsageFlags::TRANSFER_DST);
+        // SAFETY: valid device and create info.
+        let buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let buffer = Pending::new(device, buffer);
+        // SAFETY: buffer was created from this device.
+        let requirements = unsafe { device.get_buffer_memory_requirements(buffer.get()) };
+        let allocation = allocator
+            .allocate(&AllocationCreateDesc {
+                name: "crash markers",
+                requirements,
+                location: MemoryLocation::GpuToCpu,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|e| GpuError::Allocation {
                 what: "crash markers".into(),
                 detail: e.to_string(),
+            })?;
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
+        let bound = unsafe {
+            device.bind_buffer_memory(buffer.get(), allocation.memory(), allocation.offset())
+        };
+        if let Err(result) = bound {
+            let _ = allocator.free(allocation);
+            return Err(GpuError::Vulkan {
+                call: "vkBindBufferMemory",
+                result,
             });
         }
-    };
-    // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
-    let bound =
-        unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
-    if let Err(result) = bound {
-        let _ = allocator.free(allocation);
-        // SAFETY: unused buffer.
-        unsafe { device.destroy_buffer(buffer, None) };
-        return Err(GpuError::Vulkan {
-            call: "vkBindBufferMemory",
-            result,
-        });
+        Ok(Self {
+            buffer: buffer.keep(),
+            allocation: Some(allocation),
+            amd: amd_marker.then(|| ash::amd::buffer_marker::Device::new(instance, device)),
+            sets: (0..MARKER_SETS).map(|_| MarkerSet::default()).collect(),
+            recording: None,
+            inject,
+            inject_seen: 0,
+        })
     }
-    Ok((buffer, allocation))
+
+    /// Frees the marker buffer's memory and destroys it (the context's drop, once the device
+    /// is idle: the buffer needs the allocator, which the context holds beside it).
+    pub(super) fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+        if let Some(allocation) = self.allocation.take() {
+            let _ = allocator.free(allocation);
+        }
+        // SAFETY: the device is idle, so no command buffer writes the markers any more.
+        unsafe { device.destroy_buffer(self.buffer, None) };
+    }
 }
 
 impl GpuContext {

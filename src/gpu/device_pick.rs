@@ -23,7 +23,7 @@ pub struct DeviceInfo {
     pub ray_query: Option<RayQueryLimits>,
 }
 
-/// What VK_KHR_acceleration_structure allows on a device (src/gpu/accel.rs checks a scene
+/// What VK_KHR_acceleration_structure allows on a device (src/gpu/accel/mod.rs checks a scene
 /// against them before building).
 #[derive(Clone, Copy, Debug)]
 pub struct RayQueryLimits {
@@ -128,128 +128,25 @@ fn ray_query_limits(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<
     })
 }
 
+/// The best device that can run fovea and is what `wanted` asks for; none is an error that
+/// lists every device and why it cannot.
 pub(super) fn pick_device(
     instance: &ash::Instance,
     wanted: &DeviceWanted,
 ) -> Result<Picked, GpuError> {
-    // SAFETY: enumeration on a valid instance.
-    let devices = match unsafe { instance.enumerate_physical_devices() } {
-        Ok(devices) => devices,
-        Err(result @ vk::Result::ERROR_INITIALIZATION_FAILED) => {
-            return Err(GpuError::NoDevice {
-                detail: format!(
-                    "the Vulkan loader found drivers but none found a device (vkEnumeratePhysicalDevices: {result}){}",
-                    driver_env()
-                ),
-            })
-        }
-        Err(result) => {
-            return Err(GpuError::Vulkan {
-                call: "vkEnumeratePhysicalDevices",
-                result,
-            })
-        }
-    };
     let mut candidates = Vec::new();
     let mut unusable = Vec::new();
-    for pd in devices {
+    for pd in physical_devices(instance)? {
         if wanted
             .physical_device
             .is_some_and(|required| required != pd)
         {
             continue;
         }
-        // SAFETY: pd was just enumerated from this instance.
-        let (props, families) = unsafe {
-            (
-                instance.get_physical_device_properties(pd),
-                instance.get_physical_device_queue_family_properties(pd),
-            )
-        };
-        let name = cstr_to_string(&props.device_name);
-        if props.api_version < vk::API_VERSION_1_2 {
-            unusable.push(format!(
-                "{name} (Vulkan 1.{}, fovea needs 1.2)",
-                vk::api_version_minor(props.api_version)
-            ));
-            continue;
+        match examine(instance, pd, wanted) {
+            Ok(candidate) => candidates.push(candidate),
+            Err(why) => unusable.push(why),
         }
-        let mut flags = vk::QueueFlags::COMPUTE;
-        if wanted.graphics {
-            flags |= vk::QueueFlags::GRAPHICS;
-        }
-        let Some(family) = families
-            .iter()
-            .position(|f| f.queue_flags.contains(flags) && f.timestamp_valid_bits > 0)
-        else {
-            unusable.push(format!("{name} (no {flags:?} queue with timestamps)"));
-            continue;
-        };
-        let mut driver = vk::PhysicalDeviceDriverProperties::default();
-        let mut subgroups = vk::PhysicalDeviceSubgroupProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default()
-            .push_next(&mut driver)
-            .push_next(&mut subgroups);
-        // SAFETY: Vulkan 1.2 device, properties2 is core.
-        unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
-        // resolve.comp branches on subgroup votes (GL_KHR_shader_subgroup_vote).
-        if !subgroups
-            .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
-            || !subgroups
-                .supported_operations
-                .contains(vk::SubgroupFeatureFlags::VOTE)
-        {
-            unusable.push(format!("{name} (no subgroup votes in compute shaders)"));
-            continue;
-        }
-        // SAFETY: pd was enumerated from this instance.
-        let extensions =
-            unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default();
-        let has = |wanted: &CStr| {
-            extensions
-                .iter()
-                .any(|e| e.extension_name_as_c_str() == Ok(wanted))
-        };
-        let required = [ash::khr::synchronization2::NAME];
-        if let Some(missing) = required.iter().chain(wanted.extensions).find(|e| !has(e)) {
-            unusable.push(format!("{name} (no {})", missing.to_string_lossy()));
-            continue;
-        }
-        let ray_query = match RAY_QUERY_EXTENSIONS.iter().all(|e| has(e)) {
-            true => ray_query_limits(instance, pd),
-            false => None,
-        };
-        let info = DeviceInfo {
-            name,
-            kind: format!("{:?}", props.device_type),
-            driver: format!(
-                "{} {}",
-                cstr_to_string(&driver.driver_name),
-                cstr_to_string(&driver.driver_info)
-            ),
-            api_version: format!(
-                "{}.{}.{}",
-                vk::api_version_major(props.api_version),
-                vk::api_version_minor(props.api_version),
-                vk::api_version_patch(props.api_version)
-            ),
-            timestamp_period_ns: props.limits.timestamp_period as f64,
-            max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
-            max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
-            subgroup_size: subgroups.subgroup_size,
-            ray_query,
-        };
-        candidates.push((
-            device_rank(props.device_type),
-            Picked {
-                physical_device: pd,
-                family: family as u32,
-                info,
-                budget: has(ash::ext::memory_budget::NAME),
-                amd_marker: has(ash::amd::buffer_marker::NAME),
-            },
-        ));
     }
     if candidates.is_empty() {
         let detail = match unusable.is_empty() {
@@ -258,21 +155,174 @@ pub(super) fn pick_device(
         };
         return Err(GpuError::NoDevice { detail });
     }
-    if let Some(wanted) = wanted.name {
-        let needle = wanted.to_lowercase();
-        let available = candidates
-            .iter()
-            .map(|c| c.1.info.name.clone())
-            .collect::<Vec<_>>()
-            .join(", ");
-        candidates.retain(|c| c.1.info.name.to_lowercase().contains(&needle));
-        if candidates.is_empty() {
-            return Err(GpuError::DeviceNotFound {
-                wanted: wanted.to_string(),
-                available,
-            });
-        }
+    if let Some(name) = wanted.name {
+        keep_named(&mut candidates, name)?;
     }
     candidates.sort_by_key(|c| c.0);
     Ok(candidates.swap_remove(0).1)
+}
+
+fn physical_devices(instance: &ash::Instance) -> Result<Vec<vk::PhysicalDevice>, GpuError> {
+    // SAFETY: enumeration on a valid instance.
+    match unsafe { instance.enumerate_physical_devices() } {
+        Ok(devices) => Ok(devices),
+        Err(result @ vk::Result::ERROR_INITIALIZATION_FAILED) => Err(GpuError::NoDevice {
+            detail: format!(
+                "the Vulkan loader found drivers but none found a device (vkEnumeratePhysicalDevices: {result}){}",
+                driver_env()
+            ),
+        }),
+        Err(result) => Err(GpuError::Vulkan {
+            call: "vkEnumeratePhysicalDevices",
+            result,
+        }),
+    }
+}
+
+/// `pd` as a candidate, with its rank ([`device_rank`]), or why it cannot run fovea: Vulkan
+/// 1.2, a queue family with compute (and graphics, if wanted) and timestamps, subgroup votes
+/// in compute shaders, synchronization2 and the wanted extensions.
+fn examine(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    wanted: &DeviceWanted,
+) -> Result<(u32, Picked), String> {
+    // SAFETY: pd was enumerated from this instance.
+    let (props, families) = unsafe {
+        (
+            instance.get_physical_device_properties(pd),
+            instance.get_physical_device_queue_family_properties(pd),
+        )
+    };
+    let name = cstr_to_string(&props.device_name);
+    if props.api_version < vk::API_VERSION_1_2 {
+        return Err(format!(
+            "{name} (Vulkan 1.{}, fovea needs 1.2)",
+            vk::api_version_minor(props.api_version)
+        ));
+    }
+    let mut flags = vk::QueueFlags::COMPUTE;
+    if wanted.graphics {
+        flags |= vk::QueueFlags::GRAPHICS;
+    }
+    let Some(family) = families
+        .iter()
+        .position(|f| f.queue_flags.contains(flags) && f.timestamp_valid_bits > 0)
+    else {
+        return Err(format!("{name} (no {flags:?} queue with timestamps)"));
+    };
+    let (driver, subgroups) = driver_and_subgroups(instance, pd);
+    // resolve.comp branches on subgroup votes (GL_KHR_shader_subgroup_vote).
+    if !subgroups
+        .supported_stages
+        .contains(vk::ShaderStageFlags::COMPUTE)
+        || !subgroups
+            .supported_operations
+            .contains(vk::SubgroupFeatureFlags::VOTE)
+    {
+        return Err(format!("{name} (no subgroup votes in compute shaders)"));
+    }
+    let extensions = Extensions::of(instance, pd);
+    let required = [ash::khr::synchronization2::NAME];
+    if let Some(missing) = required
+        .iter()
+        .chain(wanted.extensions)
+        .find(|e| !extensions.has(e))
+    {
+        return Err(format!("{name} (no {})", missing.to_string_lossy()));
+    }
+    let ray_query = match RAY_QUERY_EXTENSIONS.iter().all(|e| extensions.has(e)) {
+        true => ray_query_limits(instance, pd),
+        false => None,
+    };
+    let picked = Picked {
+        physical_device: pd,
+        family: family as u32,
+        info: device_info(name, &props, &driver, &subgroups, ray_query),
+        budget: extensions.has(ash::ext::memory_budget::NAME),
+        amd_marker: extensions.has(ash::amd::buffer_marker::NAME),
+    };
+    Ok((device_rank(props.device_type), picked))
+}
+
+/// The driver's name and version, and the subgroup properties.
+fn driver_and_subgroups(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+) -> (
+    vk::PhysicalDeviceDriverProperties<'static>,
+    vk::PhysicalDeviceSubgroupProperties<'static>,
+) {
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut subgroups = vk::PhysicalDeviceSubgroupProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver)
+        .push_next(&mut subgroups);
+    // SAFETY: Vulkan 1.2 device, properties2 is core.
+    unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+    (driver, subgroups)
+}
+
+/// The extensions a device offers.
+struct Extensions(Vec<vk::ExtensionProperties>);
+
+impl Extensions {
+    fn of(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Self {
+        // SAFETY: pd was enumerated from this instance.
+        Self(unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default())
+    }
+
+    fn has(&self, wanted: &CStr) -> bool {
+        self.0
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(wanted))
+    }
+}
+
+fn device_info(
+    name: String,
+    props: &vk::PhysicalDeviceProperties,
+    driver: &vk::PhysicalDeviceDriverProperties,
+    subgroups: &vk::PhysicalDeviceSubgroupProperties,
+    ray_query: Option<RayQueryLimits>,
+) -> DeviceInfo {
+    DeviceInfo {
+        name,
+        kind: format!("{:?}", props.device_type),
+        driver: format!(
+            "{} {}",
+            cstr_to_string(&driver.driver_name),
+            cstr_to_string(&driver.driver_info)
+        ),
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(props.api_version),
+            vk::api_version_minor(props.api_version),
+            vk::api_version_patch(props.api_version)
+        ),
+        timestamp_period_ns: props.limits.timestamp_period as f64,
+        max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+        max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
+        subgroup_size: subgroups.subgroup_size,
+        ray_query,
+    }
+}
+
+/// Keeps the candidates whose name contains `wanted` (`--device`, any case); none is an
+/// error that lists the names there are.
+fn keep_named(candidates: &mut Vec<(u32, Picked)>, wanted: &str) -> Result<(), GpuError> {
+    let needle = wanted.to_lowercase();
+    let available = candidates
+        .iter()
+        .map(|c| c.1.info.name.clone())
+        .collect::<Vec<_>>()
+        .join(", ");
+    candidates.retain(|c| c.1.info.name.to_lowercase().contains(&needle));
+    match candidates.is_empty() {
+        true => Err(GpuError::DeviceNotFound {
+            wanted: wanted.to_string(),
+            available,
+        }),
+        false => Ok(()),
+    }
 }

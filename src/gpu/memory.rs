@@ -3,6 +3,7 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
+use super::owned::Pending;
 use super::sync::{ImageTransition, Scope};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
@@ -46,8 +47,9 @@ impl Buffer {
         let device = &ctx.device;
         // SAFETY: valid device and create info.
         let buffer = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let buffer = Pending::new(device, buffer);
         // SAFETY: buffer was created from this device.
-        let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
+        let requirements = unsafe { device.get_buffer_memory_requirements(buffer.get()) };
         let host_visible = location != MemoryLocation::GpuOnly;
         let allocation = ctx
             .reserve(name, requirements.size, host_visible)
@@ -64,22 +66,15 @@ impl Buffer {
                         ctx.release(requirements.size, host_visible);
                         allocation_error(name, size, e)
                     })
-            });
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(e) => {
-                // SAFETY: the buffer has no memory bound and is not in use.
-                unsafe { device.destroy_buffer(buffer, None) };
-                return Err(e);
-            }
-        };
+            })?;
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
-        let bound =
-            unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
+        let bound = unsafe {
+            device.bind_buffer_memory(buffer.get(), allocation.memory(), allocation.offset())
+        };
         // Built before the bind is checked so that drop frees both on failure.
         let this = Self {
             ctx: ctx.clone(),
-            buffer,
+            buffer: buffer.keep(),
             allocation: Some(allocation),
             size,
             counted: (requirements.size, host_visible),
@@ -319,8 +314,9 @@ impl StorageImage {
         let device = &ctx.device;
         // SAFETY: valid device and create info.
         let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        let image = Pending::new(device, image);
         // SAFETY: image from this device.
-        let requirements = unsafe { device.get_image_memory_requirements(image) };
+        let requirements = unsafe { device.get_image_memory_requirements(image.get()) };
         let allocation = ctx.reserve(name, requirements.size, false).and_then(|()| {
             ctx.allocator()
                 .allocate(&AllocationCreateDesc {
@@ -334,18 +330,12 @@ impl StorageImage {
                     ctx.release(requirements.size, false);
                     allocation_error(name, requirements.size, e)
                 })
-        });
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(e) => {
-                // SAFETY: unbound, unused image.
-                unsafe { device.destroy_image(image, None) };
-                return Err(e);
-            }
-        };
+        })?;
         // SAFETY: the allocation satisfies the image's requirements.
-        let bound =
-            unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) };
+        let bound = unsafe {
+            device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
+        };
+        let image = image.keep();
         // Built before the bind is checked so that drop frees the memory on failure too.
         let mut this = Self {
             ctx: ctx.clone(),

@@ -51,6 +51,12 @@ impl PlannedAllocation {
     }
 }
 
+/// Whether a plan fits, and what each heap it uses (and the memory limit) offers.
+struct Room {
+    fits: bool,
+    offered: Vec<String>,
+}
+
 /// Memory facts of the device, fixed at creation.
 pub(super) struct MemoryFacts {
     pub(super) physical_device: vk::PhysicalDevice,
@@ -163,8 +169,20 @@ impl GpuContext {
         plan: &[PlannedAllocation],
         advice: &str,
     ) -> Result<(), GpuError> {
-        let needed: u64 = plan.iter().map(|p| p.bytes).sum();
-        let in_use = self.memory_in_use();
+        let room = self.room_for(plan);
+        if !room.fits {
+            return Err(self.shortfall(what, plan, &room.offered, advice));
+        }
+        for p in plan {
+            self.check_item(what, p, advice)?;
+        }
+        Ok(())
+    }
+
+    /// Whether `plan` fits beside what fovea holds: on every heap it uses (its size, and the
+    /// budget with VK_EXT_memory_budget) and under the memory limit; and what each offers,
+    /// for the message when it does not.
+    fn room_for(&self, plan: &[PlannedAllocation]) -> Room {
         let heaps = &self.memory.heaps;
         let mut needed_on = vec![0u64; heaps.len()];
         for p in plan {
@@ -175,87 +193,117 @@ impl GpuContext {
             held_on[self.heap_of(host)] += held.load(Ordering::Relaxed);
         }
         let budget = self.budget_now();
-        let mut fits = true;
-        let mut offered = Vec::new();
+        let mut room = Room {
+            fits: true,
+            offered: Vec::new(),
+        };
         for (h, &size) in heaps.iter().enumerate() {
             if needed_on[h] == 0 {
                 continue;
             }
-            let kind = match (h == self.memory.device_heap, h == self.memory.host_heap) {
-                (true, true) => "device-local, also host-visible",
-                (true, false) => "device-local",
-                _ => "host-visible",
-            };
-            let mut free = size.saturating_sub(held_on[h]);
-            let mut text = format!("memory heap {h} ({kind}) has {}", exact_bytes(size));
-            if let Some((heap_budget, usage)) = budget.as_ref().map(|b| b[h]) {
-                let within = heap_budget.saturating_sub(usage);
-                free = free.min(within);
-                text += &format!(
-                    ", {} of it free within the driver's budget (VK_EXT_memory_budget)",
-                    exact_bytes(within)
-                );
-            }
-            fits &= needed_on[h] <= free;
-            offered.push(text);
+            let (free, text) = self.heap_room(h, size, held_on[h], budget.as_ref().map(|b| b[h]));
+            room.fits &= needed_on[h] <= free;
+            room.offered.push(text);
         }
         if let Some(limit) = self.memory.limit {
-            fits &= in_use.saturating_add(needed) <= limit;
-            offered.push(format!(
+            let needed: u64 = plan.iter().map(|p| p.bytes).sum();
+            room.fits &= self.memory_in_use().saturating_add(needed) <= limit;
+            room.offered.push(format!(
                 "{MEMORY_LIMIT_VAR} caps fovea at {}",
                 exact_bytes(limit)
             ));
         }
-        if !fits {
-            let mut items: Vec<&PlannedAllocation> = plan.iter().filter(|p| p.bytes > 0).collect();
-            items.sort_by_key(|p| std::cmp::Reverse(p.bytes));
-            let breakdown = items
-                .iter()
-                .map(|p| format!("{} {}", p.name, human_bytes(p.bytes)))
-                .collect::<Vec<_>>()
-                .join(", ");
-            let mut advice = advice.to_owned();
-            if self.memory.limit.is_some() {
-                advice += &format!(", or raise or unset {MEMORY_LIMIT_VAR}");
-            }
-            return Err(GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
-                what: what.to_owned(),
-                needed: format!(
-                    "it needs {}, {needed} bytes ({breakdown})",
-                    human_bytes(needed)
-                ),
-                in_use: human_bytes(in_use),
-                offered: offered.join(" and "),
-                advice,
-            })));
+        room
+    }
+
+    /// The bytes free on heap `h` of `size` bytes, `held` of them fovea's, within the driver's
+    /// (budget, usage) where known; and the heap described for a message.
+    fn heap_room(
+        &self,
+        h: usize,
+        size: u64,
+        held: u64,
+        budget: Option<(u64, u64)>,
+    ) -> (u64, String) {
+        let kind = match (h == self.memory.device_heap, h == self.memory.host_heap) {
+            (true, true) => "device-local, also host-visible",
+            (true, false) => "device-local",
+            _ => "host-visible",
+        };
+        let mut free = size.saturating_sub(held);
+        let mut text = format!("memory heap {h} ({kind}) has {}", exact_bytes(size));
+        if let Some((heap_budget, usage)) = budget {
+            let within = heap_budget.saturating_sub(usage);
+            free = free.min(within);
+            text += &format!(
+                ", {} of it free within the driver's budget (VK_EXT_memory_budget)",
+                exact_bytes(within)
+            );
         }
-        for p in plan {
-            let limits = [
-                (
-                    p.storage_buffer,
-                    "storage buffer",
-                    self.info.max_storage_buffer_range,
-                    "maxStorageBufferRange",
-                ),
-                (
-                    true,
-                    "allocation",
-                    self.memory.max_memory_allocation_size,
-                    "maxMemoryAllocationSize",
-                ),
-            ];
-            for (applies, kind, limit, limit_name) in limits {
-                if applies && p.bytes > limit {
-                    return Err(GpuError::ResourceTooLarge(Box::new(ResourceLimit {
-                        what: what.to_owned(),
-                        item: p.name.clone(),
-                        kind,
-                        bytes: exact_bytes(p.bytes),
-                        limit: exact_bytes(limit),
-                        limit_name,
-                        advice: advice.to_owned(),
-                    })));
-                }
+        (free, text)
+    }
+
+    /// The error for a plan that does not fit: what it needs, item by item (largest first),
+    /// what fovea holds and what the device offers.
+    fn shortfall(
+        &self,
+        what: &str,
+        plan: &[PlannedAllocation],
+        offered: &[String],
+        advice: &str,
+    ) -> GpuError {
+        let needed: u64 = plan.iter().map(|p| p.bytes).sum();
+        let mut items: Vec<&PlannedAllocation> = plan.iter().filter(|p| p.bytes > 0).collect();
+        items.sort_by_key(|p| std::cmp::Reverse(p.bytes));
+        let breakdown = items
+            .iter()
+            .map(|p| format!("{} {}", p.name, human_bytes(p.bytes)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let mut advice = advice.to_owned();
+        if self.memory.limit.is_some() {
+            advice += &format!(", or raise or unset {MEMORY_LIMIT_VAR}");
+        }
+        GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
+            what: what.to_owned(),
+            needed: format!(
+                "it needs {}, {needed} bytes ({breakdown})",
+                human_bytes(needed)
+            ),
+            in_use: human_bytes(self.memory_in_use()),
+            offered: offered.join(" and "),
+            advice,
+        }))
+    }
+
+    /// One item of a plan against the per-resource limits: maxStorageBufferRange for a
+    /// storage buffer, maxMemoryAllocationSize for all.
+    fn check_item(&self, what: &str, p: &PlannedAllocation, advice: &str) -> Result<(), GpuError> {
+        let limits = [
+            (
+                p.storage_buffer,
+                "storage buffer",
+                self.info.max_storage_buffer_range,
+                "maxStorageBufferRange",
+            ),
+            (
+                true,
+                "allocation",
+                self.memory.max_memory_allocation_size,
+                "maxMemoryAllocationSize",
+            ),
+        ];
+        for (applies, kind, limit, limit_name) in limits {
+            if applies && p.bytes > limit {
+                return Err(GpuError::ResourceTooLarge(Box::new(ResourceLimit {
+                    what: what.to_owned(),
+                    item: p.name.clone(),
+                    kind,
+                    bytes: exact_bytes(p.bytes),
+                    limit: exact_bytes(limit),
+                    limit_name,
+                    advice: advice.to_owned(),
+                })));
             }
         }
         Ok(())

@@ -2,14 +2,18 @@
 //! passes; everything here owns raw handles and destroys them on drop.
 
 mod accel;
+mod commands;
 mod context;
 mod crash_markers;
 mod descriptors;
+mod device;
 mod device_pick;
 mod error;
+mod instance;
 mod memory;
 mod memory_budget;
 mod options;
+mod owned;
 mod pipeline;
 mod present;
 pub mod shaders;
@@ -22,7 +26,8 @@ pub use validation::ValidationLog;
 
 pub use accel::{AccelObject, AccelStructures};
 pub use ash::vk;
-pub use context::{Commands, ContextNeeds, GpuContext, VulkanCreator};
+pub use commands::Commands;
+pub use context::{ContextNeeds, GpuContext, VulkanCreator};
 pub use descriptors::{Bound, DescriptorArena};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};

@@ -1,5 +1,7 @@
 //! How to pick and set up the device: the options and the environment variables they come from.
 
+use super::error::GpuError;
+
 /// The environment variable that caps fovea's GPU memory (see [`GpuOptions::memory_limit`]).
 pub const MEMORY_LIMIT_VAR: &str = "FOVEA_GPU_MEMORY_LIMIT";
 /// The environment variable that injects a device loss (see [`GpuOptions::inject_device_lost`]).
@@ -127,6 +129,18 @@ impl GpuOptions {
             }
         }
         options
+    }
+
+    /// The bad environment value [`Self::from_env`] saw, if any, as the error that names it.
+    pub(super) fn check_environment(&self) -> Result<(), GpuError> {
+        match &self.env_problem {
+            Some((var, value, problem)) => Err(GpuError::BadEnvironment {
+                var,
+                value: value.clone(),
+                problem: problem.clone(),
+            }),
+            None => Ok(()),
+        }
     }
 }
 

@@ -78,9 +78,9 @@ pub enum Presented {
 /// this before the window.
 pub struct Swapchain {
     ctx: Arc<GpuContext>,
-    surface_fn: ash::khr::surface::Instance,
     swapchain_fn: ash::khr::swapchain::Device,
-    surface: vk::SurfaceKHR,
+    /// A field, so destroyed after `Drop::drop` has destroyed the swapchain made on it.
+    surface: Surface,
     swapchain: vk::SwapchainKHR,
     images: Vec<vk::Image>,
     format: vk::SurfaceFormatKHR,
@@ -101,34 +101,17 @@ impl Swapchain {
         size: [u32; 2],
         preference: PresentPreference,
     ) -> Result<Self, GpuError> {
-        // SAFETY: the handles come from a live window that the caller keeps alive until this
-        // swapchain is dropped (documented on the type); the instance has the extensions
-        // `surface_instance_extensions` named (the caller created the context with them).
-        let surface = unsafe {
-            ash_window::create_surface(ctx.entry(), &ctx.instance, display, window, None)
-        }
-        .vk("vkCreate*SurfaceKHR")?;
-        let surface_fn = ash::khr::surface::Instance::new(ctx.entry(), &ctx.instance);
+        let surface = Surface::new(ctx, display, window)?;
         let swapchain_fn = ash::khr::swapchain::Device::new(&ctx.instance, &ctx.device);
         // SAFETY: a valid device; default create info.
-        let acquire_fence = match unsafe {
+        let acquire_fence = unsafe {
             ctx.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
-        } {
-            Ok(f) => f,
-            Err(result) => {
-                // SAFETY: nothing was created from the surface.
-                unsafe { surface_fn.destroy_surface(surface, None) };
-                return Err(GpuError::Vulkan {
-                    call: "vkCreateFence",
-                    result,
-                });
-            }
-        };
+        }
+        .vk("vkCreateFence")?;
         // From here on, drop destroys what exists.
         let mut this = Self {
             ctx: ctx.clone(),
-            surface_fn,
             swapchain_fn,
             surface,
             swapchain: vk::SwapchainKHR::null(),
@@ -141,10 +124,10 @@ impl Swapchain {
         };
         // SAFETY: the physical device and the queue family are the context's; the surface is live.
         let supported = unsafe {
-            this.surface_fn.get_physical_device_surface_support(
+            this.surface.loader.get_physical_device_surface_support(
                 ctx.physical_device(),
                 ctx.queue_family(),
-                surface,
+                this.surface.handle,
             )
         }
         .vk("vkGetPhysicalDeviceSurfaceSupportKHR")?;
@@ -188,8 +171,10 @@ impl Swapchain {
     fn choose_format(&self) -> Result<vk::SurfaceFormatKHR, GpuError> {
         // SAFETY: the surface and the physical device are live.
         let formats = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_formats(self.ctx.physical_device(), self.surface)
+            self.surface.loader.get_physical_device_surface_formats(
+                self.ctx.physical_device(),
+                self.surface.handle,
+            )
         }
         .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
         let srgb = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];
@@ -216,8 +201,12 @@ impl Swapchain {
     fn choose_present_mode(&self) -> Result<vk::PresentModeKHR, GpuError> {
         // SAFETY: the surface and the physical device are live.
         let modes = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_present_modes(self.ctx.physical_device(), self.surface)
+            self.surface
+                .loader
+                .get_physical_device_surface_present_modes(
+                    self.ctx.physical_device(),
+                    self.surface.handle,
+                )
         }
         .vk("vkGetPhysicalDeviceSurfacePresentModesKHR")?;
         Ok(self
@@ -236,19 +225,15 @@ impl Swapchain {
     pub fn recreate(&mut self, size: [u32; 2]) -> Result<[u32; 2], GpuError> {
         // SAFETY: the surface and the physical device are live.
         let caps = unsafe {
-            self.surface_fn
-                .get_physical_device_surface_capabilities(self.ctx.physical_device(), self.surface)
+            self.surface
+                .loader
+                .get_physical_device_surface_capabilities(
+                    self.ctx.physical_device(),
+                    self.surface.handle,
+                )
         }
         .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
-        // u32::MAX means "the swapchain decides" (Wayland); otherwise the surface's size rules.
-        let extent = if caps.current_extent.width == u32::MAX {
-            [
-                size[0].clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                size[1].clamp(caps.min_image_extent.height, caps.max_image_extent.height),
-            ]
-        } else {
-            [caps.current_extent.width, caps.current_extent.height]
-        };
+        let extent = extent_for(&caps, size);
         // Nothing may use the old images any more: every submission of fovea is waited for,
         // but the presentation engine may still read the last presented one.
         // SAFETY: the queue is only used from this thread.
@@ -266,23 +251,9 @@ impl Swapchain {
                 "the window surface's images cannot be copied into (no TRANSFER_DST usage)".into(),
             ));
         }
-        // One more than the minimum, so acquiring never waits on the image being shown.
-        let mut count = caps.min_image_count + 1;
-        if caps.max_image_count > 0 {
-            count = count.min(caps.max_image_count);
-        }
-        let alpha = [
-            vk::CompositeAlphaFlagsKHR::OPAQUE,
-            vk::CompositeAlphaFlagsKHR::INHERIT,
-            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
-            vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
-        ]
-        .into_iter()
-        .find(|a| caps.supported_composite_alpha.contains(*a))
-        .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
         let info = vk::SwapchainCreateInfoKHR::default()
-            .surface(self.surface)
-            .min_image_count(count)
+            .surface(self.surface.handle)
+            .min_image_count(image_count(&caps))
             .image_format(self.format.format)
             .image_color_space(self.format.color_space)
             .image_extent(vk::Extent2D {
@@ -293,7 +264,7 @@ impl Swapchain {
             .image_usage(vk::ImageUsageFlags::TRANSFER_DST)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
-            .composite_alpha(alpha)
+            .composite_alpha(composite_alpha(&caps))
             .present_mode(self.present_mode)
             .clipped(true)
             .old_swapchain(self.swapchain);
@@ -387,16 +358,84 @@ impl Swapchain {
     }
 }
 
+/// The swapchain's size for a window of `size` pixels: the surface's own where it has one;
+/// u32::MAX means "the swapchain decides" (Wayland), then the window's, clamped.
+fn extent_for(caps: &vk::SurfaceCapabilitiesKHR, size: [u32; 2]) -> [u32; 2] {
+    if caps.current_extent.width == u32::MAX {
+        [
+            size[0].clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+            size[1].clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+        ]
+    } else {
+        [caps.current_extent.width, caps.current_extent.height]
+    }
+}
+
+/// One more than the minimum, so acquiring never waits on the image being shown.
+fn image_count(caps: &vk::SurfaceCapabilitiesKHR) -> u32 {
+    let count = caps.min_image_count + 1;
+    match caps.max_image_count > 0 {
+        true => count.min(caps.max_image_count),
+        false => count,
+    }
+}
+
+/// Opaque where the surface allows it, else the first mode it supports.
+fn composite_alpha(caps: &vk::SurfaceCapabilitiesKHR) -> vk::CompositeAlphaFlagsKHR {
+    [
+        vk::CompositeAlphaFlagsKHR::OPAQUE,
+        vk::CompositeAlphaFlagsKHR::INHERIT,
+        vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+        vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
+    ]
+    .into_iter()
+    .find(|a| caps.supported_composite_alpha.contains(*a))
+    .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE)
+}
+
 impl Drop for Swapchain {
     fn drop(&mut self) {
         // SAFETY: the queue is only used from this thread.
         let _ = unsafe { self.ctx.device.queue_wait_idle(self.ctx.queue) };
         self.destroy_swapchain();
-        // SAFETY: nothing uses the fence (no acquire is pending) or the surface (its swapchain
-        // is gone); the window is still alive (documented on the type).
-        unsafe {
-            self.ctx.device.destroy_fence(self.acquire_fence, None);
-            self.surface_fn.destroy_surface(self.surface, None);
+        // SAFETY: nothing uses the fence (no acquire is pending).
+        unsafe { self.ctx.device.destroy_fence(self.acquire_fence, None) };
+    }
+}
+
+/// A window's surface. The window must outlive it (see [`Swapchain`]).
+struct Surface {
+    loader: ash::khr::surface::Instance,
+    handle: vk::SurfaceKHR,
+    /// Keeps the instance the surface belongs to alive until it is destroyed.
+    _ctx: Arc<GpuContext>,
+}
+
+impl Surface {
+    fn new(
+        ctx: &Arc<GpuContext>,
+        display: RawDisplayHandle,
+        window: RawWindowHandle,
+    ) -> Result<Self, GpuError> {
+        // SAFETY: the handles come from a live window that the caller keeps alive until the
+        // swapchain is dropped (documented on Swapchain); the instance has the extensions
+        // `surface_instance_extensions` named (the caller created the context with them).
+        let handle = unsafe {
+            ash_window::create_surface(ctx.entry(), &ctx.instance, display, window, None)
         }
+        .vk("vkCreate*SurfaceKHR")?;
+        Ok(Self {
+            loader: ash::khr::surface::Instance::new(ctx.entry(), &ctx.instance),
+            handle,
+            _ctx: ctx.clone(),
+        })
+    }
+}
+
+impl Drop for Surface {
+    fn drop(&mut self) {
+        // SAFETY: no swapchain of the surface is left (Swapchain's drop destroyed it before
+        // its fields drop), and the window is still alive (documented on Swapchain).
+        unsafe { self.loader.destroy_surface(self.handle, None) };
     }
 }

@@ -25,7 +25,7 @@ impl ValidationLog {
 }
 
 /// Called by the validation layer on its own thread of control; `user_data` is the
-/// `ValidationLog` the GPU context holds an `Arc` of until after the messenger is destroyed.
+/// `ValidationLog` the messenger (owned.rs) holds an `Arc` of until it is destroyed.
 pub(crate) unsafe extern "system" fn debug_callback(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     kind: vk::DebugUtilsMessageTypeFlagsEXT,

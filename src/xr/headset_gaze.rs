@@ -5,11 +5,11 @@
 use super::error::XrError;
 use super::eye_gaze::{EyeGaze, NoGaze};
 use super::poses::SpacePlacement;
+use super::views::EyeViews;
 use crate::foveation::fixation::eye_tangents;
 use crate::foveation::gaze_filter::{FilteredGaze, GazeFilter};
-use crate::foveation::ImageGeometry;
 use crate::scene::cpu_raycast::CpuRaycaster;
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use openxr as xr;
 
 pub(super) struct HeadsetGaze {
@@ -62,18 +62,16 @@ impl HeadsetGaze {
         self.activity
     }
 
-    /// The gaze for the frame displayed at `time`, for eyes `cameras` with `images`.
-    #[allow(clippy::too_many_arguments)]
+    /// The gaze for the frame of `views` (displayed at `views.time`).
     pub(super) fn frame(
         &mut self,
         session: &xr::Session<xr::Vulkan>,
         space: &xr::Space,
         placement: &SpacePlacement,
-        time: xr::Time,
         focused: bool,
-        cameras: &[Camera],
-        images: &[ImageGeometry],
+        views: &EyeViews,
     ) -> Result<FrameGaze, XrError> {
+        let (time, cameras, images) = (views.time, &views.cameras, &views.images);
         let mut time_s = seconds(time);
         let mut sampled = false;
         let tangents = match &self.tracker {

@@ -4,13 +4,16 @@
 
 mod error;
 mod eye_gaze;
+mod frame_loop;
 mod headset_gaze;
+mod headset_renderer;
 mod instance;
 pub mod poses;
 mod probe;
 mod recording;
 mod session;
 mod swapchains;
+mod views;
 mod vulkan;
 
 pub use error::XrError;
