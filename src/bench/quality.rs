@@ -8,6 +8,7 @@ use super::rows::{QualityRow, EYE_NAMES};
 use crate::foveation::FoveationConfig;
 use crate::metrics::jod::Fvvdp;
 use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
+use crate::render::FrameOptions;
 use crate::render::{DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer};
 use crate::scene::fingerprint::Fingerprint;
 use std::path::{Path, PathBuf};
@@ -120,12 +121,16 @@ pub fn reference_image(
             ..settings(plan, spp)
         };
         let frame = renderer
-            .render_frame(&FrameRequest {
-                settings,
-                foveation: &config,
-                eyes,
-                debug: DebugView::None,
-            })
+            .frame(
+                &FrameRequest {
+                    settings,
+                    foveation: &config,
+                    eyes,
+                    debug: DebugView::None,
+                },
+                FrameOptions::pixels(),
+            )
+            .map(Option::unwrap)
             .map_err(BenchError::render(scene))?;
         for (s, v) in sum.iter_mut().zip(&frame.rgb) {
             *s += *v as f64 * spp as f64;
@@ -219,7 +224,8 @@ pub fn measure_point(
         debug: DebugView::None,
     };
     let frame = renderer
-        .render_frame(&request)
+        .frame(&request, FrameOptions::pixels())
+        .map(Option::unwrap)
         .map_err(BenchError::render(scene))?;
     let frame_gpu_ms = median_gpu_ms(renderer, plan, scene, &request)?;
     let at = PointAt {
@@ -255,7 +261,8 @@ fn median_gpu_ms(
     let mut gpu_ms = Vec::new();
     for _ in 0..plan.sweep_frames {
         let timed = renderer
-            .measure_frame(request)
+            .frame(request, FrameOptions::measure())
+            .map(Option::unwrap)
             .map_err(BenchError::render(scene))?;
         gpu_ms.push(timed.stats.gpu_ms());
     }

@@ -2,7 +2,7 @@
 //! interleaved), then sweeps spp for run time against error, writing each measurement as it
 //! is taken. Whatever the directory already holds is kept and not measured again, which is
 //! how `--resume` completes an interrupted run. A plan with a motion script goes to
-//! [`motion::run`](super::motion::run) once its directory is open.
+//! [`motion::run`](super::motion::run()) once its directory is open.
 
 use super::csv_log::CsvLog;
 use super::error::BenchError;
@@ -16,6 +16,7 @@ use super::{images, report};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
+use crate::render::FrameOptions;
 use crate::render::{eye_views, DebugView, EyeView, Frame, FrameRequest, Renderer};
 use crate::scene::{self, Scene};
 use indicatif::ProgressBar;
@@ -458,12 +459,16 @@ impl SceneBench<'_> {
         eyes: &[EyeView],
     ) -> Result<Frame, BenchError> {
         self.renderer
-            .measure_frame(&FrameRequest {
-                settings: quality::settings(plan, plan.spp),
-                foveation: &self.configs[&mode],
-                eyes,
-                debug: DebugView::None,
-            })
+            .frame(
+                &FrameRequest {
+                    settings: quality::settings(plan, plan.spp),
+                    foveation: &self.configs[&mode],
+                    eyes,
+                    debug: DebugView::None,
+                },
+                FrameOptions::measure(),
+            )
+            .map(Option::unwrap)
             .map_err(BenchError::render(self.name))
     }
 }

@@ -6,7 +6,7 @@
 //! Conventions, fixed here so every report agrees:
 //! - **Non-finite values** (NaN, ±∞) are *excluded* from every summary; they
 //!   never poison a mean. [`Summary::n`] counts only the values used, so
-//!   `values.len() - summary.n` is the number skipped (see [`count_skipped`]).
+//!   `values.len() - summary.n` is the number skipped.
 //! - **Standard deviation** is the sample standard deviation (divisor n − 1,
 //!   Bessel's correction); for n = 1 it is 0.
 //! - **Quantiles** use linear interpolation between closest ranks ("R-7", the

@@ -5,6 +5,7 @@
 //! Degenerate triangles and enormous emission ride along: nothing may become NaN or ∞.
 
 use crate::gpu::GpuContext;
+use crate::render::regular_frame;
 use crate::render::{Integrator, RenderError, RenderSettings, Renderer};
 use crate::scene::validate::MAX_EMISSION;
 use crate::scene::{Camera, Environment, Instance, Material, Mesh, Scene, Sphere};
@@ -170,7 +171,7 @@ pub fn white_furnace(
                     integrator,
                     max_bounces: 8,
                 };
-                let frame = renderer.render(&scene.camera, &settings)?;
+                let frame = regular_frame(&mut renderer, &scene.camera, &settings)?;
                 let values: Vec<f64> = frame
                     .rgb
                     .chunks_exact(3)
@@ -229,7 +230,7 @@ pub fn emission_scaling(
     };
     // Frame::mean per channel, averaged: the image's mean radiance.
     let mean = |frame: &crate::render::Frame| frame.mean().iter().sum::<f64>() / 3.0;
-    let base = Renderer::new(ctx, scene)?.render(&scene.camera, &settings)?;
+    let base = regular_frame(&mut Renderer::new(ctx, scene)?, &scene.camera, &settings)?;
     let base_mean = mean(&base);
     let mut out = Vec::new();
     for &factor in factors {
@@ -237,7 +238,7 @@ pub fn emission_scaling(
         for m in &mut bright.materials {
             m.emission *= factor;
         }
-        let frame = Renderer::new(ctx, &bright)?.render(&bright.camera, &settings)?;
+        let frame = regular_frame(&mut Renderer::new(ctx, &bright)?, &bright.camera, &settings)?;
         out.push(EmissionScaling {
             scene: scene.name.clone(),
             factor,

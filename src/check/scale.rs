@@ -5,6 +5,7 @@
 
 use crate::gpu::GpuContext;
 use crate::metrics;
+use crate::render::regular_frame;
 use crate::render::{Frame, Integrator, RenderError, RenderSettings, Renderer};
 use crate::scene::{Camera, Environment, Instance, Material, Mesh, Scene, Sphere};
 use glam::{Mat4, Vec3};
@@ -133,7 +134,11 @@ pub fn plane_radiance(
                 let scene = transformed(&base, scale, Vec3::splat(shift));
                 let mut renderer = Renderer::new(ctx, &scene)?;
                 for integrator in [Integrator::Pt, Integrator::Seed] {
-                    let frame = renderer.render(&scene.camera, &settings(size, spp, integrator))?;
+                    let frame = regular_frame(
+                        &mut renderer,
+                        &scene.camera,
+                        &settings(size, spp, integrator),
+                    )?;
                     let mean = frame.mean().iter().sum::<f64>() / 3.0;
                     out.push(PlaneRadiance {
                         scale,
@@ -185,8 +190,9 @@ pub fn scaled_scene(
 ) -> Result<Vec<ScaledScene>, RenderError> {
     let s = settings(size, spp, Integrator::Pt);
     let mut renderer = Renderer::new(ctx, scene)?;
-    let base = renderer.render(&scene.camera, &s)?;
-    let other_seed = renderer.render(
+    let base = regular_frame(&mut renderer, &scene.camera, &s)?;
+    let other_seed = regular_frame(
+        &mut renderer,
         &scene.camera,
         &RenderSettings {
             seed: s.seed + 1,
@@ -199,7 +205,7 @@ pub fn scaled_scene(
     let mut out = Vec::new();
     for &scale in scales {
         let scaled = transformed(scene, scale, Vec3::ZERO);
-        let frame = Renderer::new(ctx, &scaled)?.render(&scaled.camera, &s)?;
+        let frame = regular_frame(&mut Renderer::new(ctx, &scaled)?, &scaled.camera, &s)?;
         out.push(ScaledScene {
             scene: scene.name.clone(),
             scale,

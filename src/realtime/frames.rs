@@ -4,6 +4,7 @@
 use super::plan::RealtimePlan;
 use crate::bench::stats::{summarize, Summary};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
+use crate::render::FrameOptions;
 use crate::render::{
     eye_views, DebugView, EyeView, FovChoice, FrameRequest, FrameStats, Integrator, RenderError,
     RenderSettings, Renderer, Traversal,
@@ -64,10 +65,17 @@ pub fn timed_frames(
     frames: u32,
 ) -> Result<Vec<FrameStats>, RenderError> {
     for _ in 0..warmup {
-        renderer.measure_frame(request)?;
+        renderer
+            .frame(request, FrameOptions::measure())
+            .map(Option::unwrap)?;
     }
     (0..frames)
-        .map(|_| renderer.measure_frame(request).map(|f| f.stats))
+        .map(|_| {
+            renderer
+                .frame(request, FrameOptions::measure())
+                .map(Option::unwrap)
+                .map(|f| f.stats)
+        })
         .collect()
 }
 

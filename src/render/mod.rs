@@ -4,7 +4,6 @@ pub mod accumulate;
 #[cfg(any(test, feature = "test-hooks"))]
 mod compose;
 mod counters;
-mod entry_points;
 mod eye_params;
 mod frame;
 mod graph;
@@ -15,6 +14,7 @@ mod passes;
 mod pipelines;
 mod probe;
 mod record;
+mod regular;
 mod renderer;
 mod request;
 mod scene_buffers;
@@ -28,6 +28,7 @@ pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
 pub use in_flight::MAX_FRAMES_IN_FLIGHT;
+pub use regular::regular_frame;
 pub use renderer::Renderer;
 pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,

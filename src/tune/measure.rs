@@ -10,6 +10,7 @@ use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
 use crate::metrics::{hidden_black, visible_pixels};
+use crate::render::FrameOptions;
 use crate::render::{
     eye_views, DebugView, EyeView, FrameRequest, FrameStats, RenderSettings, Renderer,
     TemporalSettings,
@@ -168,7 +169,8 @@ impl SceneJudge {
             self.renderer.reset_history();
             let frame = self
                 .renderer
-                .render_frame(&request)
+                .frame(&request, FrameOptions::pixels())
+                .map(Option::unwrap)
                 .map_err(TuneError::render(&name))?;
             if g == 0 {
                 let visible = self.visible.iter().filter(|v| **v).count().max(1);
@@ -207,7 +209,8 @@ impl SceneJudge {
             debug: DebugView::None,
         };
         self.renderer
-            .measure_frame(&request)
+            .frame(&request, FrameOptions::measure())
+            .map(Option::unwrap)
             .map_err(TuneError::render(&self.name))?;
         let mut timed = TimedFrames::default();
         self.timed_frames(plan, &request, pace, &mut timed)?;
@@ -225,17 +228,22 @@ impl SceneJudge {
         for _ in 0..plan.frames {
             if let (Some(pace), Some(pacer)) = (pace, self.pacer.as_mut()) {
                 let frame = pacer
-                    .measure_frame(&FrameRequest {
-                        foveation: pace,
-                        eyes: &self.eyes[..1],
-                        ..*request
-                    })
+                    .frame(
+                        &FrameRequest {
+                            foveation: pace,
+                            eyes: &self.eyes[..1],
+                            ..*request
+                        },
+                        FrameOptions::measure(),
+                    )
+                    .map(Option::unwrap)
                     .map_err(TuneError::render(&self.name))?;
                 timed.pace.push(frame.stats);
             }
             let frame = self
                 .renderer
-                .measure_frame(request)
+                .frame(request, FrameOptions::measure())
+                .map(Option::unwrap)
                 .map_err(TuneError::render(&self.name))?;
             timed.config.push(frame.stats);
         }

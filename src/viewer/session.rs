@@ -6,6 +6,7 @@ use super::{DebugMode, Refine, ViewError};
 use crate::foveation::FoveationConfig;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+use crate::render::FrameOptions;
 use crate::render::{
     output, DebugView, EyeView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer,
     TemporalSettings,
@@ -128,7 +129,10 @@ impl Session {
                 _ => DebugView::None,
             },
         };
-        let mut frames = vec![self.renderer.measure_frame(&request)?];
+        let mut frames = vec![self
+            .renderer
+            .frame(&request, FrameOptions::measure())
+            .map(Option::unwrap)?];
         let show = match p.debug {
             DebugMode::Image | DebugMode::Layers => Show::Mean,
             DebugMode::Difference => Show::Nothing,
@@ -139,15 +143,22 @@ impl Session {
             // The same view rendered regularly at the innermost layer's spp and the same seed,
             // accumulated alongside: in the fovea the two are bit-identical.
             let regular = FoveationConfig::regular(settings.spp);
-            frames.push(self.renderer.measure_frame(&FrameRequest {
-                settings: RenderSettings {
-                    seed: self.accumulator.next_seed(base_seed, Mean::Regular),
-                    ..settings
-                },
-                foveation: &regular,
-                eyes: p.eyes,
-                debug: DebugView::None,
-            })?);
+            frames.push(
+                self.renderer
+                    .frame(
+                        &FrameRequest {
+                            settings: RenderSettings {
+                                seed: self.accumulator.next_seed(base_seed, Mean::Regular),
+                                ..settings
+                            },
+                            foveation: &regular,
+                            eyes: p.eyes,
+                            debug: DebugView::None,
+                        },
+                        FrameOptions::measure(),
+                    )
+                    .map(Option::unwrap)?,
+            );
             accumulate_ms += self.accumulate(
                 &FrameParams {
                     foveation: &regular,
@@ -179,12 +190,18 @@ impl Session {
     ) -> Result<FrameCost, ViewError> {
         let seed = settings.seed.wrapping_add(self.temporal_frames);
         self.temporal_frames = self.temporal_frames.wrapping_add(1);
-        let frame = self.renderer.measure_frame(&FrameRequest {
-            settings: RenderSettings { seed, ..settings },
-            foveation: p.foveation,
-            eyes: p.eyes,
-            debug: DebugView::None,
-        })?;
+        let frame = self
+            .renderer
+            .frame(
+                &FrameRequest {
+                    settings: RenderSettings { seed, ..settings },
+                    foveation: p.foveation,
+                    eyes: p.eyes,
+                    debug: DebugView::None,
+                },
+                FrameOptions::measure(),
+            )
+            .map(Option::unwrap)?;
         let s = frame.stats;
         Ok(FrameCost {
             passes: s.pass_ms,

@@ -11,6 +11,7 @@ use super::views::EyeViews;
 use crate::foveation::gaze_filter::FilteredGaze;
 use crate::foveation::{Gaze, ImageGeometry, VisibilityMask};
 use crate::gpu::{ExternalImage, GpuContext, SourceRect};
+use crate::render::FrameOptions;
 use crate::render::{FrameRequest, RenderSettings, Renderer};
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -86,11 +87,14 @@ impl<'a> HeadsetRenderer<'a> {
             debug: options.debug,
         };
         let ctx = self.ctx;
-        Ok(self
-            .renderer
-            .submit_frame_latched(&request, latch, &mut |cmd, output| {
-                ctx.cmd_copy_to_external(cmd, output, targets)
-            })?)
+        let mut copy = |cmd, output: &_| ctx.cmd_copy_to_external(cmd, output, targets);
+        let options = FrameOptions {
+            latch: Some(latch),
+            after: Some(&mut copy),
+            ..Default::default()
+        };
+        self.renderer.frame(&request, options)?;
+        Ok(())
     }
 
     /// Keeps `frame`, just submitted, until its results are recorded.

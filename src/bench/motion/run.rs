@@ -20,6 +20,7 @@ use crate::gpu::GpuContext;
 use crate::metrics::jod::{Fvvdp, VideoJod};
 use crate::metrics::{self, hidden_black, visible_pixels, BANDS};
 use crate::render::accumulate::frame_seed;
+use crate::render::FrameOptions;
 use crate::render::{
     eye_views, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
@@ -249,7 +250,11 @@ impl MotionRun<'_> {
         // compilation) must not count as the sequence's first frame.
         scene
             .renderer
-            .measure_frame(&frame_request(plan, &sequence, &config, &scene.eyes[0], 0))
+            .frame(
+                &frame_request(plan, &sequence, &config, &scene.eyes[0], 0),
+                FrameOptions::measure(),
+            )
+            .map(Option::unwrap)
             .map_err(BenchError::render(scene.name))?;
         scene.renderer.reset_history();
         let mut before: Option<(Vec<f32>, Vec<f32>)> = None;
@@ -267,7 +272,11 @@ impl MotionRun<'_> {
             let eyes = &scene.eyes[k as usize];
             let frame = scene
                 .renderer
-                .render_frame(&frame_request(plan, &sequence, &config, eyes, k))
+                .frame(
+                    &frame_request(plan, &sequence, &config, eyes, k),
+                    FrameOptions::pixels(),
+                )
+                .map(Option::unwrap)
                 .map_err(BenchError::render(scene.name))?;
             if !measured {
                 let at = FrameAt {

@@ -8,6 +8,7 @@ use super::results::{Convergence, ConvergencePoint, IntegratorConvergence, Refer
 use crate::bench::stats::median;
 use crate::gpu::GpuContext;
 use crate::metrics;
+use crate::render::regular_frame;
 use crate::render::{Frame, Integrator, RenderError, RenderSettings, Renderer};
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -106,7 +107,7 @@ impl Renders<'_> {
             integrator,
             max_bounces: self.options.max_bounces,
         };
-        let frame = self.renderer.render(&self.scene.camera, &settings)?;
+        let frame = regular_frame(&mut self.renderer, &self.scene.camera, &settings)?;
         self.tally.nonfinite_samples += frame.stats.nonfinite_samples;
         self.tally.stack_overflows += frame.stats.stack_overflows;
         self.tally.renders += 1;

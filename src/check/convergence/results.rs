@@ -60,7 +60,7 @@ pub struct ReferenceBias {
     pub mean_z: [f64; 3],
 }
 
-/// Everything [`measure`] found on one scene.
+/// Everything [`measure`](super::measure()) found on one scene.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Convergence {
     pub scene: String,

@@ -13,6 +13,7 @@ use anyhow::{Context, Result};
 use fovea::bench::stats::median;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
+use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, DebugView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer, Traversal,
     TraversalChoice,
@@ -347,6 +348,7 @@ fn write_json(
 /// Renders one frame and names the scene on failure.
 fn render_named(renderer: &mut Renderer, request: &FrameRequest, name: &str) -> Result<Frame> {
     renderer
-        .render_frame(request)
+        .frame(request, FrameOptions::pixels())
+        .map(Option::unwrap)
         .with_context(|| format!("rendering {name}"))
 }

@@ -8,6 +8,7 @@ use crate::commands::check_validation;
 use anyhow::{bail, Result};
 use fovea::foveation::{FoveationConfig, GazeSource, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
+use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, output, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer,
 };
@@ -37,7 +38,9 @@ pub fn run(
         },
     };
     warm_up(&mut renderer, &request)?;
-    let mut frame = renderer.render_frame(&request)?;
+    let mut frame = renderer
+        .frame(&request, FrameOptions::pixels())
+        .map(Option::unwrap)?;
     report(&frame, config, settings, ctx.info.subgroup_size);
     if args.debug == Some(DebugArg::Diff) {
         frame.rgb = difference_from_regular(&mut renderer, &request, &frame)?;
@@ -110,10 +113,15 @@ fn difference_from_regular(
 ) -> Result<Vec<f32>> {
     let settings = &request.settings;
     let regular_config = FoveationConfig::regular(settings.spp);
-    let regular = renderer.render_frame(&FrameRequest {
-        foveation: &regular_config,
-        ..*request
-    })?;
+    let regular = renderer
+        .frame(
+            &FrameRequest {
+                foveation: &regular_config,
+                ..*request
+            },
+            FrameOptions::pixels(),
+        )
+        .map(Option::unwrap)?;
     let diff = difference(frame, &regular);
     println!(
         "difference from a regular frame at {} spp (same seed): mean |Δ| {:.5}, {:.1}% of pixels identical",
@@ -133,10 +141,15 @@ fn warm_up(renderer: &mut Renderer, request: &FrameRequest) -> Result<()> {
         height: request.settings.height.min(WARM_UP_SIDE),
         ..request.settings
     };
-    renderer.measure_frame(&FrameRequest {
-        settings,
-        ..*request
-    })?;
+    renderer
+        .frame(
+            &FrameRequest {
+                settings,
+                ..*request
+            },
+            FrameOptions::measure(),
+        )
+        .map(Option::unwrap)?;
     Ok(())
 }
 

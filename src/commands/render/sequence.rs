@@ -9,6 +9,7 @@ use anyhow::{bail, Context, Result};
 use fovea::foveation::{FoveationConfig, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
 use fovea::render::accumulate::frame_seed;
+use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, output, DebugView, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
@@ -61,12 +62,16 @@ pub fn run(
             eyes = with_source_gaze(&eyes, replay, k as u64, &frame_settings);
         }
         let frame = renderer
-            .render_frame(&FrameRequest {
-                settings: frame_settings,
-                foveation: config,
-                eyes: &eyes,
-                debug: DebugView::None,
-            })
+            .frame(
+                &FrameRequest {
+                    settings: frame_settings,
+                    foveation: config,
+                    eyes: &eyes,
+                    debug: DebugView::None,
+                },
+                FrameOptions::pixels(),
+            )
+            .map(Option::unwrap)
             .with_context(|| format!("rendering frame {k} of {}", path.display()))?;
         let file = dir.join(format!("frame_{k:04}.png"));
         output::write_frame(&frame, &file)?;
