@@ -10,6 +10,7 @@ pub mod metrics;
 pub mod realtime;
 pub mod render;
 pub mod scene;
+pub mod shader_layout;
 pub mod tune;
 pub mod viewer;
 pub mod xr;

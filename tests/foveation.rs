@@ -14,6 +14,7 @@ use fovea::foveation::{
     EyePlan, FoveationConfig, Gaze, GazeChoice, ImageGeometry, Layer, RayBuffer, VisibilityMask,
 };
 use fovea::gpu::GpuContext;
+use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, DebugView, EyeView, FovChoice, Frame, FrameRequest, Integrator, LatticePoint,
     Renderer,
@@ -145,7 +146,11 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                 let what = format!("{name}, {fov:?}, stereo {stereo}, {gaze:?}");
                 let eyes = eyes(&scene, size, fov, stereo, gaze, gaze);
                 let frame = renderer
-                    .render_frame(&request(size, 3, config, &eyes, DebugView::None))
+                    .frame(
+                        &request(size, 3, config, &eyes, DebugView::None),
+                        FrameOptions::pixels(),
+                    )
+                    .map(Option::unwrap)
                     .unwrap();
                 let images = images(&eyes, size);
                 let gazes: Vec<[f64; 2]> = eyes
@@ -270,10 +275,18 @@ fn fovea_is_bit_identical_to_a_regular_frame() {
     for gaze in [Gaze::Forward, Gaze::Pixel(30.0, 40.0)] {
         let eyes = eyes(&scene, size, FovChoice::Scene, false, gaze, gaze);
         let foveated = renderer
-            .render_frame(&request(size, seed, &config, &eyes, DebugView::None))
+            .frame(
+                &request(size, seed, &config, &eyes, DebugView::None),
+                FrameOptions::pixels(),
+            )
+            .map(Option::unwrap)
             .unwrap();
         let reference = renderer
-            .render_frame(&request(size, seed, &regular, &eyes, DebugView::None))
+            .frame(
+                &request(size, seed, &regular, &eyes, DebugView::None),
+                FrameOptions::pixels(),
+            )
+            .map(Option::unwrap)
             .unwrap();
         assert_eq!(reference.stats.paths, 96 * 96 * 4);
         assert!(foveated.stats.paths < reference.stats.paths);
@@ -304,10 +317,18 @@ fn fovea_is_bit_identical_to_a_regular_frame() {
         Gaze::Pixel(28.0, 40.0),
     );
     let foveated = renderer
-        .render_frame(&request(size, seed, &config, &eyes, DebugView::None))
+        .frame(
+            &request(size, seed, &config, &eyes, DebugView::None),
+            FrameOptions::pixels(),
+        )
+        .map(Option::unwrap)
         .unwrap();
     let reference = renderer
-        .render_frame(&request(size, seed, &regular, &eyes, DebugView::None))
+        .frame(
+            &request(size, seed, &regular, &eyes, DebugView::None),
+            FrameOptions::pixels(),
+        )
+        .map(Option::unwrap)
         .unwrap();
     let per_eye = compare_fovea(
         &foveated,
@@ -673,7 +694,10 @@ fn gpu_resolve_equals_the_cpu_blend_of_catmull_rom_layers() {
         assert!(gradient > 0, "{}: no interior pixel shown", case.name);
 
         // The GPU traces exactly the points the CPU planner plans, lens mask included.
-        let traced = renderer.render_frame(&req).unwrap();
+        let traced = renderer
+            .frame(&req, FrameOptions::pixels())
+            .map(Option::unwrap)
+            .unwrap();
         let planned: Vec<u64> = (0..case.config.layers.len())
             .map(|k| {
                 images
@@ -823,7 +847,11 @@ fn bad_gazes_render_safely_and_are_reported() {
     ] {
         let eyes = eyes(&scene, size, FovChoice::Scene, false, gaze, gaze);
         let frame = renderer
-            .render_frame(&request(size, 9, &config, &eyes, DebugView::None))
+            .frame(
+                &request(size, 9, &config, &eyes, DebugView::None),
+                FrameOptions::pixels(),
+            )
+            .map(Option::unwrap)
             .unwrap_or_else(|e| panic!("{gaze:?}: {e}"));
         assert_eq!(frame.gazes.len(), 1);
         assert_eq!(frame.gazes[0], (pixel, fix), "{gaze:?}");
@@ -856,10 +884,18 @@ fn debug_layers_view_tints_a_stereo_frame() {
         Gaze::Forward,
     );
     let plain = renderer
-        .render_frame(&request(size, 2, &config, &eyes, DebugView::None))
+        .frame(
+            &request(size, 2, &config, &eyes, DebugView::None),
+            FrameOptions::pixels(),
+        )
+        .map(Option::unwrap)
         .unwrap();
     let debug = renderer
-        .render_frame(&request(size, 2, &config, &eyes, DebugView::Layers))
+        .frame(
+            &request(size, 2, &config, &eyes, DebugView::Layers),
+            FrameOptions::pixels(),
+        )
+        .map(Option::unwrap)
         .unwrap();
     assert_eq!(plain.width, 2 * size.0);
     assert_eq!((debug.width, debug.height), (plain.width, plain.height));

@@ -6,6 +6,7 @@ mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::gpu::{GpuContext, GpuError, GpuOptions};
+use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, DebugView, FovChoice, FrameRequest, Integrator, RenderError, Renderer,
     TemporalSettings,
@@ -53,7 +54,11 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
     for seed in 1..=2 {
         frame = Some(
             renderer
-                .measure_frame(&stereo_request(&config, &eyes, seed))
+                .frame(
+                    &stereo_request(&config, &eyes, seed),
+                    FrameOptions::measure(),
+                )
+                .map(Option::unwrap)
                 .unwrap(),
         );
     }
@@ -125,11 +130,15 @@ fn a_device_loss_with_two_frames_in_flight_names_the_lost_frames_pass() {
         |_cmd: fovea::gpu::vk::CommandBuffer, _image: &fovea::gpu::StorageImage| copies += 1;
     for seed in 1..=3 {
         renderer
-            .submit_frame_latched(
+            .frame(
                 &stereo_request(&config, &eyes, seed),
-                &mut latch,
-                &mut after,
+                FrameOptions {
+                    latch: Some(&mut latch),
+                    after: Some(&mut after),
+                    ..Default::default()
+                },
             )
+            .map(|_| ())
             .unwrap();
     }
     assert_eq!(renderer.in_flight(), 2, "frames 2 and 3 in flight");

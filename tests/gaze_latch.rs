@@ -5,6 +5,7 @@
 mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
+use fovea::render::FrameOptions;
 use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
 
 #[test]
@@ -25,14 +26,27 @@ fn a_latched_gaze_replaces_the_requested_one() {
         eyes,
         debug: DebugView::None,
     };
-    let asked_forward = renderer.measure_frame(&request(&forward)).unwrap();
-    let asked_corner = renderer.measure_frame(&request(&corner)).unwrap();
+    let asked_forward = renderer
+        .frame(&request(&forward), FrameOptions::measure())
+        .map(Option::unwrap)
+        .unwrap();
+    let asked_corner = renderer
+        .frame(&request(&corner), FrameOptions::measure())
+        .map(Option::unwrap)
+        .unwrap();
     let mut latches = 0;
     let latched = renderer
-        .measure_frame_latched(&request(&forward), &mut || {
-            latches += 1;
-            vec![Gaze::Corner, Gaze::Corner]
-        })
+        .frame(
+            &request(&forward),
+            FrameOptions {
+                latch: Some(&mut || {
+                    latches += 1;
+                    vec![Gaze::Corner, Gaze::Corner]
+                }),
+                ..FrameOptions::measure()
+            },
+        )
+        .map(Option::unwrap)
         .unwrap();
     assert_eq!(latches, 1, "the latch runs once per frame");
     // The two gazes plan differently, so the comparison can tell them apart.

@@ -4,10 +4,10 @@
 
 mod common;
 
-use fovea::gpu::shared::GpuProbeRay;
 use fovea::render::Renderer;
 use fovea::scene::builtin::builtin;
 use fovea::scene::CpuRaycaster;
+use fovea::shader_layout::GpuProbeRay;
 use glam::Vec3;
 use std::time::Instant;
 

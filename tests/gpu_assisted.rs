@@ -6,14 +6,15 @@
 mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
-use fovea::gpu::shared::*;
 use fovea::gpu::{
     shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, PipelineLayout, StorageImage,
     TexelView,
 };
 use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+use fovea::render::FrameOptions;
 use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
 use fovea::scene::builtin::builtin;
+use fovea::shader_layout::*;
 use gpu_allocator::MemoryLocation;
 
 const SIZE: u32 = 8;
@@ -94,12 +95,16 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
     let eyes = eye_views(&scene.camera, 1.0, FovChoice::Scene, true, gaze);
     let settings = common::settings(SIZE, SIZE, 1, 1, fovea::render::Integrator::Pt);
     let frame = renderer
-        .measure_frame(&FrameRequest {
-            settings,
-            foveation: &thesis,
-            eyes: &eyes,
-            debug: DebugView::None,
-        })
+        .frame(
+            &FrameRequest {
+                settings,
+                foveation: &thesis,
+                eyes: &eyes,
+                debug: DebugView::None,
+            },
+            FrameOptions::measure(),
+        )
+        .map(Option::unwrap)
         .unwrap();
     let passes: Vec<&str> = frame.stats.pass_ms.iter().map(|p| p.0.as_str()).collect();
     for pass in [

@@ -6,11 +6,12 @@ mod common;
 
 use common::rays::{box_t, sphere_t, triangle_t};
 use fovea::check::watertight;
-use fovea::gpu::shared::{GpuProbeHit, GpuProbeRay, KIND_BOX, KIND_INSTANCE};
+use fovea::render::regular_frame;
 use fovea::render::{Integrator, Renderer, Traversal};
 use fovea::scene::builtin::{builtin, BUILTIN_SCENES};
 use fovea::scene::gpu_layout::GpuScene;
 use fovea::scene::Scene;
+use fovea::shader_layout::{GpuProbeHit, GpuProbeRay, KIND_BOX, KIND_INSTANCE};
 use glam::DVec3;
 
 fn cast(renderer: &mut Renderer, traversal: Traversal, rays: &[GpuProbeRay]) -> Vec<GpuProbeHit> {
@@ -214,7 +215,7 @@ fn render(
     let mut renderer = Renderer::new(ctx, scene).unwrap();
     renderer.set_traversal(traversal).unwrap();
     let s = common::settings(32, 32, 64, 3, Integrator::Pt);
-    let frame = renderer.render(&scene.camera, &s).unwrap();
+    let frame = regular_frame(&mut renderer, &scene.camera, &s).unwrap();
     assert_eq!(frame.stats.nonfinite_samples, 0);
     assert_eq!(frame.stats.paths, 32 * 32 * 64);
     frame.rgb

@@ -1,7 +1,7 @@
 //! glsl/shared.h is the one source of struct layouts: this test parses its structs, lays them
 //! out by the std430 rules, and checks every Rust mirror's size and field offsets against it.
 
-use fovea::gpu::shared::*;
+use fovea::shader_layout::*;
 use std::collections::HashMap;
 use std::mem::{offset_of, size_of};
 

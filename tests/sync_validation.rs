@@ -5,11 +5,11 @@
 
 mod common;
 
-use fovea::gpu::shared::*;
 use fovea::gpu::{
     shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
     Scope, TexelView,
 };
+use fovea::shader_layout::*;
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 

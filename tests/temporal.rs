@@ -7,6 +7,7 @@ mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze};
 use fovea::render::accumulate::frame_seed;
+use fovea::render::{regular_frame, FrameOptions};
 use fovea::render::{
     DebugView, EyeView, Frame, FrameRequest, Integrator, RenderSettings, Renderer, TemporalSettings,
 };
@@ -37,12 +38,16 @@ fn sequence(
                 gaze: Gaze::Forward,
             }];
             renderer
-                .render_frame(&FrameRequest {
-                    settings: settings(config.layers[0].spp, frame_seed(1, k as u32)),
-                    foveation: config,
-                    eyes: &eyes,
-                    debug: DebugView::None,
-                })
+                .frame(
+                    &FrameRequest {
+                        settings: settings(config.layers[0].spp, frame_seed(1, k as u32)),
+                        foveation: config,
+                        eyes: &eyes,
+                        debug: DebugView::None,
+                    },
+                    FrameOptions::pixels(),
+                )
+                .map(Option::unwrap)
                 .unwrap()
         })
         .collect()
@@ -55,7 +60,7 @@ fn settings(spp: u32, seed: u32) -> RenderSettings {
 /// A regular frame of `camera` at `spp` samples per pixel.
 fn regular(renderer: &mut Renderer, camera: &Camera, spp: u32, seed: u32) -> Frame {
     renderer.set_temporal(None).unwrap();
-    renderer.render(camera, &settings(spp, seed)).unwrap()
+    regular_frame(renderer, camera, &settings(spp, seed)).unwrap()
 }
 
 /// Mean squared error as a display shows the images: radiance above 1 clips (the light

@@ -4,6 +4,7 @@
 
 mod common;
 
+use fovea::render::regular_frame;
 use fovea::render::{Frame, Integrator, Renderer, TraversalCounts};
 use fovea::scene::builtin::builtin;
 
@@ -13,7 +14,7 @@ fn render(name: &str, profile: bool) -> Frame {
     let settings = common::settings(48, 48, 2, 7, Integrator::Pt);
     let mut renderer = Renderer::new(&ctx, &scene).expect("scene upload");
     renderer.set_traversal_profile(profile);
-    let frame = renderer.render(&scene.camera, &settings).expect("render");
+    let frame = regular_frame(&mut renderer, &scene.camera, &settings).expect("render");
     drop(renderer);
     common::assert_no_validation_messages(&ctx);
     frame

@@ -6,6 +6,7 @@
 
 mod common;
 
+use fovea::render::FrameOptions;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
@@ -475,9 +476,9 @@ fn turbo(x: f64) -> [f64; 3] {
 #[test]
 fn heat_map_and_difference_view_show_what_they_say() {
     use fovea::foveation::{FoveationConfig, GazeChoice};
-    use fovea::gpu::shared::{ACCUM_HEAT_LOG2_MAX, ACCUM_HEAT_LOG2_MIN};
     use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
     use fovea::render::{eye_views, DebugView, FovChoice, FrameRequest, Renderer};
+    use fovea::shader_layout::{ACCUM_HEAT_LOG2_MAX, ACCUM_HEAT_LOG2_MIN};
 
     let ctx = common::context();
     let scene = fovea::scene::builtin::builtin("cornell", 1.0).unwrap();
@@ -492,15 +493,19 @@ fn heat_map_and_difference_view_show_what_they_say() {
     let settings = common::settings(64, 64, 4, 1, fovea::render::Integrator::Pt);
     let mut frame = |means: &mut Accumulator, config: &FoveationConfig, into, show| {
         renderer
-            .measure_frame(&FrameRequest {
-                settings: fovea::render::RenderSettings {
-                    seed: means.next_seed(1, into),
-                    ..settings
+            .frame(
+                &FrameRequest {
+                    settings: fovea::render::RenderSettings {
+                        seed: means.next_seed(1, into),
+                        ..settings
+                    },
+                    foveation: config,
+                    eyes: &eyes,
+                    debug: DebugView::None,
                 },
-                foveation: config,
-                eyes: &eyes,
-                debug: DebugView::None,
-            })
+                FrameOptions::measure(),
+            )
+            .map(Option::unwrap)
             .unwrap();
         let image = renderer.output_image().unwrap();
         means

@@ -4,10 +4,10 @@
 
 use super::closed_meshes::{closed_bunny, icosphere, subdivided_cube, winding_number};
 use super::rng::Rng;
-use crate::gpu::shared::GpuProbeRay;
 use crate::gpu::GpuContext;
 use crate::render::{RenderError, Renderer, Traversal};
 use crate::scene::{Camera, Environment, Instance, Material, Mesh, Scene};
+use crate::shader_layout::GpuProbeRay;
 use glam::{DMat4, DVec3, Mat4, Quat, Vec3};
 use std::sync::Arc;
 

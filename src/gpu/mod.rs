@@ -17,14 +17,13 @@ mod owned;
 mod pipeline;
 mod present;
 pub mod shaders;
-pub mod shared;
 mod swapchain;
 mod sync;
 mod timestamps;
 mod validation;
 pub use validation::ValidationLog;
 
-pub use accel::{AccelObject, AccelStructures};
+pub use accel::AccelStructures;
 pub use ash::vk;
 pub use commands::Commands;
 pub use context::{ContextNeeds, GpuContext, VulkanCreator};

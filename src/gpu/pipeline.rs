@@ -6,7 +6,7 @@
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::memory::Buffer;
-use super::shared::*;
+use crate::shader_layout::*;
 use ash::vk;
 use std::sync::Arc;
 

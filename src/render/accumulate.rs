@@ -10,11 +10,11 @@ use super::RenderError;
 use crate::foveation::plan::cos_limit;
 use crate::foveation::view::direction;
 use crate::foveation::{FoveationConfig, MAX_LAYERS};
-use crate::gpu::shared::*;
 use crate::gpu::{
     shaders, vk, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
     StorageImage, TimestampPool,
 };
+use crate::shader_layout::*;
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 

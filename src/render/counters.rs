@@ -7,8 +7,8 @@
 use super::frame::{EyeCounters, TraversalCounts};
 use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
-use crate::gpu::shared::*;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
+use crate::shader_layout::*;
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 

@@ -11,8 +11,8 @@ use crate::foveation::lattice_shift::lattice_shift;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
-use crate::gpu::shared::{EyePush, GpuLayer, PushCamera, PushEye, NO_LIMIT, PLAN_RUN};
 use crate::scene::Camera;
+use crate::shader_layout::{EyePush, GpuLayer, PushCamera, PushEye, NO_LIMIT, PLAN_RUN};
 
 /// One eye's layers for a frame: what the gaze decides, written into the GPU's layer buffer
 /// right before the frame is submitted (the recorded commands do not depend on it).

@@ -3,7 +3,7 @@
 use super::settings::Traversal;
 use std::time::Instant;
 
-use crate::gpu::shared::{
+use crate::shader_layout::{
     PROFILE_BLAS_GROUP_STEPS, PROFILE_BLAS_LANE_STEPS, PROFILE_BLAS_NODES, PROFILE_PRIMITIVES,
     PROFILE_TLAS_GROUP_STEPS, PROFILE_TLAS_LANE_STEPS, PROFILE_TLAS_NODES, PROFILE_TRIANGLES,
 };

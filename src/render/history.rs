@@ -7,8 +7,8 @@
 
 use super::in_flight::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
-use crate::gpu::shared::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
+use crate::shader_layout::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 

@@ -14,8 +14,8 @@ use super::history::History;
 use super::scene_buffers::SceneBuffers;
 use super::settings::Traversal;
 use super::targets::FrameTargets;
-use crate::gpu::shared::*;
 use crate::gpu::{Buffer, ComputePipeline};
+use crate::shader_layout::*;
 
 /// The frame's pipelines (trace specialised for the scene, integrator and depth).
 pub struct FramePipelines<'a> {

@@ -5,9 +5,9 @@
 use super::passes::FramePipelines;
 use super::settings::{RenderSettings, Traversal};
 use super::RenderError;
-use crate::gpu::shared::*;
 use crate::gpu::{shaders, ComputePipeline, GpuContext, PipelineLayout};
 use crate::scene::SceneFeatures;
+use crate::shader_layout::*;
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -4,8 +4,8 @@
 use super::graph::FrameGraph;
 use super::renderer::Renderer;
 use super::RenderError;
-use crate::gpu::shared::*;
 use crate::gpu::{vk, Buffer, DescriptorArena, TimestampPool};
+use crate::shader_layout::*;
 use gpu_allocator::MemoryLocation;
 
 impl Renderer {

@@ -12,8 +12,8 @@ use super::renderer::Renderer;
 use super::request::{AfterFrame, FrameOptions, FrameRequest};
 use super::RenderError;
 use crate::foveation::Gaze;
-use crate::gpu::shared::{EyePush, PushCamera};
 use crate::gpu::{Commands, GpuContext};
+use crate::shader_layout::{EyePush, PushCamera};
 use std::sync::Arc;
 use std::time::Instant;
 

@@ -3,8 +3,8 @@
 
 use super::settings::RenderSettings;
 use crate::foveation::{EyeFov, FoveationConfig, Gaze, ImageGeometry};
-use crate::gpu::shared::{DEBUG_LAYERS, DEBUG_NONE};
 use crate::scene::Camera;
+use crate::shader_layout::{DEBUG_LAYERS, DEBUG_NONE};
 
 /// One eye of a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

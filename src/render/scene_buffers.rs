@@ -5,10 +5,10 @@ use super::counters::FrameCounters;
 use super::graph::Pass;
 use super::settings::Traversal;
 use super::RenderError;
-use crate::gpu::shared::*;
 use crate::gpu::{AccelStructures, Bound, Buffer, GpuContext, PlannedAllocation, TexelView};
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Scene, SceneFeatures};
+use crate::shader_layout::*;
 use std::sync::Arc;
 
 /// Static scene data on the GPU, one buffer per binding.

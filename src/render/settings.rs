@@ -1,6 +1,6 @@
 //! What one frame is asked to compute, validated before any GPU work.
 
-use crate::gpu::shared::{INTEGRATOR_PT, INTEGRATOR_SEED};
+use crate::shader_layout::{INTEGRATOR_PT, INTEGRATOR_SEED};
 
 /// Which estimator traces the paths.
 #[derive(

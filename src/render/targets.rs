@@ -10,8 +10,8 @@ use super::passes::{groups_1d, PLAN_DISPATCH_BYTES};
 use super::settings::MAX_SIDE;
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
-use crate::gpu::shared::{GpuLayer, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
+use crate::shader_layout::{GpuLayer, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 

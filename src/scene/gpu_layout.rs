@@ -3,8 +3,7 @@
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
 use super::{Mesh, Scene, SceneError, SceneFeatures};
-use crate::gpu::shared::*;
-use crate::gpu::AccelObject;
+use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
@@ -12,34 +11,6 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
 use std::time::Duration;
-
-/// One compressed wide (8-ary) BVH node as glsl/bvh.glsl reads it: five RGBA32UI texels of
-/// BINDING_NODES, the layout of obvhs' `CwBvhNode` (Ylitie et al. 2017, "Efficient
-/// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"), field for field.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GpuNode {
-    /// The node box's min corner: the origin of its children's quantized grid.
-    pub origin: [f32; 3],
-    /// Per axis, the grid step as a float exponent: step = 2^(e - 127) (the bits e << 23).
-    pub exponents: [u8; 3],
-    /// Bit i: child slot i is an inner node (else a leaf or empty).
-    pub inner_mask: u8,
-    /// Index of the first inner child in the node array; inner children are consecutive.
-    pub child_base: u32,
-    /// Index of the first primitive of the leaf children, in leaf order.
-    pub primitive_base: u32,
-    /// Per child slot: 0 empty; a leaf: primitive count in unary in the high 3 bits, offset
-    /// from `primitive_base` in the low 5; an inner node: 001 then its slot + 24.
-    pub child_meta: [u8; 8],
-    /// Per child slot, its box in grid steps from `origin` (min and max, x, y, z).
-    pub child_min_x: [u8; 8],
-    pub child_max_x: [u8; 8],
-    pub child_min_y: [u8; 8],
-    pub child_max_y: [u8; 8],
-    pub child_min_z: [u8; 8],
-    pub child_max_z: [u8; 8],
-}
 
 pub struct GpuScene {
     pub blas_nodes: Vec<GpuNode>,

@@ -6,6 +6,7 @@
 pub mod rays;
 
 use fovea::gpu::{GpuContext, GpuOptions};
+use fovea::render::regular_frame;
 use fovea::render::{Frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::Scene;
 use std::path::Path;
@@ -64,7 +65,7 @@ pub fn settings(
 /// Renders `scene` from its own camera and checks the frame is clean.
 pub fn render(ctx: &Arc<GpuContext>, scene: &Scene, s: &RenderSettings) -> Frame {
     let mut renderer = Renderer::new(ctx, scene).expect("scene upload");
-    let frame = renderer.render(&scene.camera, s).expect("render");
+    let frame = regular_frame(&mut renderer, &scene.camera, s).expect("render");
     drop(renderer);
     assert_no_validation_messages(ctx);
     assert_eq!(

@@ -2,8 +2,8 @@
 //! scattered around the region the objects occupy, half the directions aimed at a random
 //! triangle centre or small box or sphere centre (so most rays hit), half uniform.
 
-use fovea::gpu::shared::GpuProbeRay;
 use fovea::scene::Scene;
+use fovea::shader_layout::GpuProbeRay;
 use glam::DVec3;
 
 /// A 64-bit LCG: the same rays on every machine.

@@ -2,12 +2,12 @@
 //! TLAS instances the scene's objects become, their geometry in build-input buffers, the
 //! instances' bytes, and each structure's place in the one storage buffer.
 
-use super::AccelObject;
 use crate::gpu::context::GpuContext;
 use crate::gpu::device_pick::RayQueryLimits;
 use crate::gpu::error::GpuError;
 use crate::gpu::memory::Buffer;
-use crate::gpu::shared::GpuTriangle;
+use crate::shader_layout::AccelObject;
+use crate::shader_layout::GpuTriangle;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use std::collections::HashMap;

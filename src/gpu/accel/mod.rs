@@ -16,8 +16,8 @@ use super::context::GpuContext;
 use super::device_pick::RayQueryLimits;
 use super::error::{GpuError, VkContext};
 use super::memory::Buffer;
-use super::shared::GpuTriangle;
 use super::sync::Scope;
+use crate::shader_layout::{AccelObject, GpuTriangle};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use inputs::{
@@ -26,20 +26,6 @@ use inputs::{
 };
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// What one object of the scene is to the ray-query traversal (indexed as OBJECTS).
-#[derive(Clone, Copy, Debug)]
-pub enum AccelObject {
-    /// A mesh instance: triangles `first .. first + count` of the triangle array (object
-    /// space), placed by `to_world` (the rows of its 3x4 object-to-world matrix).
-    Mesh {
-        first: u32,
-        count: u32,
-        to_world: [[f32; 4]; 3],
-    },
-    /// A box or a sphere: the world bounds inside which the shader tests it.
-    Bounds { min: [f32; 3], max: [f32; 3] },
-}
 
 /// The scene's acceleration structures: the TLAS the shaders bind (BINDING_TLAS) and the
 /// BLASes it refers to, all in one device-local buffer.
