@@ -5,7 +5,7 @@
 //! into the frame slot's host-visible buffer (passes.rs) (frames in flight each have their own).
 
 use super::frame::{EyeCounters, TraversalCounts};
-use super::in_flight::MAX_FRAMES_IN_FLIGHT;
+use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
 use crate::shader_layout::*;

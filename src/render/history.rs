@@ -5,7 +5,7 @@
 //! whether the camera moved), written with the gaze right before submission. The history's
 //! frame count also shifts the sparse layers' lattices (`lattice_shift`).
 
-use super::in_flight::MAX_FRAMES_IN_FLIGHT;
+use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
 use crate::shader_layout::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};

@@ -10,15 +10,12 @@ use super::counters::FrameCounters;
 use super::eye_params::EyeLayers;
 use super::frame::{Frame, FrameStats, TraversalCounts};
 use super::settings::Traversal;
+use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{Commands, DescriptorArena, GpuContext, TimestampPool};
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// Frame slots: the most frames a renderer keeps in flight. Two let the CPU's and the GPU's
-/// work overlap; a third absorbs a frame whose CPU side runs long (a slow xrWaitFrame).
-pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 
 /// A submitted frame whose results have not been read yet.
 pub(super) struct PendingFrame {

@@ -19,6 +19,7 @@ mod renderer;
 mod request;
 mod scene_buffers;
 mod settings;
+mod slots;
 mod targets;
 mod version;
 mod visibility;
@@ -27,13 +28,13 @@ mod visibility;
 pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
-pub use in_flight::MAX_FRAMES_IN_FLIGHT;
 pub use regular::regular_frame;
 pub use renderer::Renderer;
 pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
 };
 pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
+pub use slots::MAX_FRAMES_IN_FLIGHT;
 pub use version::renderer_version;
 
 use crate::gpu::GpuError;

@@ -273,14 +273,3 @@ impl FramePasses<'_> {
         g.host_reads(host);
     }
 }
-
-/// Bytes of one eye's plan dispatch in `FrameTargets::plan_dispatch` (VkDispatchIndirectCommand
-/// and a pad).
-pub const PLAN_DISPATCH_BYTES: u64 = 16;
-
-/// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
-pub fn groups_1d(threads: u64, workgroup: u32) -> [u32; 3] {
-    let groups = threads.div_ceil(workgroup as u64);
-    let x = groups.min(MAX_GROUPS_X as u64);
-    [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
-}

@@ -5,13 +5,12 @@
 //! rewrites every frame.
 
 use super::eye_params::EyeLayers;
-use super::in_flight::MAX_FRAMES_IN_FLIGHT;
-use super::passes::{groups_1d, PLAN_DISPATCH_BYTES};
 use super::settings::MAX_SIDE;
+use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
-use crate::shader_layout::{GpuLayer, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
+use crate::shader_layout::{GpuLayer, MAX_GROUPS_X, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -315,4 +314,15 @@ impl TargetCache {
     pub fn current_mut(&mut self) -> Option<&mut FrameTargets> {
         self.current.as_mut()
     }
+}
+
+/// Bytes of one eye's plan dispatch in `FrameTargets::plan_dispatch` (VkDispatchIndirectCommand
+/// and a pad).
+const PLAN_DISPATCH_BYTES: u64 = 16;
+
+/// Workgroups for `threads` threads of a 1D pass: x up to the guaranteed limit, then rows.
+fn groups_1d(threads: u64, workgroup: u32) -> [u32; 3] {
+    let groups = threads.div_ceil(workgroup as u64);
+    let x = groups.min(MAX_GROUPS_X as u64);
+    [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
 }
