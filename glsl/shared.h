@@ -1,6 +1,6 @@
 // The one source of truth for everything the host and the shaders share: binding numbers,
 // specialization-constant ids, push constants and buffer struct layouts (std430).
-// src/gpu/shared.rs mirrors these structs; tests/shared_layout.rs parses this file and checks
+// src/shader_layout.rs mirrors these structs; tests/shared_layout.rs parses this file and checks
 // every Rust mirror's size and field offsets against the std430 rules, so the two cannot drift.
 // Keep struct members to 4-byte scalars, vec4/uvec4 and arrays of them (the test's parser knows
 // only those), one member per line.
@@ -55,7 +55,7 @@
 #define BINDING_TLAS 24
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
-// src/gpu/shared.rs checks them against the structs' sizes).
+// src/shader_layout.rs checks them against the structs' sizes).
 #define TEXELS_PER_NODE 5
 #define TEXELS_PER_TRIANGLE 3
 #define TEXELS_PER_OBJECT 10
@@ -335,7 +335,7 @@ struct GpuProbeHit {
 // Differences are mostly a few percent of the image: x4 makes them visible on a display.
 #define ACCUM_DIFF_GAIN 4
 // The heat map's range, log2 samples per pixel: 1/64 (blue) to 1024 (dark red).
-#define ACCUM_HEAT_LOG2_MIN -6 // src/gpu/shared.rs mirrors it (build.rs skips negatives)
+#define ACCUM_HEAT_LOG2_MIN -6 // src/shader_layout.rs mirrors it (build.rs skips negatives)
 #define ACCUM_HEAT_LOG2_MAX 10
 
 #endif
