@@ -140,107 +140,130 @@ impl Accumulator {
     /// Adds the frame to its mean and overwrites it with what `request.show` asks for.
     /// Returns the GPU milliseconds of the pass (all eyes).
     pub fn add(&mut self, request: &AccumulateRequest) -> Result<f64, RenderError> {
-        let eyes = request.eyes.len() as u32;
-        let [w, h] = request.eye_size;
-        if eyes == 0
-            || eyes > STAT_EYES
-            || request.frame.width != w * eyes
-            || request.frame.height != h
-        {
-            return Err(RenderError::Settings(format!(
-                "accumulate: a {}x{} frame is not {eyes} eye(s) of {w}x{h}",
-                request.frame.width, request.frame.height
-            )));
-        }
-        let layer_count = request.foveation.layers.len() as u32;
+        check_frame(request)?;
+        self.ensure_means(request.frame.width, request.eye_size[1])?;
+        let gpu: Vec<GpuLayer> = request
+            .eyes
+            .iter()
+            .flat_map(|eye| gpu_layers(eye, request.eye_size, request.foveation))
+            .collect();
+        self.layers.write(0, bytemuck::cast_slice(&gpu))?;
+        let index = request.into.layer();
+        let pushes = pushes(request, self.counts[index as usize]);
+        self.record(request, &pushes)?;
+        self.counts[index as usize] += 1;
+        Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
+    }
+
+    /// New (empty) means when the frame's size changed.
+    fn ensure_means(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
         if self
             .means
             .as_ref()
-            .is_none_or(|m| m.width != request.frame.width || m.height != h)
+            .is_some_and(|m| m.width == width && m.height == height)
         {
-            self.means = None;
-            self.means = Some(StorageImage::new_array(
-                &self.ctx,
-                "running means",
-                request.frame.width,
-                h,
-                ACCUM_LAYERS,
-            )?);
-            self.fresh = true;
-            self.reset();
+            return Ok(());
         }
-        let mut gpu = Vec::with_capacity((eyes * layer_count) as usize);
-        for eye in request.eyes {
-            gpu.extend(gpu_layers(eye, request.eye_size, request.foveation));
-        }
-        self.layers.write(0, bytemuck::cast_slice(&gpu))?;
-        let means = self.means.as_ref().expect("made above");
-        let index = request.into.layer();
-        let pushes: Vec<AccumulatePush> = request
-            .eyes
-            .iter()
-            .enumerate()
-            .map(|(e, eye)| AccumulatePush {
-                cam: PushCamera {
-                    tan: [
-                        eye.camera.angle_left.tan(),
-                        eye.camera.angle_right.tan(),
-                        eye.camera.angle_up.tan(),
-                        eye.camera.angle_down.tan(),
-                    ],
-                    ..Default::default()
-                },
-                eye: PushEye {
-                    width: w,
-                    height: h,
-                    index: e as u32,
-                    layer_count,
-                    debug: request.show.id(),
-                    ..Default::default()
-                },
-                mean_layer: index,
-                frames_before: self.counts[index as usize],
-                ..Default::default()
-            })
-            .collect();
+        self.means = None;
+        let means =
+            StorageImage::new_array(&self.ctx, "running means", width, height, ACCUM_LAYERS)?;
+        self.means = Some(means);
+        self.fresh = true;
+        self.reset();
+        Ok(())
+    }
+
+    /// Submits the pass, an eye at a time, and waits for it.
+    fn record(
+        &mut self,
+        request: &AccumulateRequest,
+        pushes: &[AccumulatePush],
+    ) -> Result<(), RenderError> {
+        let [w, h] = request.eye_size;
         let groups = [
             w.div_ceil(WORKGROUP_SIZE_X),
             h.div_ceil(WORKGROUP_SIZE_Y),
             1,
         ];
         let fresh = std::mem::take(&mut self.fresh);
+        let means = self.means.as_ref().expect("ensured");
         let (ctx, pipeline, layout, layers) =
             (&self.ctx, &self.pipeline, &self.layout, &self.layers);
         let (descriptors, timestamps) = (&mut self.descriptors, &mut self.timestamps);
         let mut recorded = Ok(());
         ctx.submit_and_wait("accumulate", |cmd| {
-            recorded = (|| {
-                if fresh {
-                    means.cmd_prepare_for_write(cmd);
-                }
-                // The graph starts after the frame's own submission (which wrote the frame).
-                let mut g = FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps)?;
-                // An eye per pass: the eyes write their own halves of the frame and the
-                // means, but a storage image is one resource to the synchronization checks.
-                for (e, push) in pushes.iter().enumerate() {
-                    let name = match (eyes, e) {
-                        (1, _) => "accumulate",
-                        (_, 0) => "left accumulate",
-                        _ => "right accumulate",
-                    };
-                    g.pass()
-                        .reads(BINDING_LAYERS, layers)
-                        .reads_writes(BINDING_OUTPUT, request.frame)
-                        .reads_writes(BINDING_LAYER_IMAGES, means)
-                        .record(|r| r.dispatch(name, pipeline, push, groups));
-                }
-                g.finish()
-            })();
+            if fresh {
+                means.cmd_prepare_for_write(cmd);
+            }
+            // The graph starts after the frame's own submission (which wrote the frame).
+            recorded =
+                FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps).and_then(|mut g| {
+                    // An eye per pass: the eyes write their own halves of the frame and the
+                    // means, but a storage image is one resource to the synchronization checks.
+                    for (e, push) in pushes.iter().enumerate() {
+                        let name = match (pushes.len(), e) {
+                            (1, _) => "accumulate",
+                            (_, 0) => "left accumulate",
+                            _ => "right accumulate",
+                        };
+                        g.pass()
+                            .reads(BINDING_LAYERS, layers)
+                            .reads_writes(BINDING_OUTPUT, request.frame)
+                            .reads_writes(BINDING_LAYER_IMAGES, means)
+                            .record(|r| r.dispatch(name, pipeline, push, groups));
+                    }
+                    g.finish()
+                });
         })?;
-        recorded?;
-        self.counts[index as usize] += 1;
-        Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
+        Ok(recorded?)
     }
+}
+
+/// The frame must be the request's eyes side by side.
+fn check_frame(request: &AccumulateRequest) -> Result<(), RenderError> {
+    let eyes = request.eyes.len() as u32;
+    let [w, h] = request.eye_size;
+    if eyes == 0 || eyes > STAT_EYES || request.frame.width != w * eyes || request.frame.height != h
+    {
+        return Err(RenderError::Settings(format!(
+            "accumulate: a {}x{} frame is not {eyes} eye(s) of {w}x{h}",
+            request.frame.width, request.frame.height
+        )));
+    }
+    Ok(())
+}
+
+/// Each eye's push constants: its field of view, image and layers, the mean it goes into
+/// and the frames already in it.
+fn pushes(request: &AccumulateRequest, frames_before: u32) -> Vec<AccumulatePush> {
+    let [w, h] = request.eye_size;
+    request
+        .eyes
+        .iter()
+        .enumerate()
+        .map(|(e, eye)| AccumulatePush {
+            cam: PushCamera {
+                tan: [
+                    eye.camera.angle_left.tan(),
+                    eye.camera.angle_right.tan(),
+                    eye.camera.angle_up.tan(),
+                    eye.camera.angle_down.tan(),
+                ],
+                ..Default::default()
+            },
+            eye: PushEye {
+                width: w,
+                height: h,
+                index: e as u32,
+                layer_count: request.foveation.layers.len() as u32,
+                debug: request.show.id(),
+                ..Default::default()
+            },
+            mean_layer: request.into.layer(),
+            frames_before,
+            ..Default::default()
+        })
+        .collect()
 }
 
 /// What accumulate.comp's heat map reads of one eye's layers: the gaze direction, each

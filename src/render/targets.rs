@@ -107,6 +107,21 @@ impl TargetKey {
         plan
     }
 
+    /// Checks that `entries` lattice points (all eyes') can be addressed by a work list and
+    /// that their buffers fit the device beside the images.
+    fn check_lattice(&self, ctx: &GpuContext, entries: u64) -> Result<(), RenderError> {
+        if entries >= 1 << WORK_LAYER_SHIFT {
+            return Err(RenderError::Settings(format!(
+                "{} need {entries} lattice points, more than a work list can address (2^{WORK_LAYER_SHIFT}); {ADVICE}",
+                self.describe()
+            )));
+        }
+        let mut plan = self.image_plan();
+        plan.push(PlannedAllocation::storage("lattice values", entries * 16));
+        plan.push(PlannedAllocation::storage("work lists", entries * 4));
+        Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
+    }
+
     /// Checks that the targets' images fit the device beside what fovea already holds.
     pub fn check_images(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         Ok(ctx.check_memory(&self.describe(), &self.image_plan(), ADVICE)?)
@@ -126,25 +141,7 @@ impl FrameTargets {
         let buffer = RayBuffer::build(&key.config, &images);
         let eyes = images.len() as u64;
         let entries = eyes * buffer.offsets.len() as u64;
-        if entries >= 1 << WORK_LAYER_SHIFT {
-            return Err(RenderError::Settings(format!(
-                "{} need {entries} lattice points, more than a work list can address (2^{WORK_LAYER_SHIFT}); {ADVICE}",
-                key.describe()
-            )));
-        }
-        let mut plan = key.image_plan();
-        plan.push(PlannedAllocation::storage("lattice values", entries * 16));
-        plan.push(PlannedAllocation::storage("work lists", entries * 4));
-        ctx.check_memory(&key.describe(), &plan, ADVICE)?;
-        let device_buffer = |name: &str, bytes: u64| {
-            Buffer::new(
-                ctx,
-                name,
-                bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
-            )
-        };
+        key.check_lattice(ctx, entries)?;
         let lattice = Buffer::new(
             ctx,
             "lattice values",
@@ -155,7 +152,13 @@ impl FrameTargets {
             MemoryLocation::GpuOnly,
         )?;
         let lattice_texels = TexelView::new(&lattice, "lattice values")?;
-        let work = device_buffer("work lists", entries * 4)?;
+        let work = Buffer::new(
+            ctx,
+            "work lists",
+            entries * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
         let pixels = Buffer::new(
             ctx,
             "frame pixels",
@@ -175,19 +178,7 @@ impl FrameTargets {
             )?),
             false => None,
         };
-        let slots = MAX_FRAMES_IN_FLIGHT as u64;
-        let layers = host_buffer(
-            ctx,
-            "frame layers",
-            slots * eyes * buffer.layers.len() as u64 * std::mem::size_of::<GpuLayer>() as u64,
-        )?;
-        let plan_dispatch = Buffer::new(
-            ctx,
-            "plan dispatch",
-            slots * eyes * PLAN_DISPATCH_BYTES,
-            vk::BufferUsageFlags::INDIRECT_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let (layers, plan_dispatch) = slot_buffers(ctx, eyes, buffer.layers.len() as u64)?;
         Ok(Self {
             key,
             buffer,
@@ -325,4 +316,24 @@ fn groups_1d(threads: u64, workgroup: u32) -> [u32; 3] {
     let groups = threads.div_ceil(workgroup as u64);
     let x = groups.min(MAX_GROUPS_X as u64);
     [x as u32, groups.div_ceil(x.max(1)) as u32, 1]
+}
+
+/// Per frame slot, every eye's layers and plan dispatches (host-visible, written right
+/// before each submission).
+fn slot_buffers(
+    ctx: &Arc<GpuContext>,
+    eyes: u64,
+    layers: u64,
+) -> Result<(Buffer, Buffer), RenderError> {
+    let slots = MAX_FRAMES_IN_FLIGHT as u64;
+    let layer_bytes = std::mem::size_of::<GpuLayer>() as u64;
+    let layers = host_buffer(ctx, "frame layers", slots * eyes * layers * layer_bytes)?;
+    let plan_dispatch = Buffer::new(
+        ctx,
+        "plan dispatch",
+        slots * eyes * PLAN_DISPATCH_BYTES,
+        vk::BufferUsageFlags::INDIRECT_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )?;
+    Ok((layers, plan_dispatch))
 }
