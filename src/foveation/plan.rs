@@ -203,14 +203,8 @@ impl EyePlan {
                         }
                         // Behind a lens: one span per run of needed pixels, no per-point test.
                         Some(Some(runs)) => {
-                            for &(x0, x1) in runs {
-                                let a = (x0 - anchor[0]).div_euclid(d)
-                                    + i32::from((x0 - anchor[0]).rem_euclid(d) != 0);
-                                let (a, b) =
-                                    (a.max(i0), (x1 - 1 - anchor[0]).div_euclid(d).min(i1));
-                                if a <= b {
-                                    emit(a, (b - a + 1) as u32, j);
-                                }
+                            for (a, count) in lattice_runs(runs, anchor[0], d, (i0, i1)) {
+                                emit(a, count, j);
                             }
                             continue;
                         }
@@ -218,21 +212,13 @@ impl EyePlan {
                         Some(None) => {}
                     }
                 }
-                let mut run: Option<(i32, u32)> = None;
-                for i in i0..=i1 + 1 {
+                let inside = |i: i32| {
                     let x = anchor[0] + i * d;
-                    let inside = i <= i1
-                        && regions.traced(k, x as i64, y as i64)
-                        && mask.is_none_or(|m| m.needed(l.spacing, x as u32, y as u32));
-                    match (inside, &mut run) {
-                        (true, Some((_, count))) => *count += 1,
-                        (true, None) => run = Some((i, 1)),
-                        (false, Some((start, count))) => {
-                            emit(*start, *count, j);
-                            run = None;
-                        }
-                        (false, None) => {}
-                    }
+                    regions.traced(k, x as i64, y as i64)
+                        && mask.is_none_or(|m| m.needed(l.spacing, x as u32, y as u32))
+                };
+                for (start, count) in point_runs((i0, i1), inside) {
+                    emit(start, count, j);
                 }
             }
             layers.push(LayerPlan {
@@ -258,6 +244,40 @@ impl EyePlan {
             .map(|(p, l)| p.targets * l.spp as u64)
             .sum()
     }
+}
+
+/// The lattice columns, within `cols` (first, last), of each run `[x0, x1)` of needed pixels
+/// on a row: as (first column, count), for a layer of spacing `d` anchored at `anchor_x`.
+fn lattice_runs(
+    runs: &[(i32, i32)],
+    anchor_x: i32,
+    d: i32,
+    cols: (i32, i32),
+) -> impl Iterator<Item = (i32, u32)> + '_ {
+    runs.iter().filter_map(move |&(x0, x1)| {
+        let a = (x0 - anchor_x).div_euclid(d) + i32::from((x0 - anchor_x).rem_euclid(d) != 0);
+        let (a, b) = (a.max(cols.0), (x1 - 1 - anchor_x).div_euclid(d).min(cols.1));
+        (a <= b).then(|| (a, (b - a + 1) as u32))
+    })
+}
+
+/// The runs of consecutive columns within `cols` (first, last) for which `inside` holds, as
+/// (first column, count).
+fn point_runs(cols: (i32, i32), inside: impl Fn(i32) -> bool) -> Vec<(i32, u32)> {
+    let mut runs = Vec::new();
+    let mut run: Option<(i32, u32)> = None;
+    for i in cols.0..=cols.1 + 1 {
+        match (i <= cols.1 && inside(i), &mut run) {
+            (true, Some((_, count))) => *count += 1,
+            (true, None) => run = Some((i, 1)),
+            (false, Some(done)) => {
+                runs.push(*done);
+                run = None;
+            }
+            (false, None) => {}
+        }
+    }
+    runs
 }
 
 #[cfg(test)]
