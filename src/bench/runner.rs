@@ -11,14 +11,14 @@ use super::perfetto::TraceWriter;
 use super::protocol::{BenchPlan, FrameKey, Mode, RunOptions, Unit, EYES};
 use super::quality::{self, Point};
 use super::rows::{FrameRow, QualityRow};
-use super::setup::{open_run_dir, perceptual_metric, progress_bar};
+use super::setup::{open_run_dir, perceptual_metric, progress_bar, scene_renderer};
 use super::{images, report};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, GazeTrace};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
 use crate::render::FrameOptions;
 use crate::render::{eye_views, DebugView, EyeView, Frame, FrameRequest, Renderer};
-use crate::scene::{self, Scene};
+use crate::scene::Scene;
 use indicatif::ProgressBar;
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -263,13 +263,7 @@ impl StillRun<'_> {
     /// Loads the scene and works out each mode's eyes and config.
     fn load<'n>(&self, scene_name: &'n str) -> Result<SceneBench<'n>, BenchError> {
         let plan = self.plan;
-        let aspect = plan.width as f32 / plan.height as f32;
-        let scene = scene::load(scene_name, aspect)?;
-        let mut renderer =
-            Renderer::new(self.ctx, &scene).map_err(BenchError::render(scene_name))?;
-        renderer
-            .set_traversal(plan.traversal)
-            .map_err(BenchError::render(scene_name))?;
+        let (scene, renderer) = scene_renderer(self.ctx, plan, scene_name)?;
         // The trace mode's entry is its first row's eyes: its warm-up and quality frames.
         let eyes = plan
             .modes()

@@ -5,10 +5,13 @@
 use super::error::BenchError;
 use super::files::{COMMANDS_FILE, PLAN_FILE};
 use super::protocol::{BenchPlan, RunOptions};
+use crate::gpu::GpuContext;
 use crate::metrics::jod::{Fvvdp, JodError};
-use crate::scene;
+use crate::render::Renderer;
+use crate::scene::{self, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
+use std::sync::Arc;
 
 /// Reads the plan of an existing results directory (for `--resume`).
 pub fn read_plan(dir: &Path) -> Result<BenchPlan, BenchError> {
@@ -96,4 +99,19 @@ pub fn progress_bar(len: u64) -> ProgressBar {
             .expect("a valid template"),
     );
     bar
+}
+
+/// Loads scene `name` for the plan's image aspect, with a renderer that traverses it the
+/// plan's way: what the still and the motion run both start a scene with.
+pub fn scene_renderer(
+    ctx: &Arc<GpuContext>,
+    plan: &BenchPlan,
+    name: &str,
+) -> Result<(Scene, Renderer), BenchError> {
+    let scene = scene::load(name, plan.width as f32 / plan.height as f32)?;
+    let mut renderer = Renderer::new(ctx, &scene).map_err(BenchError::render(name))?;
+    renderer
+        .set_traversal(plan.traversal)
+        .map_err(BenchError::render(name))?;
+    Ok((scene, renderer))
 }

@@ -14,7 +14,7 @@ use crate::bench::files::{animation_path, MOTION_FILE, MOTION_JOD_FILE};
 use crate::bench::protocol::{BenchPlan, RunOptions, EYES};
 use crate::bench::quality::{self, eye_image};
 use crate::bench::rows::{MotionJodRow, MotionRow, EYE_NAMES};
-use crate::bench::setup::{perceptual_metric, progress_bar};
+use crate::bench::setup::{perceptual_metric, progress_bar, scene_renderer};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::{Fvvdp, VideoJod};
@@ -24,7 +24,7 @@ use crate::render::FrameOptions;
 use crate::render::{
     eye_views, DebugView, EyeView, Frame, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
-use crate::scene::{self, Scene};
+use crate::scene::Scene;
 use indicatif::ProgressBar;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -204,13 +204,7 @@ impl MotionRun<'_> {
     /// Loads the scene and works out both eyes of every frame.
     fn load<'n>(&self, scene_name: &'n str) -> Result<MotionScene<'n>, BenchError> {
         let plan = self.plan;
-        let aspect = plan.width as f32 / plan.height as f32;
-        let scene = scene::load(scene_name, aspect)?;
-        let mut renderer =
-            Renderer::new(self.ctx, &scene).map_err(BenchError::render(scene_name))?;
-        renderer
-            .set_traversal(plan.traversal)
-            .map_err(BenchError::render(scene_name))?;
+        let (scene, renderer) = scene_renderer(self.ctx, plan, scene_name)?;
         let eyes = (0..plan.frames)
             .map(|k| frame_eyes(&scene, plan, self.script, k))
             .collect();
@@ -459,7 +453,7 @@ mod tests {
             motion: Some(MotionScript::head_and_saccades()),
             ..BenchPlan::quick()
         };
-        let scene = scene::load("control", plan.width as f32 / plan.height as f32).unwrap();
+        let scene = crate::scene::load("control", plan.width as f32 / plan.height as f32).unwrap();
         let cache = Path::new("refs");
         let path = |script: &MotionScript, k| {
             let eyes = frame_eyes(&scene, &plan, script, k);
