@@ -1,0 +1,17 @@
+use super::*;
+
+#[test]
+fn denoise_is_read_per_layer_defaults_to_none_and_is_bounded() {
+    let text = "[[layer]]\nradius_deg = 5.0\nspacing = 1\n[[layer]]\nspacing = 2\ndenoise = 3\n";
+    let config = FoveationConfig::from_toml_str(text, "t.toml").unwrap();
+    assert_eq!(config.layers[0].denoise, 0);
+    assert_eq!(config.layers[1].denoise, 3);
+    assert_eq!(config.denoise_iterations(), 3);
+    assert_eq!(FoveationConfig::thesis().denoise_iterations(), 0);
+    let too_many = text.replace("denoise = 3", "denoise = 6");
+    let err = FoveationConfig::from_toml_str(&too_many, "t.toml").unwrap_err();
+    assert!(
+        err.to_string().contains("denoise = 6 must be in 0..=5"),
+        "{err}"
+    );
+}
