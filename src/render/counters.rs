@@ -5,6 +5,7 @@
 //! into the frame slot's host-visible buffer (passes.rs) (frames in flight each have their own).
 
 use super::frame::{EyeCounters, TraversalCounts};
+use super::graph::FrameGraph;
 use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
@@ -63,9 +64,23 @@ impl FrameCounters {
         plan
     }
 
-    /// Frame slot `slot`'s read-back of the counters.
-    pub fn read_back(&self, slot: usize) -> &Buffer {
-        &self.host[slot]
+    /// A pass zeroing every counter, before the passes that add to them.
+    pub fn reset(&self, g: &mut FrameGraph) {
+        let stats = &self.device;
+        g.pass()
+            .fills(stats)
+            .record(|r| stats.cmd_zero(r.cmd, BYTES));
+    }
+
+    /// A pass copying the counters into slot `slot`'s read-back, which the host reads after
+    /// the fence.
+    pub fn collect(&self, g: &mut FrameGraph, slot: usize) {
+        let (stats, host) = (&self.device, &self.host[slot]);
+        g.pass()
+            .copies_from(stats)
+            .copies_into(host)
+            .record(|r| stats.cmd_copy_to(r.cmd, host, BYTES));
+        g.host_reads(host);
     }
 
     /// The counters of slot `slot`'s frame (its fence has signalled).

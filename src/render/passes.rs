@@ -89,10 +89,7 @@ impl FramePasses<'_> {
 
     /// Zeroes every counter before the passes that add to them.
     pub fn reset_counters(&self, g: &mut FrameGraph) {
-        let stats = &self.counters.device;
-        g.pass()
-            .fills(stats)
-            .record(|r| stats.cmd_zero(r.cmd, stats.size));
+        self.counters.reset(g);
     }
 
     /// Plan: per eye, one thread per run of lattice points of every layer's box decides which
@@ -265,11 +262,6 @@ impl FramePasses<'_> {
     /// The counters copied into the frame slot's read-back, which the host reads after the
     /// fence.
     pub fn collect_counters(&self, g: &mut FrameGraph) {
-        let (stats, host) = (&self.counters.device, self.counters.read_back(self.slot));
-        g.pass()
-            .copies_from(stats)
-            .copies_into(host)
-            .record(|r| stats.cmd_copy_to(r.cmd, host, stats.size));
-        g.host_reads(host);
+        self.counters.collect(g, self.slot);
     }
 }

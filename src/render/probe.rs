@@ -40,23 +40,15 @@ impl Renderer {
         ctx.submit_and_wait("raycast", |cmd| {
             recorded = FrameGraph::begin(ctx, cmd, layout, &mut descriptors, &mut timestamps)
                 .and_then(|mut g| {
-                    let stats = &counters.device;
-                    g.pass()
-                        .fills(stats)
-                        .record(|r| stats.cmd_zero(r.cmd, stats.size));
+                    counters.reset(&mut g);
                     scene
                         .declare(g.pass(), traversal)
                         .reads(BINDING_PROBE_RAYS, &ray_buffer)
                         .writes(BINDING_PROBE_HITS, &hit_buffer)
-                        .reads_writes(BINDING_STATS, stats)
+                        .reads_writes(BINDING_STATS, &counters.device)
                         .record(|r| r.dispatch("raycast", pipeline, &push, groups));
                     g.host_reads(&hit_buffer);
-                    let host = counters.read_back(0);
-                    g.pass()
-                        .copies_from(stats)
-                        .copies_into(host)
-                        .record(|r| stats.cmd_copy_to(r.cmd, host, stats.size));
-                    g.host_reads(host);
+                    counters.collect(&mut g, 0);
                     g.finish()
                 });
         })?;
