@@ -59,7 +59,8 @@ bool plan_run(uint t, out uint k, out ivec2 ij, out uint n) {
 }
 
 // The depth (0: innermost) of the layer shown in direction u of the eye whose layers start
-// at LAYERS[base]: the innermost whose radius holds it (resolve.comp's per-pixel choice).
+// at LAYERS[base]: the innermost whose radius holds it. resolve.comp shows each pixel from
+// this layer, and temporal.comp and denoise.comp pick by it what they read.
 uint shown_depth(vec3 u, uint base) {
     vec3 gaze = layers[base].gaze.xyz;
     uint depth = 0u;

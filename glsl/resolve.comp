@@ -248,9 +248,9 @@ void main() {
             store_pixel(p, vec3(0.0));
             continue;
         }
-        // The innermost layer whose radius contains the pixel (cosine tests, no trig).
-        uint depth = 0u;
-        while (depth + 1u < pc.eye.layer_count && !within_angle(u, gaze, limits[depth].x)) depth++;
+        // The innermost layer whose radius contains the pixel (cosine tests, no trig): the
+        // choice the temporal and denoise passes make too.
+        uint depth = shown_depth(u, base);
         // The blend weight needs the angle itself, but only inside the band.
         float v = 1.0;
         if (band > 0.0 && !within_angle(u, gaze, limits[depth].y)) {

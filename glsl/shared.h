@@ -33,8 +33,8 @@
 #define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
 #define BINDING_PIXELS 16      // vec4[]: the resolved frame, eye after eye, rows of pc.width; copied
                                // into OUTPUT only for what needs an image (presenting, accumulating)
-// Temporal history (render/history.rs, glsl/temporal.comp); bound to a stand-in buffer while
-// history is off, when no pass reads them.
+// Temporal history (render/history.rs, glsl/temporal.comp); no pass declares them while
+// history is off, so nothing binds them then.
 #define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
                                    // on: the surface at the point's pixel centre (SURFACE_*)
 #define BINDING_HISTORY 18     // vec4[]: history plane 0 (frames take turns reading one plane and

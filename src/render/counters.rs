@@ -55,7 +55,7 @@ impl FrameCounters {
     }
 
     /// The allocations, for a scene's memory check.
-    pub fn plan() -> Vec<PlannedAllocation> {
+    pub fn allocations() -> Vec<PlannedAllocation> {
         let mut plan = vec![PlannedAllocation::storage("counters", BYTES)];
         plan.extend(
             (0..MAX_FRAMES_IN_FLIGHT)

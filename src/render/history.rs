@@ -40,7 +40,7 @@ pub struct HistoryKey {
 
 impl HistoryKey {
     /// Every allocation of [`History::new`], for the memory check before it.
-    pub fn plan(&self) -> Vec<PlannedAllocation> {
+    pub fn allocations(&self) -> Vec<PlannedAllocation> {
         let plane = self.width as u64 * self.height as u64 * self.eyes as u64 * 16;
         vec![
             PlannedAllocation::storage("history plane 0", plane),
@@ -93,7 +93,7 @@ impl History {
                 "the temporal history of {}x{} pixels",
                 key.width, key.height
             ),
-            &key.plan(),
+            &key.allocations(),
             "turn --temporal off or use a smaller --width/--height",
         )?;
         let device = |name: &str, bytes: u64| {
@@ -105,7 +105,7 @@ impl History {
                 MemoryLocation::GpuOnly,
             )
         };
-        let plan = key.plan();
+        let plan = key.allocations();
         Ok(Self {
             key,
             settings,

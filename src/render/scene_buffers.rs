@@ -111,6 +111,6 @@ fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
         .collect();
     // Each buffer is uploaded through its own staging buffer, freed before the next.
     plan.push(PlannedAllocation::host("upload staging", largest, false));
-    plan.extend(FrameCounters::plan());
+    plan.extend(FrameCounters::allocations());
     plan
 }

@@ -241,7 +241,7 @@ pub(super) struct Layout {
 
 impl Layout {
     /// The layout for `inputs` and a TLAS of at most `max_instances` instances.
-    pub(super) fn plan(
+    pub(super) fn new(
         loader: &ash::khr::acceleration_structure::Device,
         inputs: &[BlasInput],
         max_instances: u32,

@@ -49,7 +49,7 @@ impl AccelStructures {
         let (sources, placed) = blas_sources(objects);
         let geometry = Geometry::upload(ctx, triangles, objects)?;
         let inputs = geometry.blas_inputs(&sources, &limits, objects.len() as u32)?;
-        let layout = Layout::plan(&loader, &inputs, objects.len() as u32, &limits);
+        let layout = Layout::new(&loader, &inputs, objects.len() as u32, &limits);
         let this = Self::create_all(ctx, loader, &layout)?;
         let instances = this.upload_instances(ctx, &placed)?;
         let took = this.build_all(
