@@ -135,12 +135,12 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
         submission: &str,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<Self, GpuError> {
-        let markers = ctx.begin_markers()?;
+        let markers = ctx.markers.begin()?;
         let (cmd, fence) = match ctx.command_buffer_and_fence() {
             Ok(pair) => pair,
             Err(e) => {
-                ctx.end_markers();
-                ctx.release_markers(markers);
+                ctx.markers.end();
+                ctx.markers.release(markers);
                 return Err(e);
             }
         };
@@ -160,11 +160,11 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
         // SAFETY: cmd is a primary command buffer of this device, not in use (fresh, or a
         // spare whose submission completed); its pool lets vkBeginCommandBuffer reset it.
         if let Err(e) = unsafe { ctx.device.begin_command_buffer(cmd, &begin) } {
-            ctx.end_markers();
+            ctx.markers.end();
             return Err(e).vk("vkBeginCommandBuffer");
         }
         record(cmd);
-        if ctx.end_markers() {
+        if ctx.markers.end() {
             // The crash markers (fills, or AMD buffer-marker writes at the end of the pipe)
             // before the host reads them after a device loss.
             ctx.cmd_barrier(
@@ -231,7 +231,7 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
                 .wait_for_fences(&[self.fence], true, u64::MAX)
         };
         self.progress = Progress::Done;
-        let injected = self.ctx.markers_cut(self.markers);
+        let injected = self.ctx.markers.cut(self.markers);
         match (waited, injected) {
             // The command buffer ended after the injected pass: fail as a driver would.
             (Ok(()), true) => Err(self.failed(vk::Result::ERROR_DEVICE_LOST, "vkWaitForFences")),
@@ -251,7 +251,7 @@ impl<C: Deref<Target = GpuContext>> Commands<C> {
         if e != vk::Result::ERROR_DEVICE_LOST {
             return GpuError::Vulkan { call, result: e };
         }
-        self.ctx.device_lost(&self.submission, self.markers)
+        self.ctx.markers.device_lost(&self.submission, self.markers)
     }
 }
 
@@ -267,6 +267,6 @@ impl<C: Deref<Target = GpuContext>> Drop for Commands<C> {
             };
         }
         self.ctx.return_spare(self.cmd, self.fence);
-        self.ctx.release_markers(self.markers);
+        self.ctx.markers.release(self.markers);
     }
 }

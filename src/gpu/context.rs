@@ -3,25 +3,25 @@
 //! device.rs; each object is held by its owner (owned.rs), so a set-up that fails half-way
 //! destroys what it made.
 
-use super::crash_markers::{InjectedLoss, Markers};
+use super::context_needs::ContextNeeds;
+use super::crash_markers::{CrashMarkers, InjectedLoss};
 use super::device::{create_device, RayQueryUse};
 use super::device_pick::{pick_device, DeviceInfo, DeviceWanted, Picked};
 use super::error::{human_bytes, GpuError};
 use super::instance::create_instance;
-use super::memory_budget::{memory_facts, MemoryFacts};
+use super::memory_budget::{memory_facts, MemoryBudget, PlannedAllocation};
 use super::options::GpuOptions;
 use super::owned::{CommandPool, Device, Instance, Messenger};
+use super::sync::{Barriers, ImageTransition, Scope};
 use super::validation::ValidationLog;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-use std::ffi::CStr;
-use std::sync::atomic::AtomicU64;
 use std::sync::{Arc, Mutex};
 
 /// The fields that own Vulkan objects are declared in the order they are destroyed, the
 /// reverse of their creation (Rust drops fields in declaration order, after `Drop::drop`).
 pub struct GpuContext {
-    pub(super) markers: Mutex<Markers>,
+    pub(super) markers: CrashMarkers,
     /// Command buffers and fences of finished submissions, reused by the next ones: a
     /// headset session submits every frame, and new handles each time make the validation
     /// layer's bookkeeping (and some drivers') grow.
@@ -29,54 +29,20 @@ pub struct GpuContext {
     allocator: Mutex<Allocator>,
     pub(super) command_pool: CommandPool,
     /// vkCmdPipelineBarrier2 (VK_KHR_synchronization2: every barrier fovea records).
-    pub(super) sync2: ash::khr::synchronization2::Device,
+    barriers: Barriers,
     pub(crate) queue: vk::Queue,
     pub(crate) device: Device,
     /// Held for its drop: validation messages are reported until it is destroyed.
     _messenger: Option<Messenger>,
     pub(crate) instance: Instance,
     validation_log: Arc<ValidationLog>,
-    pub(super) memory: MemoryFacts,
-    /// Bytes fovea holds now: [device-local, host-visible].
-    pub(super) allocated: [AtomicU64; 2],
-    /// The most of `allocated` held at once.
-    pub(super) peak_allocated: AtomicU64,
+    /// What the device offers and fovea holds of it (memory.rs counts each allocation).
+    pub(super) memory: MemoryBudget,
     pub info: DeviceInfo,
     /// Whether the renderer traces with ray queries unless told otherwise.
     prefers_ray_queries: bool,
     physical_device: vk::PhysicalDevice,
     queue_family: u32,
-}
-
-/// What a caller beyond headless rendering needs from the context: a window needs surface
-/// extensions and a queue that can present; an OpenXR session needs the runtime to create the
-/// instance and the device (XR_KHR_vulkan_enable2) and a graphics queue.
-#[derive(Default)]
-pub struct ContextNeeds<'a> {
-    pub instance_extensions: Vec<&'static CStr>,
-    pub device_extensions: Vec<&'static CStr>,
-    /// The queue must support graphics (blits into swapchain images need it), not only compute.
-    pub graphics_queue: bool,
-    /// Creates the instance and device in place of fovea (an OpenXR runtime does).
-    pub creator: Option<&'a dyn VulkanCreator>,
-}
-
-/// Creates the Vulkan instance and device on fovea's behalf, with the create infos fovea
-/// built (an OpenXR runtime adds what it needs, e.g. XR_KHR_vulkan_enable2).
-pub trait VulkanCreator {
-    fn create_instance(
-        &self,
-        entry: &ash::Entry,
-        info: &vk::InstanceCreateInfo,
-    ) -> Result<vk::Instance, GpuError>;
-    /// The one physical device the creator requires fovea to use.
-    fn physical_device(&self, instance: vk::Instance) -> Result<vk::PhysicalDevice, GpuError>;
-    fn create_device(
-        &self,
-        entry: &ash::Entry,
-        physical_device: vk::PhysicalDevice,
-        info: &vk::DeviceCreateInfo,
-    ) -> Result<vk::Device, GpuError>;
 }
 
 impl GpuContext {
@@ -98,19 +64,14 @@ impl GpuContext {
         let queue = unsafe { device.get_device_queue(picked.family, 0) };
         let command_pool = CommandPool::new(&device, picked.family)?;
         let mut allocator = create_allocator(&instance, &device, &picked, ray_query.enabled)?;
-        let markers = Markers::new(
+        let markers = CrashMarkers::new(
             &instance,
             &device,
             &mut allocator,
             picked.amd_marker,
             inject,
         )?;
-        let memory = memory_facts(
-            &instance,
-            picked.physical_device,
-            picked.budget,
-            options.memory_limit,
-        );
+        let memory = memory_facts(&instance, &picked, options.memory_limit);
         tracing::info!(
             "Vulkan device: {} ({}, {}); heap {} of {}",
             picked.info.name,
@@ -120,19 +81,17 @@ impl GpuContext {
             human_bytes(memory.heaps[memory.device_heap])
         );
         Ok(Self {
-            markers: Mutex::new(markers),
+            markers,
             spare: Mutex::new(Vec::new()),
             allocator: Mutex::new(allocator),
             command_pool,
-            sync2: ash::khr::synchronization2::Device::new(&instance, &device),
+            barriers: Barriers::new(&instance, &device),
             queue,
             device,
             _messenger: messenger,
             instance,
             validation_log,
-            memory,
-            allocated: [AtomicU64::new(0), AtomicU64::new(0)],
-            peak_allocated: AtomicU64::new(0),
+            memory: MemoryBudget::new(memory),
             info: picked.info,
             prefers_ray_queries: ray_query.preferred,
             physical_device: picked.physical_device,
@@ -182,6 +141,69 @@ impl GpuContext {
 
     pub(crate) fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// What the context does through the parts it holds (barriers in sync.rs, crash markers in
+/// crash_markers.rs, memory checks in memory_budget.rs), said once here so that those files
+/// need not know the context.
+impl GpuContext {
+    /// Records a memory barrier: the accesses in `before` (and everything earlier in their
+    /// stages) happen before, and are visible to, the accesses in `after`.
+    pub fn cmd_barrier(&self, cmd: vk::CommandBuffer, before: Scope, after: Scope) {
+        self.barriers.memory(cmd, before, after);
+    }
+
+    /// Records image barriers (layout transitions with the accesses they order), all in one
+    /// call.
+    pub(crate) fn cmd_image_barriers(
+        &self,
+        cmd: vk::CommandBuffer,
+        transitions: &[ImageTransition],
+    ) {
+        self.barriers.images(cmd, transitions);
+    }
+
+    /// Registers the pass `name` of the command buffer being recorded (call before recording
+    /// it, and [`Self::cmd_pass_done`] after). False when an injected device loss has ended
+    /// the recording: the pass must not be recorded.
+    pub(crate) fn begin_pass(&self, name: &str) -> bool {
+        self.markers.begin_pass(name)
+    }
+
+    /// Records the crash marker of the pass begun last (see [`CrashMarkers::cmd_pass_done`]).
+    pub(crate) fn cmd_pass_done(&self, cmd: vk::CommandBuffer) {
+        self.markers
+            .cmd_pass_done(&self.device, &self.barriers, cmd);
+    }
+
+    /// The GPU memory cap from
+    /// [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit), if any.
+    pub fn memory_limit(&self) -> Option<u64> {
+        self.memory.limit()
+    }
+
+    /// Bytes of GPU memory fovea's buffers and images hold now.
+    pub fn memory_in_use(&self) -> u64 {
+        self.memory.in_use()
+    }
+
+    /// The most bytes fovea's buffers and images held at once since the context was made.
+    pub fn memory_peak(&self) -> u64 {
+        self.memory.peak()
+    }
+
+    /// Checks, before anything is allocated, that `plan` fits the device's memory beside what
+    /// fovea holds and the memory limit, and each item the per-resource limits (see
+    /// [`MemoryBudget::check`]). `what` names the plan ("scene 'bunny'", "frame targets of
+    /// ..."); `advice` says what to change.
+    pub fn check_memory(
+        &self,
+        what: &str,
+        plan: &[PlannedAllocation],
+        advice: &str,
+    ) -> Result<(), GpuError> {
+        self.memory.check(&self.instance, what, plan, advice)
     }
 }
 
@@ -235,8 +257,7 @@ impl Drop for GpuContext {
         // SAFETY: the queue is used from this thread only, and nothing submits any more.
         let _ = unsafe { self.device.device_wait_idle() };
         let allocator = self.allocator.get_mut().unwrap_or_else(|e| e.into_inner());
-        let markers = self.markers.get_mut().unwrap_or_else(|e| e.into_inner());
-        markers.destroy(&self.device, allocator);
+        self.markers.destroy(&self.device, allocator);
         self.destroy_spares();
         // The fields drop next, in declaration order: the allocator (its memory), the
         // command pool (the spare command buffers with it), the device, the messenger, the

@@ -5,19 +5,23 @@
 //! done: with frames in flight, recording frame N+1 must not wipe the markers of frame N while
 //! it still runs, or a loss in frame N would be reported with frame N+1's passes.
 
-use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::options::{GpuOptions, INJECT_DEVICE_LOST_VAR};
 use super::owned::Pending;
-use super::sync::Scope;
+use super::sync::{Barriers, Scope};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use gpu_allocator::MemoryLocation;
+use std::sync::{Mutex, MutexGuard};
 
 /// Crash markers, in the style of kajiya: after every pass the command buffer writes the
 /// pass's index into its own slot of a small host-visible buffer; on VK_ERROR_DEVICE_LOST the
 /// slots that were written say which pass completed last and so which one was running.
-pub(super) struct Markers {
+/// Behind a lock: the context that holds them is shared by whoever records command buffers.
+pub(super) struct CrashMarkers(Mutex<Markers>);
+
+/// The marker buffer and its sets, as the lock of [`CrashMarkers`] guards them.
+struct Markers {
     buffer: vk::Buffer,
     allocation: Option<Allocation>,
     /// VK_AMD_buffer_marker where the device offers it (a write that the GPU performs once
@@ -34,21 +38,21 @@ pub(super) struct Markers {
 
 /// The markers of one command buffer: its passes, in order (slot i belongs to pass i).
 #[derive(Default)]
-pub(super) struct MarkerSet {
-    pub(super) names: Vec<String>,
+struct MarkerSet {
+    names: Vec<String>,
     /// An injected loss ended the recording: later passes are named but not recorded.
-    pub(super) cut: bool,
+    cut: bool,
     /// A command buffer owns this set (from its recording until its work is done).
-    pub(super) in_use: bool,
+    in_use: bool,
 }
 
 /// Passes per command buffer that get a crash marker; later ones are not tracked.
-pub(super) const MARKER_SLOTS: usize = 256;
+const MARKER_SLOTS: usize = 256;
 
 /// Command buffers that can hold crash markers at once: frames in flight (3 at most) and the
 /// uploads and read-backs recorded beside them, with room to spare. One more is an error
 /// that says so, never a command buffer without markers.
-pub(super) const MARKER_SETS: usize = 16;
+const MARKER_SETS: usize = 16;
 
 /// A device loss to inject (`FOVEA_INJECT_DEVICE_LOST=PASS` or `PASS@N`): the `nth` command
 /// buffer that records `pass` (1: the first) ends after it, and its submission reports
@@ -96,7 +100,7 @@ impl InjectedLoss {
     }
 }
 
-impl Markers {
+impl CrashMarkers {
     /// The marker buffer (MARKER_SETS × MARKER_SLOTS u32s in host-visible memory, written by
     /// transfers or AMD's buffer markers), every set free, and the loss to inject.
     pub(super) fn new(
@@ -137,7 +141,7 @@ impl Markers {
                 result,
             });
         }
-        Ok(Self {
+        Ok(Self(Mutex::new(Markers {
             buffer: buffer.keep(),
             allocation: Some(allocation),
             amd: amd_marker.then(|| ash::amd::buffer_marker::Device::new(instance, device)),
@@ -145,28 +149,27 @@ impl Markers {
             recording: None,
             inject,
             inject_seen: 0,
-        })
+        })))
     }
 
     /// Frees the marker buffer's memory and destroys it (the context's drop, once the device
     /// is idle: the buffer needs the allocator, which the context holds beside it).
     pub(super) fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
-        if let Some(allocation) = self.allocation.take() {
+        let m = self.0.get_mut().unwrap_or_else(|e| e.into_inner());
+        if let Some(allocation) = m.allocation.take() {
             let _ = allocator.free(allocation);
         }
         // SAFETY: the device is idle, so no command buffer writes the markers any more.
-        unsafe { device.destroy_buffer(self.buffer, None) };
+        unsafe { device.destroy_buffer(m.buffer, None) };
     }
-}
 
-impl GpuContext {
-    pub(super) fn markers(&self) -> std::sync::MutexGuard<'_, Markers> {
-        self.markers.lock().unwrap_or_else(|e| e.into_inner())
+    fn markers(&self) -> MutexGuard<'_, Markers> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Takes a free marker set for a command buffer about to be recorded (cleared, its
     /// slots zeroed) and makes it the one passes are registered in.
-    pub(super) fn begin_markers(&self) -> Result<usize, GpuError> {
+    pub(super) fn begin(&self) -> Result<usize, GpuError> {
         let mut m = self.markers();
         let Some(set) = m.sets.iter().position(|s| !s.in_use) else {
             return Err(GpuError::TooManyCommandBuffers { limit: MARKER_SETS });
@@ -182,28 +185,28 @@ impl GpuContext {
         Ok(set)
     }
 
-    /// The recording that began with [`Self::begin_markers`] ended; whether it recorded any
+    /// The recording that began with [`Self::begin`] ended; whether it recorded any
     /// pass (then its markers need a barrier before the host reads them).
-    pub(super) fn end_markers(&self) -> bool {
+    pub(super) fn end(&self) -> bool {
         let mut m = self.markers();
         let set = m.recording.take();
         set.is_some_and(|s| !m.sets[s].names.is_empty())
     }
 
     /// The command buffer of `set` no longer runs: its set is free again.
-    pub(super) fn release_markers(&self, set: usize) {
+    pub(super) fn release(&self, set: usize) {
         self.markers().sets[set].in_use = false;
     }
 
     /// Whether an injected loss ended the recording of `set`.
-    pub(super) fn markers_cut(&self, set: usize) -> bool {
+    pub(super) fn cut(&self, set: usize) -> bool {
         self.markers().sets[set].cut
     }
 
     /// Registers the pass `name` of the command buffer being recorded (call before recording
     /// it, and [`Self::cmd_pass_done`] after). False when an injected device loss has ended
     /// the recording: the pass must not be recorded.
-    pub(crate) fn begin_pass(&self, name: &str) -> bool {
+    pub(super) fn begin_pass(&self, name: &str) -> bool {
         let mut m = self.markers();
         let Some(set) = m.recording else {
             return true;
@@ -217,8 +220,13 @@ impl GpuContext {
 
     /// Records the crash marker of the pass begun last: once all earlier commands have
     /// completed, the GPU writes the pass's index + 1 into the pass's slot of the recording's
-    /// set.
-    pub(crate) fn cmd_pass_done(&self, cmd: vk::CommandBuffer) {
+    /// set. `device` and `barriers` are the context's, which records it.
+    pub(super) fn cmd_pass_done(
+        &self,
+        device: &ash::Device,
+        barriers: &Barriers,
+        cmd: vk::CommandBuffer,
+    ) {
         let mut m = self.markers();
         let Some(set) = m.recording else {
             return;
@@ -242,10 +250,10 @@ impl GpuContext {
             None => {
                 // The fill waits for every earlier command (an execution dependency only: the
                 // marker says those commands completed, it reads nothing they wrote).
-                self.cmd_barrier(cmd, Scope::ALL_WORK, Scope::FILL_WRITE);
+                barriers.memory(cmd, Scope::ALL_WORK, Scope::FILL_WRITE);
                 // SAFETY: cmd is recording outside a render pass; offset and size are
                 // multiples of 4 inside the marker buffer, which lives as long as the context.
-                unsafe { self.device.cmd_fill_buffer(cmd, m.buffer, offset, 4, value) };
+                unsafe { device.cmd_fill_buffer(cmd, m.buffer, offset, 4, value) };
             }
         }
         let name_matches = matches!(

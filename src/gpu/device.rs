@@ -2,7 +2,7 @@
 //! features fovea uses (synchronization2 always; ray queries, the memory budget and AMD's
 //! buffer markers where there), and those the caller needs.
 
-use super::context::ContextNeeds;
+use super::context_needs::ContextNeeds;
 use super::device_pick::{DeviceInfo, Picked, RAY_QUERY_EXTENSIONS};
 use super::error::GpuError;
 use super::options::{GpuOptions, RayQueries};

@@ -1,7 +1,7 @@
 //! Creating the Vulkan instance: the loader, the validation layer and its optional checks
 //! where asked for, the extensions the caller needs, and the debug messenger.
 
-use super::context::ContextNeeds;
+use super::context_needs::ContextNeeds;
 use super::device_pick::driver_env;
 use super::error::{GpuError, VkContext};
 use super::options::GpuOptions;

@@ -52,6 +52,7 @@ impl Buffer {
         let requirements = unsafe { device.get_buffer_memory_requirements(buffer.get()) };
         let host_visible = location != MemoryLocation::GpuOnly;
         let allocation = ctx
+            .memory
             .reserve(name, requirements.size, host_visible)
             .and_then(|()| {
                 ctx.allocator()
@@ -63,7 +64,7 @@ impl Buffer {
                         allocation_scheme: AllocationScheme::GpuAllocatorManaged,
                     })
                     .map_err(|e| {
-                        ctx.release(requirements.size, host_visible);
+                        ctx.memory.release(requirements.size, host_visible);
                         allocation_error(name, size, e)
                     })
             })?;
@@ -234,7 +235,7 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         if let Some(allocation) = self.allocation.take() {
             let _ = self.ctx.allocator().free(allocation);
-            self.ctx.release(self.counted.0, self.counted.1);
+            self.ctx.memory.release(self.counted.0, self.counted.1);
         }
         // SAFETY: users wait for the GPU before dropping the resources they used.
         unsafe { self.ctx.device.destroy_buffer(self.buffer, None) };
@@ -317,20 +318,23 @@ impl StorageImage {
         let image = Pending::new(device, image);
         // SAFETY: image from this device.
         let requirements = unsafe { device.get_image_memory_requirements(image.get()) };
-        let allocation = ctx.reserve(name, requirements.size, false).and_then(|()| {
-            ctx.allocator()
-                .allocate(&AllocationCreateDesc {
-                    name,
-                    requirements,
-                    location: MemoryLocation::GpuOnly,
-                    linear: false,
-                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-                })
-                .map_err(|e| {
-                    ctx.release(requirements.size, false);
-                    allocation_error(name, requirements.size, e)
-                })
-        })?;
+        let allocation = ctx
+            .memory
+            .reserve(name, requirements.size, false)
+            .and_then(|()| {
+                ctx.allocator()
+                    .allocate(&AllocationCreateDesc {
+                        name,
+                        requirements,
+                        location: MemoryLocation::GpuOnly,
+                        linear: false,
+                        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                    })
+                    .map_err(|e| {
+                        ctx.memory.release(requirements.size, false);
+                        allocation_error(name, requirements.size, e)
+                    })
+            })?;
         // SAFETY: the allocation satisfies the image's requirements.
         let bound = unsafe {
             device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
@@ -549,7 +553,7 @@ impl Drop for StorageImage {
         }
         if let Some(allocation) = self.allocation.take() {
             let _ = self.ctx.allocator().free(allocation);
-            self.ctx.release(self.counted, false);
+            self.ctx.memory.release(self.counted, false);
         }
     }
 }

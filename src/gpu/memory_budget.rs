@@ -1,13 +1,14 @@
 //! What fovea may allocate: the device's heaps and limits, the memory fovea holds now, and
 //! the check of a whole plan of allocations before any of it is made.
 
-use super::context::GpuContext;
+use super::device_pick::Picked;
 use super::error::{exact_bytes, human_bytes, GpuError, MemoryShortfall, ResourceLimit};
 use super::options::MEMORY_LIMIT_VAR;
 use ash::vk;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicU64, Ordering};
 
-/// One allocation of a plan checked by [`GpuContext::check_memory`] before any is made.
+/// One allocation of a plan checked by
+/// [`GpuContext::check_memory`](super::GpuContext::check_memory) before any is made.
 #[derive(Clone, Debug)]
 pub struct PlannedAllocation {
     /// As the message should name it, e.g. "layer images".
@@ -70,16 +71,18 @@ pub(super) struct MemoryFacts {
     /// VK_EXT_memory_budget is enabled: the current budget can be asked for.
     pub(super) budget: bool,
     pub(super) max_memory_allocation_size: u64,
+    /// The largest storage buffer a shader can bind.
+    pub(super) max_storage_buffer_range: u64,
     pub(super) limit: Option<u64>,
 }
 
-/// The heaps, where allocations go, and the per-allocation limit of a device.
+/// The heaps, where allocations go, and the per-allocation limits of the picked device.
 pub(super) fn memory_facts(
     instance: &ash::Instance,
-    physical_device: vk::PhysicalDevice,
-    budget: bool,
+    picked: &Picked,
     limit: Option<u64>,
 ) -> MemoryFacts {
+    let physical_device = picked.physical_device;
     // SAFETY: physical_device was enumerated from this instance.
     let props = unsafe { instance.get_physical_device_memory_properties(physical_device) };
     let heaps: Vec<u64> = props
@@ -105,21 +108,41 @@ pub(super) fn memory_facts(
         device_heap: largest_with(vk::MemoryPropertyFlags::DEVICE_LOCAL),
         host_heap: largest_with(vk::MemoryPropertyFlags::HOST_VISIBLE),
         heaps,
-        budget,
+        budget: picked.budget,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,
+        max_storage_buffer_range: picked.info.max_storage_buffer_range,
         limit,
     }
 }
 
-impl GpuContext {
+/// The memory fovea holds, counted as it allocates and frees, beside what the device offers:
+/// the context's memory checks and accounting, which it forwards here.
+pub(super) struct MemoryBudget {
+    facts: MemoryFacts,
+    /// Bytes fovea holds now: [device-local, host-visible].
+    allocated: [AtomicU64; 2],
+    /// The most of `allocated` held at once.
+    peak_allocated: AtomicU64,
+}
+
+impl MemoryBudget {
+    /// Nothing held yet on the device `facts` describe.
+    pub(super) fn new(facts: MemoryFacts) -> Self {
+        Self {
+            facts,
+            allocated: [AtomicU64::new(0), AtomicU64::new(0)],
+            peak_allocated: AtomicU64::new(0),
+        }
+    }
+
     /// The GPU memory cap from
     /// [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit), if any.
-    pub fn memory_limit(&self) -> Option<u64> {
-        self.memory.limit
+    pub(super) fn limit(&self) -> Option<u64> {
+        self.facts.limit
     }
 
     /// Bytes of GPU memory fovea's buffers and images hold now.
-    pub fn memory_in_use(&self) -> u64 {
+    pub(super) fn in_use(&self) -> u64 {
         self.allocated
             .iter()
             .map(|a| a.load(Ordering::Relaxed))
@@ -127,31 +150,31 @@ impl GpuContext {
     }
 
     /// The most bytes fovea's buffers and images held at once since the context was made.
-    pub fn memory_peak(&self) -> u64 {
+    pub(super) fn peak(&self) -> u64 {
         self.peak_allocated.load(Ordering::Relaxed)
     }
 
     fn heap_of(&self, host_visible: bool) -> usize {
         match host_visible {
-            true => self.memory.host_heap,
-            false => self.memory.device_heap,
+            true => self.facts.host_heap,
+            false => self.facts.device_heap,
         }
     }
 
-    /// (budget, usage) of every heap now, with VK_EXT_memory_budget.
-    fn budget_now(&self) -> Option<Vec<(u64, u64)>> {
-        if !self.memory.budget {
+    /// (budget, usage) of every heap now, with VK_EXT_memory_budget (`instance`: the one the
+    /// device was picked from).
+    fn budget_now(&self, instance: &ash::Instance) -> Option<Vec<(u64, u64)>> {
+        if !self.facts.budget {
             return None;
         }
         let mut budget = vk::PhysicalDeviceMemoryBudgetPropertiesEXT::default();
         let mut props = vk::PhysicalDeviceMemoryProperties2::default().push_next(&mut budget);
         // SAFETY: VK_EXT_memory_budget is enabled on the device; the chain lives for the call.
         unsafe {
-            self.instance
-                .get_physical_device_memory_properties2(self.memory.physical_device, &mut props)
+            instance.get_physical_device_memory_properties2(self.facts.physical_device, &mut props)
         };
         Some(
-            (0..self.memory.heaps.len())
+            (0..self.facts.heaps.len())
                 .map(|h| (budget.heap_budget[h], budget.heap_usage[h]))
                 .collect(),
         )
@@ -163,13 +186,14 @@ impl GpuContext {
     /// [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit); each item against
     /// maxMemoryAllocationSize, and storage buffers against maxStorageBufferRange. `what`
     /// names the plan ("scene 'bunny'", "frame targets of ..."); `advice` says what to change.
-    pub fn check_memory(
+    pub(super) fn check(
         &self,
+        instance: &ash::Instance,
         what: &str,
         plan: &[PlannedAllocation],
         advice: &str,
     ) -> Result<(), GpuError> {
-        let room = self.room_for(plan);
+        let room = self.room_for(instance, plan);
         if !room.fits {
             return Err(self.shortfall(what, plan, &room.offered, advice));
         }
@@ -182,8 +206,8 @@ impl GpuContext {
     /// Whether `plan` fits beside what fovea holds: on every heap it uses (its size, and the
     /// budget with VK_EXT_memory_budget) and under the memory limit; and what each offers,
     /// for the message when it does not.
-    fn room_for(&self, plan: &[PlannedAllocation]) -> Room {
-        let heaps = &self.memory.heaps;
+    fn room_for(&self, instance: &ash::Instance, plan: &[PlannedAllocation]) -> Room {
+        let heaps = &self.facts.heaps;
         let mut needed_on = vec![0u64; heaps.len()];
         for p in plan {
             needed_on[self.heap_of(p.host_visible)] += p.bytes;
@@ -192,7 +216,7 @@ impl GpuContext {
         for (host, held) in [(false, &self.allocated[0]), (true, &self.allocated[1])] {
             held_on[self.heap_of(host)] += held.load(Ordering::Relaxed);
         }
-        let budget = self.budget_now();
+        let budget = self.budget_now(instance);
         let mut room = Room {
             fits: true,
             offered: Vec::new(),
@@ -205,9 +229,9 @@ impl GpuContext {
             room.fits &= needed_on[h] <= free;
             room.offered.push(text);
         }
-        if let Some(limit) = self.memory.limit {
+        if let Some(limit) = self.facts.limit {
             let needed: u64 = plan.iter().map(|p| p.bytes).sum();
-            room.fits &= self.memory_in_use().saturating_add(needed) <= limit;
+            room.fits &= self.in_use().saturating_add(needed) <= limit;
             room.offered.push(format!(
                 "{MEMORY_LIMIT_VAR} caps fovea at {}",
                 exact_bytes(limit)
@@ -225,7 +249,7 @@ impl GpuContext {
         held: u64,
         budget: Option<(u64, u64)>,
     ) -> (u64, String) {
-        let kind = match (h == self.memory.device_heap, h == self.memory.host_heap) {
+        let kind = match (h == self.facts.device_heap, h == self.facts.host_heap) {
             (true, true) => "device-local, also host-visible",
             (true, false) => "device-local",
             _ => "host-visible",
@@ -261,7 +285,7 @@ impl GpuContext {
             .collect::<Vec<_>>()
             .join(", ");
         let mut advice = advice.to_owned();
-        if self.memory.limit.is_some() {
+        if self.facts.limit.is_some() {
             advice += &format!(", or raise or unset {MEMORY_LIMIT_VAR}");
         }
         GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
@@ -270,7 +294,7 @@ impl GpuContext {
                 "it needs {}, {needed} bytes ({breakdown})",
                 human_bytes(needed)
             ),
-            in_use: human_bytes(self.memory_in_use()),
+            in_use: human_bytes(self.in_use()),
             offered: offered.join(" and "),
             advice,
         }))
@@ -283,13 +307,13 @@ impl GpuContext {
             (
                 p.storage_buffer,
                 "storage buffer",
-                self.info.max_storage_buffer_range,
+                self.facts.max_storage_buffer_range,
                 "maxStorageBufferRange",
             ),
             (
                 true,
                 "allocation",
-                self.memory.max_memory_allocation_size,
+                self.facts.max_memory_allocation_size,
                 "maxMemoryAllocationSize",
             ),
         ];
@@ -311,14 +335,14 @@ impl GpuContext {
 
     /// Counts an allocation of `bytes` that memory.rs is about to make, refusing one that
     /// would take fovea past [`GpuOptions::memory_limit`](super::GpuOptions::memory_limit).
-    pub(crate) fn reserve(
+    pub(super) fn reserve(
         &self,
         name: &str,
         bytes: u64,
         host_visible: bool,
     ) -> Result<(), GpuError> {
-        let in_use = self.memory_in_use();
-        if let Some(limit) = self.memory.limit {
+        let in_use = self.in_use();
+        if let Some(limit) = self.facts.limit {
             if in_use.saturating_add(bytes) > limit {
                 return Err(GpuError::NotEnoughMemory(Box::new(MemoryShortfall {
                     what: name.to_owned(),
@@ -333,12 +357,12 @@ impl GpuContext {
         }
         self.allocated[host_visible as usize].fetch_add(bytes, Ordering::Relaxed);
         self.peak_allocated
-            .fetch_max(self.memory_in_use(), Ordering::Relaxed);
+            .fetch_max(self.in_use(), Ordering::Relaxed);
         Ok(())
     }
 
     /// Uncounts an allocation counted by [`Self::reserve`] once it is freed (or failed).
-    pub(crate) fn release(&self, bytes: u64, host_visible: bool) {
+    pub(super) fn release(&self, bytes: u64, host_visible: bool) {
         self.allocated[host_visible as usize].fetch_sub(bytes, Ordering::Relaxed);
     }
 }

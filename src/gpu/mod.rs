@@ -4,6 +4,7 @@
 mod accel;
 mod commands;
 mod context;
+mod context_needs;
 mod crash_markers;
 mod descriptors;
 mod device;
@@ -26,7 +27,8 @@ pub use validation::ValidationLog;
 pub use accel::AccelStructures;
 pub use ash::vk;
 pub use commands::Commands;
-pub use context::{ContextNeeds, GpuContext, VulkanCreator};
+pub use context::GpuContext;
+pub use context_needs::{ContextNeeds, VulkanCreator};
 pub use descriptors::{Bound, DescriptorArena};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};

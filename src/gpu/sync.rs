@@ -4,7 +4,6 @@
 //! orders; lavapipe runs them one after another, so a missing barrier shows only under the
 //! validation layer's synchronization checks, which the tests run (see `options.rs`).
 
-use super::context::GpuContext;
 use ash::vk;
 
 /// The stages and access types on one side of a barrier.
@@ -131,10 +130,23 @@ pub(crate) struct ImageTransition {
     pub to: (Scope, vk::ImageLayout),
 }
 
-impl GpuContext {
+/// Records barriers through VK_KHR_synchronization2's vkCmdPipelineBarrier2, which every
+/// barrier fovea records goes through (the context and its crash markers alike).
+pub(super) struct Barriers {
+    sync2: ash::khr::synchronization2::Device,
+}
+
+impl Barriers {
+    /// The functions of `device`, created with synchronization2 enabled.
+    pub(super) fn new(instance: &ash::Instance, device: &ash::Device) -> Self {
+        Self {
+            sync2: ash::khr::synchronization2::Device::new(instance, device),
+        }
+    }
+
     /// Records a memory barrier: the accesses in `before` (and everything earlier in their
     /// stages) happen before, and are visible to, the accesses in `after`.
-    pub fn cmd_barrier(&self, cmd: vk::CommandBuffer, before: Scope, after: Scope) {
+    pub(super) fn memory(&self, cmd: vk::CommandBuffer, before: Scope, after: Scope) {
         let barrier = [vk::MemoryBarrier2::default()
             .src_stage_mask(before.stages)
             .src_access_mask(before.access)
@@ -148,11 +160,7 @@ impl GpuContext {
 
     /// Records image barriers (layout transitions with the accesses they order), all in one
     /// call.
-    pub(crate) fn cmd_image_barriers(
-        &self,
-        cmd: vk::CommandBuffer,
-        transitions: &[ImageTransition],
-    ) {
+    pub(super) fn images(&self, cmd: vk::CommandBuffer, transitions: &[ImageTransition]) {
         let barriers: Vec<vk::ImageMemoryBarrier2> = transitions
             .iter()
             .map(|t| {

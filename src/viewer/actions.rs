@@ -3,10 +3,10 @@
 
 use super::app::App;
 use super::controls::{self, Action, FlyCamera};
+use super::error::ViewError;
 use super::move_speed::move_speed;
 use super::screenshots::next_free_name;
 use super::script::ScriptEvent;
-use super::ViewError;
 use crate::render::RenderSettings;
 use std::path::Path;
 use winit::dpi::PhysicalSize;
@@ -19,19 +19,16 @@ impl App {
         action: Action,
     ) -> Result<(), ViewError> {
         match action {
-            Action::ToggleFoveation => self.foveated = !self.foveated,
+            Action::ToggleFoveation => self.layers.foveated = !self.layers.foveated,
             Action::NextDebugView => self.debug = self.debug.next(),
-            Action::NextLayerConfig => {
-                self.config = (self.config + 1) % self.configs.len();
-                self.foveated = true;
-            }
+            Action::NextLayerConfig => self.layers.next(),
             Action::MoreSamples | Action::FewerSamples => {
-                let now = self.foveation().layers[0].spp;
+                let now = self.layers.frame_config().layers[0].spp;
                 let next = match action {
                     Action::MoreSamples => now.saturating_mul(2).min(RenderSettings::MAX_SPP),
                     _ => (now / 2).max(1),
                 };
-                self.spp = Some(next);
+                self.layers.spp = Some(next);
             }
             Action::NextScene | Action::PreviousScene => {
                 let n = self.scenes.len();

@@ -3,15 +3,15 @@
 //! `frame_turn`, the render step in `render_step`, key and script actions in `actions`.
 
 use super::controls::{self, FlyCamera, DEGREES_PER_PIXEL};
-use super::layer_configs::layer_configs;
+use super::error::ViewError;
+use super::layer_configs::LayerConfigs;
 use super::move_speed::move_speed;
-use super::render_step::ViewKey;
+use super::options::{DebugMode, GazeInput, ViewerOptions};
 use super::script::Script;
-use super::session::Session;
+use super::session::{Session, ViewKey};
+use super::summary::ViewSummary;
 use super::title::FrameRate;
-use super::{DebugMode, GazeInput, ViewError, ViewSummary, ViewerOptions};
 use crate::foveation::gaze_source::{FixedGaze, GazeSource, TraceReplay};
-use crate::foveation::FoveationConfig;
 use crate::gpu::{
     surface_instance_extensions, swapchain_device_extensions, ContextNeeds, GpuContext, Swapchain,
 };
@@ -28,6 +28,8 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
+/// Opens the window and runs until it is closed, Esc is pressed or `options.frames` have
+/// been shown.
 pub fn run(options: ViewerOptions) -> Result<ViewSummary, ViewError> {
     let event_loop = EventLoop::new().map_err(|e| ViewError::Window(e.to_string()))?;
     let display = event_loop
@@ -78,11 +80,8 @@ pub(super) struct App {
     pub(super) script: Script,
     pub(super) scenes: Vec<String>,
     pub(super) scene: usize,
-    pub(super) configs: Vec<(String, FoveationConfig)>,
-    pub(super) config: usize,
-    pub(super) foveated: bool,
-    /// `+`/`-` or `--spp`: every layer's spp; None keeps each layer's own.
-    pub(super) spp: Option<u32>,
+    /// The layer configs, the current one, foveation on or off and the `+`/`-` samples.
+    pub(super) layers: LayerConfigs,
     pub(super) debug: DebugMode,
     pub(super) fly: FlyCamera,
     /// The gaze when it is not the mouse (`--gaze`, `--gaze-trace`).
@@ -123,10 +122,7 @@ impl App {
             script: options.script.clone(),
             scenes,
             scene,
-            configs: layer_configs(options.foveation.as_ref()),
-            config: 0,
-            foveated: options.foveation.is_some(),
-            spp: options.spp,
+            layers: LayerConfigs::new(options.foveation.as_ref(), options.spp),
             debug: options.debug,
             fly,
             gaze: match &options.gaze {

@@ -3,7 +3,7 @@
 
 use super::app::App;
 use super::controls;
-use super::ViewError;
+use super::error::ViewError;
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
 

@@ -2,27 +2,16 @@
 //! (restarting the running mean when the view changed), presented, and the window's title.
 
 use super::app::App;
+use super::error::ViewError;
 use super::gaze::MouseGaze;
-use super::session::FrameParams;
+use super::options::DebugMode;
+use super::session::{FrameParams, ViewKey};
 use super::title::{passes_by_kind, title, TitleInfo};
-use super::{DebugMode, ViewError};
 use crate::foveation::gaze_source::GazeSource;
-use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
+use crate::foveation::{Gaze, GazeChoice};
 use crate::gpu::{Presented, SourceRect};
 use crate::render::{eye_views, EyeView, RenderSettings};
 use std::time::Instant;
-
-/// Everything that makes a frame's image: when any of it changes, the running mean restarts.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct ViewKey {
-    scene: usize,
-    eyes: Vec<EyeView>,
-    eye_size: [u32; 2],
-    foveation: FoveationConfig,
-    settings: RenderSettings,
-    /// The debug views that change the image accumulated (the heat map does not).
-    debug: DebugMode,
-}
 
 impl App {
     /// The eyes of the next frame, with their gazes.
@@ -62,7 +51,7 @@ impl App {
     pub(super) fn render(&mut self, window: [u32; 2], now: Instant) -> Result<(), ViewError> {
         let eye_size = self.eye_size(window);
         let eyes = self.eyes(window, eye_size);
-        let foveation = self.foveation();
+        let foveation = self.layers.frame_config();
         let settings = RenderSettings {
             width: eye_size[0],
             height: eye_size[1],
@@ -121,7 +110,7 @@ impl App {
         }
         self.rate.frame(now);
         let passes = passes_by_kind(cost.passes.iter().map(|(n, ms)| (n.as_str(), *ms)));
-        let spp = match self.spp {
+        let spp = match self.layers.spp {
             Some(spp) => spp.to_string(),
             None => {
                 let mut all: Vec<u32> = foveation.layers.iter().map(|l| l.spp).collect();
@@ -134,7 +123,7 @@ impl App {
         };
         let text = title(&TitleInfo {
             scene: &self.session.scene.name,
-            foveation: &self.foveation_name(),
+            foveation: &self.layers.name(),
             spp: &spp,
             view: self.debug.name(),
             accumulated: self.session.accumulated(),

@@ -2,7 +2,7 @@
 //! the screenshot key.
 
 use super::app::App;
-use super::ViewError;
+use super::error::ViewError;
 use std::path::{Path, PathBuf};
 
 impl App {

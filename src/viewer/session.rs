@@ -2,7 +2,8 @@
 //! each view: render → accumulate (→ the regular frame for the difference view) → the image
 //! to show, left in the renderer's output image.
 
-use super::{DebugMode, Refine, ViewError};
+use super::error::ViewError;
+use super::options::{DebugMode, Refine};
 use crate::foveation::FoveationConfig;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
@@ -38,6 +39,18 @@ pub struct FrameParams<'a> {
     /// Start a new running mean with this frame.
     pub restart: bool,
     pub refine: Refine,
+}
+
+/// Everything that makes a frame's image: when any of it changes, the running mean restarts.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ViewKey {
+    pub(super) scene: usize,
+    pub(super) eyes: Vec<EyeView>,
+    pub(super) eye_size: [u32; 2],
+    pub(super) foveation: FoveationConfig,
+    pub(super) settings: RenderSettings,
+    /// The debug views that change the image accumulated (the heat map does not).
+    pub(super) debug: DebugMode,
 }
 
 /// What a frame cost.

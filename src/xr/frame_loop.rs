@@ -6,14 +6,16 @@
 
 use super::error::{XrContext, XrError};
 use super::eye_gaze::EyeGaze;
+use super::frame_record::Record;
 use super::headset_gaze::HeadsetGaze;
 use super::headset_renderer::{HeadsetRenderer, SubmittedFrame};
 use super::instance::XrInstance;
+use super::options::XrOptions;
 use super::poses::SpacePlacement;
 use super::probe::ProbeReport;
-use super::session::{Record, SessionEnd, XrOptions, XrSummary, VIEW_TYPE};
+use super::summary::{SessionEnd, XrSummary};
 use super::swapchains::{choose_format, EyeSwapchain};
-use super::views::{visibility_masks, EyeViews};
+use super::views::{visibility_masks, EyeViews, VIEW_TYPE};
 use crate::foveation::Gaze;
 use crate::gpu::{ExternalImage, GpuContext, SourceRect};
 use openxr as xr;

@@ -6,7 +6,8 @@
 //! timings, counters) are recorded once its fence has signalled, oldest first.
 
 use super::error::XrError;
-use super::session::{FrameRecord, Record, XrOptions};
+use super::frame_record::{FrameRecord, Record};
+use super::options::XrOptions;
 use super::views::EyeViews;
 use crate::foveation::gaze_filter::FilteredGaze;
 use crate::foveation::{Gaze, ImageGeometry, VisibilityMask};

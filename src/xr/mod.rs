@@ -5,19 +5,25 @@
 mod error;
 mod eye_gaze;
 mod frame_loop;
+mod frame_record;
 mod headset_gaze;
 mod headset_renderer;
 mod instance;
+mod options;
 pub mod poses;
 mod probe;
 mod recording;
 mod session;
+mod summary;
 mod swapchains;
 mod views;
 mod vulkan;
 
 pub use error::XrError;
+pub use frame_record::FrameRecord;
 pub use instance::RuntimeSource;
+pub use options::XrOptions;
 pub use probe::{ProbeReport, PROBE_FRAMES};
 pub use recording::SessionRecorder;
-pub use session::{run, FrameRecord, SessionEnd, XrOptions, XrSummary, SESSION_RETRIES};
+pub use session::{run, SESSION_RETRIES};
+pub use summary::{SessionEnd, XrSummary};

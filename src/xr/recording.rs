@@ -5,7 +5,8 @@
 //! as they are written: a session cut short keeps every frame it rendered.
 
 use super::error::XrError;
-use super::session::{FrameRecord, XrSummary};
+use super::frame_record::FrameRecord;
+use super::summary::XrSummary;
 use crate::bench::csv_log::CsvLog;
 use crate::bench::protocol::{FrameKey, Mode};
 use crate::bench::rows::{FrameRow, HeadsetTiming};

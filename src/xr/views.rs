@@ -4,12 +4,14 @@
 
 use super::error::{XrContext, XrError};
 use super::poses::SpacePlacement;
-use super::session::VIEW_TYPE;
 use super::swapchains::EyeSwapchain;
 use crate::foveation::{Gaze, ImageGeometry, VisibilityMask};
 use crate::render::EyeView;
 use crate::scene::Camera;
 use openxr as xr;
+
+/// The view configuration fovea renders: two eyes.
+pub(super) const VIEW_TYPE: xr::ViewConfigurationType = xr::ViewConfigurationType::PRIMARY_STEREO;
 
 /// Where the eyes are for the frame displayed at `time`.
 pub(super) struct EyeViews {
