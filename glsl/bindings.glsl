@@ -13,6 +13,7 @@ layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
 layout(constant_id = SPEC_MAX_BOUNCES) const uint MAX_BOUNCES = 8;
 layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
 layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
+layout(constant_id = SPEC_HAS_SHADING) const bool HAS_SHADING = true;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
@@ -21,6 +22,7 @@ layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 // drops the fetches of fields a caller does not use.
 layout(set = 0, binding = BINDING_NODES) uniform utextureBuffer bvh_nodes;
 layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer triangle_texels;
+layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer shading_texels;
 layout(set = 0, binding = BINDING_OBJECTS) uniform utextureBuffer object_texels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer material_texels;
 layout(set = 0, binding = BINDING_EMITTERS) uniform utextureBuffer emitter_texels;
@@ -36,6 +38,16 @@ GpuTriangle load_triangle(uint index) {
     T.v1 = fetch_vec4(triangle_texels, t + 1);
     T.v2 = fetch_vec4(triangle_texels, t + 2);
     return T;
+}
+
+GpuTriangleShading load_triangle_shading(uint index) {
+    int t = int(index * TEXELS_PER_TRIANGLE_SHADING);
+    GpuTriangleShading S;
+    S.normals = texelFetch(shading_texels, t);
+    S.uv0_01 = fetch_vec4(shading_texels, t + 1);
+    S.uv0_2_uv1_0 = fetch_vec4(shading_texels, t + 2);
+    S.uv1_12 = fetch_vec4(shading_texels, t + 3);
+    return S;
 }
 
 // An object's kind, material, blas_root and triangle_base: the texel the traversal reads for

@@ -4,6 +4,7 @@
 #define FOVEA_INTEGRATORS_GLSL
 #include "brdf.glsl"
 #include "lights.glsl"
+#include "shading.glsl"
 
 // The sky gradient: ground below the horizon, horizon -> zenith above it.
 vec3 environment(vec3 d) {
@@ -15,10 +16,32 @@ vec3 environment(vec3 d) {
 struct SurfaceHit {
     vec3 p;
     vec3 ng;     // geometric normal, faced toward the incoming ray
+    vec3 ns;     // shading normal (valid_shading_normal), on ng's side; ng without attributes
+    vec4 uv;     // TEXCOORD_0 (xy) and TEXCOORD_1 (zw) at the hit; 0 without attributes
     bool front;  // the ray arrived on the side the geometric normal points to
     GpuMaterial m;
     uint emitter; // this point's emitter index, or NO_EMITTER
 };
+
+// The hit's vertex attributes, where its mesh has them: texture coordinates, and the
+// shading normal (faced like ng, then made valid for the view direction -d).
+void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
+    GpuTriangle T = load_triangle(h.primitive);
+    vec3 p = affine(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, s.p);
+    vec2 b = triangle_barycentrics(T, p);
+    GpuTriangleShading S = load_triangle_shading(h.primitive);
+    float b0 = 1.0 - b.x - b.y;
+    s.uv.xy = b0 * S.uv0_01.xy + b.x * S.uv0_01.zw + b.y * S.uv0_2_uv1_0.xy;
+    s.uv.zw = b0 * S.uv0_2_uv1_0.zw + b.x * S.uv1_12.xy + b.y * S.uv1_12.zw;
+    vec3 n = interpolated_normal(S, b);
+    if (n == vec3(0.0)) return;
+    // Normals transform by the inverse transpose: the columns of world->object.
+    vec3 nw = ob.world_to_object0.xyz * n.x + ob.world_to_object1.xyz * n.y + ob.world_to_object2.xyz * n.z;
+    float len = length(nw);
+    if (!(len > 0.0)) return;
+    nw /= len;
+    s.ns = valid_shading_normal(s.front ? nw : -nw, s.ng, -d);
+}
 
 SurfaceHit surface(Hit h, vec3 o, vec3 d) {
     SurfaceHit s;
@@ -26,7 +49,10 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d) {
     vec3 n = hit_normal(h, s.p);
     s.front = dot(n, d) < 0.0;
     s.ng = s.front ? n : -n;
+    s.ns = s.ng;
+    s.uv = vec4(0.0);
     GpuObject ob = load_object(h.object);
+    if (HAS_SHADING && ob.kind == KIND_INSTANCE) interpolate_attributes(s, h, ob, d);
     s.m = load_material(ob.material);
     s.emitter = NO_EMITTER;
     if (ob.emitter != NO_EMITTER) {
@@ -109,20 +135,23 @@ void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow
     vec3 d;
     if (rng_next(rng) < p_s) {
         if (is_mirror(s.m)) {
-            d = reflect(p.d, s.ng);
+            d = reflect(p.d, s.ns);
             p.throughput *= s.m.ks.xyz / p_s;
         } else {
-            d = sample_power_cosine(rng_next2(rng), s.ng, 0.0);
-            vec3 r = reflect(-wo, s.ng);
+            d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+            vec3 r = reflect(-wo, s.ns);
             float alpha = s.m.kd.w;
-            p.throughput *= s.m.ks.xyz * (alpha + 2.0) * phong_lobe(d, r, alpha) * dot(s.ng, d) / p_s;
+            p.throughput *= s.m.ks.xyz * (alpha + 2.0) * phong_lobe(d, r, alpha) * dot(s.ns, d) / p_s;
         }
     } else {
-        d = sample_power_cosine(rng_next2(rng), s.ng, 0.0);
-        p.throughput *= 2.0 * s.m.kd.xyz * dot(s.ng, d) / (1.0 - p_s);
+        d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+        p.throughput *= 2.0 * s.m.kd.xyz * dot(s.ns, d) / (1.0 - p_s);
     }
     p.d = d;
     p.done = all(equal(p.throughput, vec3(0.0)));
+    // A direction around the shading normal may point into the geometry: absorbed there,
+    // never taken through it.
+    if (HAS_SHADING && dot(d, s.ng) <= 0.0) p.done = true;
     p.o = offset_ray_origin(s.p, s.ng, p.o);
     p.bounce++;
 }
@@ -163,8 +192,8 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
         return;
     }
     vec3 wo = -p.d;
-    vec3 n = s.ng;
-    vec3 origin = offset_ray_origin(s.p, n, p.o);
+    vec3 n = s.ns; // the BRDF's frame; ng decides what is above the surface
+    vec3 origin = offset_ray_origin(s.p, s.ng, p.o);
     float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
     bool mirror = HAS_SPECULAR && is_mirror(s.m);
 
@@ -178,6 +207,8 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
         float dist2 = dot(to_light, to_light);
         vec3 wi = to_light * inversesqrt(max(dist2, 1e-30));
         float cos_x = dot(wi, n);
+        // A light below the geometric surface is hidden by it, whatever the shading normal.
+        if (HAS_SHADING && dot(wi, s.ng) <= 0.0) cos_x = 0.0;
         GpuEmitter e = load_emitter(index);
         float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
         if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
@@ -200,6 +231,10 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
     vec2 u = rng_next2(rng);
     if (spec_pick && mirror) {
         wi = reflect(p.d, n);
+        if (HAS_SHADING && dot(wi, s.ng) <= 0.0) { // valid_shading_normal prevents it, up to rounding
+            p.done = true;
+            return;
+        }
         p.throughput *= s.m.ks.xyz / p_s;
         p.prev_delta = true;
     } else {
@@ -212,7 +247,8 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
             wi = sample_power_cosine(u, n, 1.0);
         }
         float cos_i = dot(wi, n);
-        if (cos_i <= 0.0) { // the Phong lobe dipped below the surface: absorbed
+        // The lobe dipped below the surface, shading or geometric: absorbed.
+        if (cos_i <= 0.0 || (HAS_SHADING && dot(wi, s.ng) <= 0.0)) {
             p.done = true;
             return;
         }

@@ -49,10 +49,13 @@
                               // PIXELS' layout
 #define BINDING_HISTORY_1 22  // HISTORY's plane 1
 #define BINDING_HISTORY_SURFACE_1 23 // HISTORY_SURFACE's plane 1
-#define BINDING_COUNT 24
+#define BINDING_SHADING 24   // GpuTriangleShading[] in TRIANGLES' order (a uniform texel buffer):
+                             // what shading interpolates across a triangle; empty (and never
+                             // read, SPEC_HAS_SHADING off) when no mesh has such attributes
+#define BINDING_COUNT 25
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 24
+#define BINDING_TLAS 25
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/shader_layout.rs checks them against the structs' sizes).
@@ -61,6 +64,7 @@
 #define TEXELS_PER_OBJECT 10
 #define TEXELS_PER_MATERIAL 3
 #define TEXELS_PER_EMITTER 5
+#define TEXELS_PER_TRIANGLE_SHADING 4
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
 #define SPEC_HAS_TRIANGLES 0
@@ -71,6 +75,7 @@
 #define SPEC_MAX_BOUNCES 5
 #define SPEC_INTEGRATOR 6
 #define SPEC_PROFILE 7 // trace.comp counts its traversal work (STAT_PROFILE); off: compiled away
+#define SPEC_HAS_SHADING 8 // some mesh has shading normals or texture coordinates (SHADING)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -145,6 +150,18 @@ struct GpuTriangle {
     vec4 v0;
     vec4 v1;
     vec4 v2;
+};
+
+// What shading interpolates across one triangle of a mesh with vertex attributes, by the hit's
+// barycentrics: the corners' shading normals (object space, octahedral as two snorm16,
+// surface.glsl's encoding) and their two sets of texture coordinates (0 where absent).
+#define SHADING_NORMALS 1u // GpuTriangleShading.normals.w: the corners have shading normals
+                           // (else, no normals in the mesh or an unusable one: shaded flat)
+struct GpuTriangleShading {
+    uvec4 normals; // x, y, z: corners 0, 1, 2; w: SHADING_* flags
+    vec4 uv0_01;   // TEXCOORD_0 of corner 0 (xy) and corner 1 (zw)
+    vec4 uv0_2_uv1_0; // TEXCOORD_0 of corner 2 (xy), TEXCOORD_1 of corner 0 (zw)
+    vec4 uv1_12;   // TEXCOORD_1 of corner 1 (xy) and corner 2 (zw)
 };
 
 // An instance of a mesh, an axis-aligned box or a sphere: the TLAS leaves.

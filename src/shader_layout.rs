@@ -25,6 +25,17 @@ pub struct GpuTriangle {
     pub v2: [f32; 4],
 }
 
+/// shared.h's GpuTriangleShading: a triangle's corner normals (octahedral) and texture
+/// coordinates.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuTriangleShading {
+    pub normals: [u32; 4],
+    pub uv0_01: [f32; 4],
+    pub uv0_2_uv1_0: [f32; 4],
+    pub uv1_12: [f32; 4],
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuObject {
@@ -242,6 +253,8 @@ const _: () = assert!(std::mem::size_of::<GpuTriangle>() == TEXELS_PER_TRIANGLE 
 const _: () = assert!(std::mem::size_of::<GpuObject>() == TEXELS_PER_OBJECT as usize * 16);
 const _: () = assert!(std::mem::size_of::<GpuMaterial>() == TEXELS_PER_MATERIAL as usize * 16);
 const _: () = assert!(std::mem::size_of::<GpuEmitter>() == TEXELS_PER_EMITTER as usize * 16);
+const _: () =
+    assert!(std::mem::size_of::<GpuTriangleShading>() == TEXELS_PER_TRIANGLE_SHADING as usize * 16);
 
 /// One compressed wide (8-ary) BVH node as glsl/bvh.glsl reads it: five RGBA32UI texels of
 /// BINDING_NODES, the layout of obvhs' `CwBvhNode` (Ylitie et al. 2017, "Efficient

@@ -169,6 +169,7 @@ fn round_trip_scene() -> Scene {
         name: "tri".into(),
         positions: TRIANGLE.iter().map(|&p| Vec3::from(p)).collect(),
         indices: vec![[0, 1, 2]],
+        shading: Default::default(),
     };
     let quad = Mesh {
         name: "quad".into(),
@@ -179,6 +180,7 @@ fn round_trip_scene() -> Scene {
             Vec3::new(-1.0, 1.0, 0.1),
         ],
         indices: vec![[0, 1, 2], [0, 2, 3]],
+        shading: Default::default(),
     };
     let materials = vec![
         material_from_metallic_roughness(Vec3::new(0.8, 0.3, 0.2), 0.0, 0.5, Vec3::ZERO),
@@ -696,5 +698,36 @@ fn ignored_features_warn_once_per_kind() {
     assert!(
         warnings.iter().all(|l| l.contains("features.gltf")),
         "{text}"
+    );
+}
+
+#[test]
+fn normals_that_do_not_match_the_vertices_are_reported() {
+    let dir = temp_dir("normal-count");
+    let path = write_embedded(
+        &dir,
+        "normals.gltf",
+        &TRIANGLE,
+        &[0, 1, 2],
+        4,
+        ONE_NODE,
+        "[0]",
+    );
+    // A NORMAL accessor of 2 entries (over the positions' bytes) for 3 vertices.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text
+        .replace(
+            r#""attributes": { "POSITION": 0 }"#,
+            r#""attributes": { "POSITION": 0, "NORMAL": 2 }"#,
+        )
+        .replace(
+            r#""type": "SCALAR" }"#,
+            r#""type": "SCALAR" },
+    { "bufferView": 0, "componentType": 5126, "count": 2, "type": "VEC3" }"#,
+        );
+    std::fs::write(&path, text).unwrap();
+    expect_error(
+        &path,
+        &["NORMAL has 2 entries", "POSITION has 3", "mesh 'thing'"],
     );
 }

@@ -71,6 +71,15 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     check!(s, GpuTriangle { v0, v1, v2 });
     check!(
         s,
+        GpuTriangleShading {
+            normals,
+            uv0_01,
+            uv0_2_uv1_0,
+            uv1_12
+        }
+    );
+    check!(
+        s,
         GpuObject {
             world_to_object0,
             world_to_object1,
@@ -226,7 +235,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        15,
+        16,
         "shared.h has a struct this test does not check: add it"
     );
     for (name, size) in [

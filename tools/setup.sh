@@ -89,6 +89,10 @@ apt_get install -y -q weston
 # The XR tests: Khronos' hello_xr (libopenxr-utils), run against the simulated headset, and
 # the OpenXR core validation layer fovea's session is checked under.
 apt_get install -y -q libopenxr-utils openxr-layer-corevalidation
+# glTF content as people author it: the Khronos sample models Debian ships (BoxTextured,
+# 2CylinderEngine, TextureTransformTest, ...) under /usr/share/assimp/models/glTF2/, which the
+# real-content tests render and users can try first.
+apt_get install -y -q assimp-testmodels
 
 echo "setup: Vulkan devices:"
 vulkaninfo --summary 2>/dev/null | grep -E "deviceName|apiVersion|driverInfo" || true

@@ -72,6 +72,7 @@ pub fn icosphere(subdivisions: u32) -> Mesh {
         name: format!("icosphere-{subdivisions}"),
         positions,
         indices,
+        shading: Default::default(),
     }
 }
 
@@ -117,6 +118,7 @@ pub fn subdivided_cube(n: u32) -> Mesh {
         name: format!("cube-{n}x{n}"),
         positions,
         indices,
+        shading: Default::default(),
     }
 }
 

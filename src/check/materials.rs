@@ -84,6 +84,7 @@ fn degenerate_triangles() -> Mesh {
             Vec3::new(0.1, 0.2, 0.0),
         ],
         indices: vec![[0, 0, 0], [0, 1, 1], [0, 1, 2], [1, 2, 0], [3, 3, 1]],
+        shading: Default::default(),
     }
 }
 

@@ -58,6 +58,7 @@ pub fn quad() -> Mesh {
             Vec3::new(1.0, 0.0, -1.0),
         ],
         indices: vec![[0, 1, 2], [0, 2, 3]],
+        shading: Default::default(),
     }
 }
 

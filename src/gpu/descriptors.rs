@@ -13,6 +13,7 @@ use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::memory::{Buffer, StorageImage, TexelView};
 use super::pipeline::PipelineLayout;
+use crate::shader_layout::BINDING_COUNT;
 use ash::vk;
 use std::sync::Arc;
 
@@ -63,8 +64,8 @@ impl<'a> From<&'a StorageImage> for Bound<'a> {
 /// Sets per arena: the most passes one frame records (plan, dispatch sizes, trace, resolve,
 /// temporal, denoise: one set each; their eyes and iterations share it), with room to spare.
 const SETS: u32 = 32;
-/// Descriptors of each type per set, at most (shared.h's bindings).
-const PER_SET: u32 = 24;
+/// Descriptors of each type per set, at most: one per binding of shared.h.
+const PER_SET: u32 = BINDING_COUNT;
 
 pub struct DescriptorArena {
     ctx: Arc<GpuContext>,

@@ -13,9 +13,10 @@ use std::sync::Arc;
 /// The bindings that are storage images and those that are uniform texel buffers (see
 /// TexelView); all others are storage buffers.
 const IMAGE_BINDINGS: [u32; 2] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES];
-const TEXEL_BINDINGS: [u32; 6] = [
+const TEXEL_BINDINGS: [u32; 7] = [
     BINDING_NODES,
     BINDING_TRIANGLES,
+    BINDING_SHADING,
     BINDING_OBJECTS,
     BINDING_MATERIALS,
     BINDING_EMITTERS,

@@ -103,6 +103,7 @@ impl Pipelines {
             (SPEC_HAS_SPHERES, f.spheres as u32),
             (SPEC_HAS_SPECULAR, f.specular as u32),
             (SPEC_HAS_EMITTERS, f.emitters as u32),
+            (SPEC_HAS_SHADING, f.shading as u32),
             (SPEC_MAX_BOUNCES, max_bounces),
             (SPEC_INTEGRATOR, integrator),
         ]

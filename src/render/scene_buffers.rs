@@ -17,10 +17,12 @@ pub struct SceneBuffers {
     /// Every BLAS's nodes, then the TLAS's (GpuSceneInfo::tlas_root).
     nodes: TexelView,
     triangles: TexelView,
+    /// GpuScene::shading (one empty element when the scene has none).
+    shading: TexelView,
     objects: TexelView,
     materials: TexelView,
     emitters: TexelView,
-    _storage: [Buffer; 5],
+    _storage: [Buffer; 6],
     info: Buffer,
     /// The same scene for ray queries, where the context has them.
     pub accel: Option<AccelStructures>,
@@ -42,6 +44,7 @@ impl SceneBuffers {
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
         let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
         let triangles = upload("triangles", bytemuck::cast_slice(&gpu.triangles))?;
+        let shading = upload("triangle shading", bytemuck::cast_slice(&gpu.shading))?;
         let objects = upload("objects", bytemuck::cast_slice(&gpu.objects))?;
         let materials = upload("materials", bytemuck::cast_slice(&gpu.materials))?;
         let emitters = upload("emitters", bytemuck::cast_slice(&gpu.emitters))?;
@@ -56,10 +59,11 @@ impl SceneBuffers {
         Ok(Self {
             nodes: TexelView::new(&nodes, "bvh nodes")?,
             triangles: TexelView::new(&triangles, "triangles")?,
+            shading: TexelView::new(&shading, "triangle shading")?,
             objects: TexelView::new(&objects, "objects")?,
             materials: TexelView::new(&materials, "materials")?,
             emitters: TexelView::new(&emitters, "emitters")?,
-            _storage: [nodes, triangles, objects, materials, emitters],
+            _storage: [nodes, triangles, shading, objects, materials, emitters],
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
             accel,
             features: gpu.features,
@@ -76,6 +80,7 @@ impl SceneBuffers {
     ) -> Pass<'g, 'a, 'r> {
         let pass = pass
             .reads(BINDING_TRIANGLES, &self.triangles)
+            .reads(BINDING_SHADING, &self.shading)
             .reads(BINDING_OBJECTS, &self.objects)
             .reads(BINDING_MATERIALS, &self.materials)
             .reads(BINDING_EMITTERS, &self.emitters)
@@ -99,6 +104,10 @@ fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
             bytes(size_of_val(gpu.blas_nodes.as_slice()) + size_of_val(gpu.tlas_nodes.as_slice())),
         ),
         ("triangles", bytes(size_of_val(gpu.triangles.as_slice()))),
+        (
+            "triangle shading",
+            bytes(size_of_val(gpu.shading.as_slice())),
+        ),
         ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
         ("materials", bytes(size_of_val(gpu.materials.as_slice()))),
         ("emitters", bytes(size_of_val(gpu.emitters.as_slice()))),

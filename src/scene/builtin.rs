@@ -422,6 +422,7 @@ fn mitsuba_rectangle() -> Mesh {
             Vec3::new(1.0, 1.0, 0.0),
         ],
         indices: vec![[1, 2, 0], [1, 3, 2]],
+        shading: Default::default(),
     }
 }
 
@@ -452,6 +453,7 @@ fn mitsuba_cube() -> Mesh {
         name: "cube".into(),
         positions,
         indices,
+        shading: Default::default(),
     }
 }
 

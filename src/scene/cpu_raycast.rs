@@ -383,6 +383,7 @@ mod tests {
                     Vec3::new(-1.0, 1.0, 0.0),
                 ],
                 indices: vec![[0, 1, 2], [0, 2, 3]],
+                shading: Default::default(),
             }],
             instances: vec![Instance {
                 mesh: 0,

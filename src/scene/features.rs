@@ -12,6 +12,8 @@ pub struct SceneFeatures {
     pub specular: bool,
     /// Any emissive surface (next-event estimation has something to sample).
     pub emitters: bool,
+    /// Any instanced mesh with shading normals or texture coordinates.
+    pub shading: bool,
 }
 
 impl SceneFeatures {
@@ -29,7 +31,11 @@ impl SceneFeatures {
             specular |= m.is_specular();
             emitters |= m.is_emissive();
         }
+        let shading = (scene.instances.iter())
+            .filter_map(|i| scene.meshes.get(i.mesh as usize))
+            .any(|m| !m.shading.is_empty());
         Self {
+            shading,
             triangles: scene.triangle_count() > 0,
             boxes: !scene.boxes.is_empty(),
             spheres: !scene.spheres.is_empty(),
@@ -46,6 +52,7 @@ impl SceneFeatures {
             (self.spheres, "spheres"),
             (self.specular, "specular"),
             (self.emitters, "emitters"),
+            (self.shading, "smooth/uv"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

@@ -72,8 +72,8 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views: Vec<Value> = Vec::new();
     let mut accessors: Vec<Value> = Vec::new();
-    // Scene mesh → (POSITION accessor, index accessor), written on first use.
-    let mut mesh_accessors: HashMap<u32, (usize, usize)> = HashMap::new();
+    // Scene mesh → (its primitive's `attributes`, index accessor), written on first use.
+    let mut mesh_accessors: HashMap<u32, (Value, usize)> = HashMap::new();
     // (scene mesh, material) → glTF mesh.
     let mut pair_ids: HashMap<(u32, u32), usize> = HashMap::new();
     let mut pairs: Vec<(u32, u32)> = Vec::new();
@@ -130,13 +130,13 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     let meshes: Vec<Value> = pairs
         .iter()
         .map(|&(mesh, material)| {
-            let (positions, indices) = mesh_accessors[&mesh];
+            let (attributes, indices) = &mesh_accessors[&mesh];
             let name = &scene.meshes[mesh as usize].name;
             let uses = pairs.iter().filter(|(m, _)| *m == mesh).count();
             json!({
                 "name": if uses > 1 { format!("{name} (material {material})") } else { name.clone() },
                 "primitives": [{
-                    "attributes": { "POSITION": positions },
+                    "attributes": attributes,
                     "indices": indices,
                     "material": material,
                     "mode": 4,
@@ -195,14 +195,15 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
         .ok_or_else(|| invalid("the scene is too large for a .glb (4 GiB)".into()))
 }
 
-/// Appends a mesh's positions and indices to the binary chunk with one buffer view and one
-/// accessor each; returns (POSITION accessor, index accessor).
+/// Appends a mesh's positions, shading attributes (normals, texture coordinates) and indices
+/// to the binary chunk with one buffer view and one accessor each; returns the primitive's
+/// `attributes` object and its index accessor.
 fn write_mesh_data(
     mesh: &super::Mesh,
     bin: &mut Vec<u8>,
     views: &mut Vec<Value>,
     accessors: &mut Vec<Value>,
-) -> Result<(usize, usize), String> {
+) -> Result<(Value, usize), String> {
     let vertex_count = mesh.positions.len();
     if let Some((i, p)) = mesh
         .positions
@@ -245,7 +246,23 @@ fn write_mesh_data(
         "bufferView": views.len() - 1, "componentType": FLOAT, "count": vertex_count,
         "type": "VEC3", "min": min.to_array().to_vec(), "max": max.to_array().to_vec(),
     }));
-    let positions = accessors.len() - 1;
+    let mut attributes = json!({ "POSITION": accessors.len() - 1 });
+    let shading = &mesh.shading;
+    if !shading.normals.is_empty() {
+        let floats = shading.normals.iter().flat_map(|n| n.to_array());
+        let accessor = write_floats(floats, "VEC3", vertex_count, bin, views, accessors);
+        attributes["NORMAL"] = json!(accessor);
+    }
+    for (set, uv) in shading
+        .uv
+        .iter()
+        .enumerate()
+        .filter(|(_, uv)| !uv.is_empty())
+    {
+        let floats = uv.iter().flat_map(|c| c.to_array());
+        let accessor = write_floats(floats, "VEC2", vertex_count, bin, views, accessors);
+        attributes[format!("TEXCOORD_{set}")] = json!(accessor);
+    }
 
     let start = bin.len();
     for v in mesh.indices.iter().flatten() {
@@ -259,7 +276,30 @@ fn write_mesh_data(
         "bufferView": views.len() - 1, "componentType": UNSIGNED_INT,
         "count": mesh.indices.len() * 3, "type": "SCALAR",
     }));
-    Ok((positions, accessors.len() - 1))
+    Ok((attributes, accessors.len() - 1))
+}
+
+/// Appends `count` vertices' float vectors of glTF `kind` as one buffer view and accessor;
+/// returns the accessor's index.
+fn write_floats(
+    floats: impl Iterator<Item = f32>,
+    kind: &str,
+    count: usize,
+    bin: &mut Vec<u8>,
+    views: &mut Vec<Value>,
+    accessors: &mut Vec<Value>,
+) -> usize {
+    let start = bin.len();
+    for c in floats {
+        bin.extend_from_slice(&c.to_le_bytes());
+    }
+    views.push(json!({
+        "buffer": 0, "byteOffset": start, "byteLength": bin.len() - start, "target": ARRAY_BUFFER,
+    }));
+    accessors.push(json!({
+        "bufferView": views.len() - 1, "componentType": FLOAT, "count": count, "type": kind,
+    }));
+    accessors.len() - 1
 }
 
 /// True when the upper 3×3 has orthogonal columns and the last row is (0, 0, 0, 1), i.e. the

@@ -16,6 +16,9 @@ pub struct GpuScene {
     pub blas_nodes: Vec<GpuNode>,
     pub tlas_nodes: Vec<GpuNode>,
     pub triangles: Vec<GpuTriangle>,
+    /// One per triangle, in `triangles`' order, when some mesh has shading attributes
+    /// (`features.shading`); else empty.
+    pub shading: Vec<GpuTriangleShading>,
     pub objects: Vec<GpuObject>,
     pub materials: Vec<GpuMaterial>,
     pub emitters: Vec<GpuEmitter>,
@@ -60,6 +63,46 @@ pub(crate) fn mesh_triangles(mesh: &Mesh) -> Vec<Triangle> {
         .collect()
 }
 
+/// What shading interpolates across the triangle with corners `corners` of `mesh`.
+fn triangle_shading(mesh: &Mesh, corners: [u32; 3]) -> GpuTriangleShading {
+    let vertex = |k: usize| corners[k] as usize;
+    let attributes = &mesh.shading;
+    let normals: Option<Vec<Vec3>> = (0..3)
+        .map(|k| attributes.normals.get(vertex(k)).copied())
+        .collect::<Option<_>>()
+        .filter(|n: &Vec<Vec3>| n.iter().all(|n| *n != Vec3::ZERO));
+    let mut packed = [0u32; 4];
+    if let Some(normals) = normals {
+        for (slot, n) in packed.iter_mut().zip(&normals) {
+            *slot = octahedral_snorm(*n);
+        }
+        packed[3] = SHADING_NORMALS;
+    }
+    let uv = |set: usize, k: usize| {
+        (attributes.uv[set].get(vertex(k)).copied()).unwrap_or(glam::Vec2::ZERO)
+    };
+    let pair = |a: glam::Vec2, b: glam::Vec2| [a.x, a.y, b.x, b.y];
+    GpuTriangleShading {
+        normals: packed,
+        uv0_01: pair(uv(0, 0), uv(0, 1)),
+        uv0_2_uv1_0: pair(uv(0, 2), uv(1, 0)),
+        uv1_12: pair(uv(1, 1), uv(1, 2)),
+    }
+}
+
+/// A unit vector as glsl/surface.glsl's `packSnorm2x16(to_octahedral(n))`.
+fn octahedral_snorm(n: Vec3) -> u32 {
+    let n = n / (n.x.abs() + n.y.abs() + n.z.abs());
+    let sign = |x: f32| if x >= 0.0 { 1.0 } else { -1.0 };
+    let (x, y) = if n.z < 0.0 {
+        ((1.0 - n.y.abs()) * sign(n.x), (1.0 - n.x.abs()) * sign(n.y))
+    } else {
+        (n.x, n.y)
+    };
+    let snorm = |c: f32| ((c.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
+    snorm(x) | (snorm(y) << 16)
+}
+
 /// Phong selection probability p_S = a_s / (a_s + a_d) (thesis eqs. 3.9–3.11).
 fn specular_probability(kd: Vec3, ks: Vec3) -> f32 {
     let a_s = ks.element_sum() / 3.0;
@@ -98,9 +141,11 @@ impl GpuScene {
             }
         };
 
-        // BLAS per mesh, triangles stored in leaf order.
+        // BLAS per mesh, triangles (and their shading) stored in leaf order.
+        let features = SceneFeatures::of(scene);
         let mut blas_nodes = Vec::new();
         let mut triangles = Vec::new();
+        let mut shading = Vec::new();
         let mut mesh_roots = Vec::with_capacity(scene.meshes.len());
         for mesh in &scene.meshes {
             let tris = mesh_triangles(mesh);
@@ -120,6 +165,12 @@ impl GpuScene {
                     v2: v4(t.v2.into(), 0.0),
                 }
             }));
+            if features.shading {
+                shading.extend(
+                    (bvh.primitive_indices.iter())
+                        .map(|&i| triangle_shading(mesh, mesh.indices[i as usize])),
+                );
+            }
             mesh_roots.push(Some((
                 root,
                 base,
@@ -233,12 +284,13 @@ impl GpuScene {
             // The renderer uploads the BLAS nodes and then the TLAS's into one buffer.
             tlas_root: blas_nodes.len() as u32,
         };
-        let mut features = SceneFeatures::of(scene);
+        let mut features = features;
         features.emitters = !emitters.is_empty();
         Ok(Self {
             blas_nodes,
             tlas_nodes,
             triangles,
+            shading,
             objects,
             materials,
             emitters,
@@ -250,18 +302,24 @@ impl GpuScene {
     /// Every BLAS's nodes, then the TLAS's: the GPU's one node array (the TLAS's root at
     /// `info.tlas_root`).
     /// What the GPU is given of the scene, as one fingerprint: its BVHs, triangles, objects,
-    /// materials, emitters and info (sky, camera-independent counts).
+    /// materials, emitters, info (sky, camera-independent counts) and shading attributes.
     pub fn fingerprint(&self) -> u64 {
         use bytemuck::cast_slice;
-        super::fingerprint::Fingerprint::default()
+        let fingerprint = super::fingerprint::Fingerprint::default()
             .bytes(cast_slice(&self.blas_nodes))
             .bytes(cast_slice(&self.tlas_nodes))
             .bytes(cast_slice(&self.triangles))
             .bytes(cast_slice(&self.objects))
             .bytes(cast_slice(&self.materials))
             .bytes(cast_slice(&self.emitters))
-            .bytes(bytemuck::bytes_of(&self.info))
-            .value()
+            .bytes(bytemuck::bytes_of(&self.info));
+        // Scenes without shading attributes keep the fingerprints they had before there were
+        // any (reference caches are keyed by them).
+        let fingerprint = match self.shading.is_empty() {
+            true => fingerprint,
+            false => fingerprint.bytes(cast_slice(&self.shading)),
+        };
+        fingerprint.value()
     }
 
     pub fn nodes(&self) -> Vec<GpuNode> {
@@ -469,6 +527,7 @@ mod tests {
                 name: "tri".into(),
                 positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
                 indices: vec![[0, 1, 2]],
+                shading: Default::default(),
             }],
             instances: vec![Instance {
                 mesh: 0,

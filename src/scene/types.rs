@@ -1,7 +1,7 @@
 //! The renderer-independent scene description: what a built-in scene or a glTF file becomes.
 //! Everything here is in world units (metres by convention), right-handed, Y up.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 /// A material of the thesis' BRDF (eqs. 3.7–3.8): Lambert `k_d / π` plus modified Phong
 /// `k_s (α+2)/(2π) cos^α θ_r`. `alpha == f32::INFINITY` is a perfect mirror.
@@ -55,6 +55,28 @@ pub struct Mesh {
     pub name: String,
     pub positions: Vec<Vec3>,
     pub indices: Vec<[u32; 3]>,
+    /// What shading reads per vertex besides the position; none for the built-in meshes,
+    /// which are shaded with their flat (geometric) normals.
+    pub shading: VertexShading,
+}
+
+/// Per-vertex shading attributes of a [`Mesh`]. Each list is empty (the mesh has no such
+/// attribute) or has one entry per position.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VertexShading {
+    /// Unit shading normals (object space), interpolated across a triangle. A zero vector
+    /// marks a vertex whose file normal was unusable (zero or non-finite): triangles that use
+    /// it are shaded flat.
+    pub normals: Vec<Vec3>,
+    /// `TEXCOORD_0` and `TEXCOORD_1`, glTF's convention (origin top left, v down).
+    pub uv: [Vec<Vec2>; 2],
+}
+
+impl VertexShading {
+    /// Whether the mesh has any per-vertex attribute to interpolate.
+    pub fn is_empty(&self) -> bool {
+        self.normals.is_empty() && self.uv.iter().all(Vec::is_empty)
+    }
 }
 
 /// A placement of a mesh in the world with one material.

@@ -1,6 +1,7 @@
 //! glTF 2.0 loading: `.gltf` (external `.bin` files or `data:` URIs) and `.glb`.
 //!
-//! What is read: triangle geometry (lists, strips and fans), the node hierarchy of the default
+//! What is read: triangle geometry (lists, strips and fans) with its shading normals and two
+//! sets of texture coordinates, the node hierarchy of the default
 //! scene with its transforms, metallic-roughness material *factors*, emission (with
 //! `KHR_materials_emissive_strength`) and the first perspective camera. Everything else
 //! (textures, skins, morph targets, animations, other extensions, points and lines,

@@ -2,12 +2,12 @@
 
 use std::collections::HashSet;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::accessors::{component_f32, component_u32, read_accessor};
 use super::limits::MAX_COORDINATE;
 use super::origin::Warnings;
-use crate::scene::Mesh;
+use crate::scene::{Mesh, VertexShading};
 
 /// Builds the object-space mesh of one primitive, or `None` when it has no triangles (points
 /// and lines are skipped with a warning). Only referenced vertices are kept (primitives often
@@ -29,10 +29,15 @@ pub(super) fn build_primitive(
     let Some(hittable) = hittable(&triangles, &positions, &names, warnings)? else {
         return Ok(None);
     };
+    let shading = read_shading(primitive, buffers, positions.len(), &names.label, warnings)?;
     Ok(Some(Mesh {
         name: names.mesh_name_for(mesh, primitive),
-        positions: hittable.positions,
+        positions: gather(&positions, &hittable.vertices),
         indices: hittable.triangles,
+        shading: VertexShading {
+            normals: gather(&shading.normals, &hittable.vertices),
+            uv: shading.uv.map(|uv| gather(&uv, &hittable.vertices)),
+        },
     }))
 }
 
@@ -218,22 +223,31 @@ fn hittable(
                 .ok_or_else(|| format!("{}: index {v} out of range", names.label))?;
             if *entry == u32::MAX {
                 *entry = kept.len() as u32;
-                kept.push(positions[v as usize]);
+                kept.push(v);
             }
             *slot = *entry;
         }
         compact.push(out);
     }
     Ok((!compact.is_empty()).then_some(Hittable {
-        positions: kept,
+        vertices: kept,
         triangles: compact,
     }))
 }
 
-/// The triangles a ray can hit and the vertices they use, renumbered.
+/// The triangles a ray can hit, renumbered to index `vertices`: the primitive's vertices they
+/// use, in first-use order.
 struct Hittable {
-    positions: Vec<Vec3>,
+    vertices: Vec<u32>,
     triangles: Vec<[u32; 3]>,
+}
+
+/// `values` at `vertices` (empty stays empty: the attribute is absent).
+fn gather<T: Copy>(values: &[T], vertices: &[u32]) -> Vec<T> {
+    if values.is_empty() {
+        return Vec::new();
+    }
+    vertices.iter().map(|&v| values[v as usize]).collect()
 }
 
 /// A triangle's corners, each checked to be finite and within [`MAX_COORDINATE`].
@@ -263,6 +277,84 @@ fn corners(tri: &[u32; 3], positions: &[Vec3], names: &Names) -> Result<[Vec3; 3
         *corner = p;
     }
     Ok(corners)
+}
+
+/// The primitive's NORMAL, TEXCOORD_0 and TEXCOORD_1, each empty when absent. Normals are
+/// normalised; one that is zero or not finite becomes the zero vector (its triangles are
+/// shaded flat). A texture coordinate that is not finite is an error.
+fn read_shading(
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    vertex_count: usize,
+    label: &str,
+    warnings: &mut Warnings,
+) -> Result<VertexShading, String> {
+    let normals = read_floats::<3>(
+        primitive,
+        &gltf::Semantic::Normals,
+        buffers,
+        vertex_count,
+        label,
+        warnings,
+    )?
+    .into_iter()
+    .map(|n| Vec3::from(n).try_normalize().unwrap_or(Vec3::ZERO))
+    .collect();
+    let mut uv = [Vec::new(), Vec::new()];
+    for (set, list) in uv.iter_mut().enumerate() {
+        let semantic = gltf::Semantic::TexCoords(set as u32);
+        let values =
+            read_floats::<2>(primitive, &semantic, buffers, vertex_count, label, warnings)?;
+        if let Some(k) = values.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+            return Err(format!(
+                "{label}: TEXCOORD_{set} of vertex {k} is not finite (NaN or ±∞); repair the \
+                 mesh's UVs and re-export it"
+            ));
+        }
+        *list = values.into_iter().map(Vec2::from).collect();
+    }
+    Ok(VertexShading { normals, uv })
+}
+
+/// An attribute of `N` components per vertex, as floats (normalised integers decoded as glTF
+/// 2.0 §3.11 says); empty when the primitive has none. One of another shape is ignored with a
+/// warning (the glTF validator rejects it); one whose count is not the vertex count is an error.
+fn read_floats<const N: usize>(
+    primitive: &gltf::Primitive,
+    semantic: &gltf::Semantic,
+    buffers: &[Vec<u8>],
+    vertex_count: usize,
+    label: &str,
+    warnings: &mut Warnings,
+) -> Result<Vec<[f32; N]>, String> {
+    let Some(accessor) = primitive.get(semantic) else {
+        return Ok(Vec::new());
+    };
+    let name = semantic.to_string();
+    if accessor.dimensions().multiplicity() != N {
+        warnings.add(format!(
+            "{name} attributes that are not {N}-component vectors"
+        ));
+        return Ok(Vec::new());
+    }
+    if accessor.count() != vertex_count {
+        return Err(format!(
+            "{label}: {name} has {} entries but POSITION has {vertex_count}; glTF requires one \
+             per vertex, re-export the file",
+            accessor.count()
+        ));
+    }
+    let data_type = accessor.data_type();
+    let normalized = accessor.normalized();
+    let size = data_type.size();
+    read_accessor(&accessor, buffers, [0.0; N], |bytes| {
+        let mut out = [0.0; N];
+        for (k, c) in out.iter_mut().enumerate() {
+            *c = component_f32(data_type, normalized, bytes.get(k * size..(k + 1) * size)?)?;
+        }
+        Some(out)
+    })
+    .map_err(|p| format!("{label}: {name} {p}"))
 }
 
 /// Whether the primitive is made of triangles (lists, strips or fans), not points or lines.

@@ -128,14 +128,23 @@ struct Walker<'w, 'd> {
     origin: &'w Origin<'w>,
     warnings: &'w mut Warnings,
     walked: Walked,
-    /// (POSITION accessor, indices accessor, mode) → Mesh index, or None when the primitive
-    /// has no triangles.
-    mesh_ids: HashMap<(Option<usize>, Option<usize>, u32), Option<u32>>,
+    /// The accessors a primitive reads → Mesh index, or None when the primitive has no
+    /// triangles.
+    mesh_ids: HashMap<PrimitiveKey, Option<u32>>,
     /// glTF material index (None: the default material) → Scene material index.
     material_ids: HashMap<Option<usize>, u32>,
     meshes_by_content: MeshDedup,
     /// A material's bits (kd, ks, emission; alpha) → Scene material index.
     materials_by_value: HashMap<([[u32; 3]; 3], u32), u32>,
+}
+
+/// What a primitive's mesh is built from: the accessors of POSITION, NORMAL, TEXCOORD_0 and
+/// TEXCOORD_1, of its indices, and its mode. Primitives with equal keys are one mesh.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct PrimitiveKey {
+    attributes: [Option<usize>; 4],
+    indices: Option<usize>,
+    mode: u32,
 }
 
 impl Walker<'_, '_> {
@@ -227,11 +236,17 @@ impl Walker<'_, '_> {
         mesh: &gltf::Mesh,
         primitive: &gltf::Primitive,
     ) -> Result<Option<u32>, SceneError> {
-        let key = (
-            primitive.get(&gltf::Semantic::Positions).map(|a| a.index()),
-            primitive.indices().map(|a| a.index()),
-            primitive.mode().as_gl_enum(),
-        );
+        let accessor = |semantic: gltf::Semantic| primitive.get(&semantic).map(|a| a.index());
+        let key = PrimitiveKey {
+            attributes: [
+                accessor(gltf::Semantic::Positions),
+                accessor(gltf::Semantic::Normals),
+                accessor(gltf::Semantic::TexCoords(0)),
+                accessor(gltf::Semantic::TexCoords(1)),
+            ],
+            indices: primitive.indices().map(|a| a.index()),
+            mode: primitive.mode().as_gl_enum(),
+        };
         if let Some(&id) = self.mesh_ids.get(&key) {
             return Ok(id);
         }
@@ -327,7 +342,7 @@ fn local_transform(node: &gltf::Node) -> Result<Mat4, String> {
     }
 }
 
-/// Adds meshes to a scene's list, reusing an equal mesh (same positions and triangles) when
+/// Adds meshes to a scene's list, reusing an equal mesh (same positions, triangles and shading attributes) when
 /// there is one, so identical geometry is stored and BVH-built once. Also keeps each mesh's
 /// reach (the largest magnitude per axis of its vertices, object space) for [`world_reach`].
 #[derive(Default)]
@@ -347,9 +362,11 @@ impl MeshDedup {
         mesh.indices.hash(&mut hasher);
         let same = self.by_hash.entry(hasher.finish()).or_default();
         if let Some(&id) = same.iter().find(|&&id| {
-            meshes
-                .get(id as usize)
-                .is_some_and(|m| m.positions == mesh.positions && m.indices == mesh.indices)
+            meshes.get(id as usize).is_some_and(|m| {
+                m.positions == mesh.positions
+                    && m.indices == mesh.indices
+                    && m.shading == mesh.shading
+            })
         }) {
             return id;
         }
