@@ -14,6 +14,7 @@ layout(constant_id = SPEC_MAX_BOUNCES) const uint MAX_BOUNCES = 8;
 layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
 layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 layout(constant_id = SPEC_HAS_SHADING) const bool HAS_SHADING = true;
+layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHNESS = true;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
@@ -90,6 +91,12 @@ GpuMaterial load_material(uint index) {
     m.kd = fetch_vec4(material_texels, t);
     m.ks = fetch_vec4(material_texels, t + 1);
     m.emission = fetch_vec4(material_texels, t + 2);
+    m.base_color = fetch_vec4(material_texels, t + 3);
+    uvec4 more = texelFetch(material_texels, t + 4);
+    m.metallic = uintBitsToFloat(more.x);
+    m.roughness = uintBitsToFloat(more.y);
+    m.model = more.z;
+    m.pad0 = more.w;
     return m;
 }
 
@@ -112,6 +119,8 @@ layout(std430, set = 0, binding = BINDING_STATS) buffer Stats { uint stats[]; };
 layout(set = 0, binding = BINDING_OUTPUT, rgba32f) uniform image2D out_image;
 layout(std430, set = 0, binding = BINDING_PROBE_RAYS) readonly buffer ProbeRays { GpuProbeRay probe_rays[]; };
 layout(std430, set = 0, binding = BINDING_PROBE_HITS) writeonly buffer ProbeHits { GpuProbeHit probe_hits[]; };
+layout(std430, set = 0, binding = BINDING_BRDF_QUERIES) readonly buffer BrdfQueries { GpuBrdfQuery brdf_queries[]; };
+layout(std430, set = 0, binding = BINDING_BRDF_ANSWERS) writeonly buffer BrdfAnswers { GpuBrdfAnswer brdf_answers[]; };
 
 layout(set = 0, binding = BINDING_LAYER_IMAGES, rgba32f) uniform image2DArray layer_images;
 // Only trace.comp writes LATTICE (it defines WRITES_LATTICE); read-only everywhere else, so

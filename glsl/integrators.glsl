@@ -3,6 +3,7 @@
 #ifndef FOVEA_INTEGRATORS_GLSL
 #define FOVEA_INTEGRATORS_GLSL
 #include "brdf.glsl"
+#include "gltf_brdf.glsl"
 #include "lights.glsl"
 #include "shading.glsl"
 
@@ -133,7 +134,11 @@ void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow
     float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
     vec3 wo = -p.d;
     vec3 d;
-    if (rng_next(rng) < p_s) {
+    if (is_metallic_roughness(s.m)) {
+        // glTF's BRDF, estimated the seed way: a uniform hemisphere direction, f cos / (1/2pi).
+        d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+        p.throughput *= gltf_eval(s.m, wo, d, s.ns) * dot(s.ns, d) * (2.0 * PI);
+    } else if (rng_next(rng) < p_s) {
         if (is_mirror(s.m)) {
             d = reflect(p.d, s.ns);
             p.throughput *= s.m.ks.xyz / p_s;
@@ -175,6 +180,15 @@ float brdf_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
     return pdf;
 }
 
+// f and the sampling density of either material model (delta lobes excluded).
+vec3 material_eval(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
+    return is_metallic_roughness(m) ? gltf_eval(m, wo, wi, n) : brdf_eval(m, wo, wi, n);
+}
+
+float material_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
+    return is_metallic_roughness(m) ? gltf_pdf(m, wo, wi, n) : brdf_pdf(m, wo, wi, n);
+}
+
 void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
     Hit h;
     SurfaceHit s;
@@ -194,8 +208,9 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
     vec3 wo = -p.d;
     vec3 n = s.ns; // the BRDF's frame; ng decides what is above the surface
     vec3 origin = offset_ray_origin(s.p, s.ng, p.o);
-    float p_s = HAS_SPECULAR ? s.m.ks.w : 0.0;
-    bool mirror = HAS_SPECULAR && is_mirror(s.m);
+    bool gltf = is_metallic_roughness(s.m);
+    float p_s = HAS_SPECULAR && !gltf ? s.m.ks.w : 0.0;
+    bool mirror = HAS_SPECULAR && !gltf && is_mirror(s.m);
 
     // Next-event estimation for the non-delta lobes.
     if (HAS_EMITTERS && scene_info.emitter_count > 0u && (!mirror || p_s < 1.0)) {
@@ -213,8 +228,8 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
         float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
         if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
             float light_pdf = ls.area_pdf * dist2 / cos_l;
-            vec3 f = brdf_eval(s.m, wo, wi, n);
-            float bpdf = brdf_pdf(s.m, wo, wi, n);
+            vec3 f = material_eval(s.m, wo, wi, n);
+            float bpdf = material_pdf(s.m, wo, wi, n);
             // Shadow ray to just short of the light's surface.
             vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p);
             vec3 seg = target - origin;
@@ -225,11 +240,22 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
         }
     }
 
-    // Sample the brdf: choose a lobe with p_S, then importance-sample it.
+    // Sample the brdf: glTF's mixture, or (thesis) a lobe chosen with p_S, then importance-sampled.
     vec3 wi;
-    bool spec_pick = rng_next(rng) < p_s;
+    float u_lobe = rng_next(rng);
+    bool spec_pick = u_lobe < p_s;
     vec2 u = rng_next2(rng);
-    if (spec_pick && mirror) {
+    if (gltf) {
+        float pdf;
+        // Below the shading or the geometric surface: absorbed.
+        if (!gltf_sample(s.m, wo, n, u_lobe, u, wi, pdf) || (HAS_SHADING && dot(wi, s.ng) <= 0.0)) {
+            p.done = true;
+            return;
+        }
+        p.throughput *= gltf_eval(s.m, wo, wi, n) * dot(wi, n) / pdf;
+        p.prev_pdf = pdf;
+        p.prev_delta = false;
+    } else if (spec_pick && mirror) {
         wi = reflect(p.d, n);
         if (HAS_SHADING && dot(wi, s.ng) <= 0.0) { // valid_shading_normal prevents it, up to rounding
             p.done = true;

@@ -52,17 +52,19 @@
 #define BINDING_SHADING 24   // GpuTriangleShading[] in TRIANGLES' order (a uniform texel buffer):
                              // what shading interpolates across a triangle; empty (and never
                              // read, SPEC_HAS_SHADING off) when no mesh has such attributes
-#define BINDING_COUNT 25
+#define BINDING_BRDF_QUERIES 25 // GpuBrdfQuery[] (brdf_probe.comp only)
+#define BINDING_BRDF_ANSWERS 26 // GpuBrdfAnswer[] (brdf_probe.comp only)
+#define BINDING_COUNT 27
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 25
+#define BINDING_TLAS 27
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/shader_layout.rs checks them against the structs' sizes).
 #define TEXELS_PER_NODE 5
 #define TEXELS_PER_TRIANGLE 3
 #define TEXELS_PER_OBJECT 10
-#define TEXELS_PER_MATERIAL 3
+#define TEXELS_PER_MATERIAL 5
 #define TEXELS_PER_EMITTER 5
 #define TEXELS_PER_TRIANGLE_SHADING 4
 
@@ -76,6 +78,7 @@
 #define SPEC_INTEGRATOR 6
 #define SPEC_PROFILE 7 // trace.comp counts its traversal work (STAT_PROFILE); off: compiled away
 #define SPEC_HAS_SHADING 8 // some mesh has shading normals or texture coordinates (SHADING)
+#define SPEC_HAS_METALLIC_ROUGHNESS 9 // some material is MODEL_METALLIC_ROUGHNESS
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -184,10 +187,18 @@ struct GpuObject {
     uint pad2;
 };
 
+// A material of either model (GpuMaterial.model); each reads only its own fields.
+#define MODEL_THESIS 0u             // the thesis' Lambert + Phong (brdf.glsl): kd, ks
+#define MODEL_METALLIC_ROUGHNESS 1u // glTF 2.0's (gltf_brdf.glsl): base_color, metallic, roughness
 struct GpuMaterial {
-    vec4 kd; // xyz = k_d, w = Phong exponent alpha (+inf: perfect mirror)
-    vec4 ks; // xyz = k_s, w = p_S, the thesis' specular selection probability (eq. 3.11)
-    vec4 emission; // xyz = radiance
+    vec4 kd; // MODEL_THESIS: xyz = k_d, w = Phong exponent alpha (+inf: perfect mirror)
+    vec4 ks; // MODEL_THESIS: xyz = k_s, w = p_S, the thesis' specular selection probability (eq. 3.11)
+    vec4 emission; // xyz = radiance (both models)
+    vec4 base_color; // MODEL_METALLIC_ROUGHNESS: rgb = linear base colour factor, a unused
+    float metallic; // MODEL_METALLIC_ROUGHNESS
+    float roughness; // MODEL_METALLIC_ROUGHNESS: perceptual; the GGX width is its square
+    uint model; // MODEL_*
+    uint pad0;
 };
 
 // A light for next-event estimation: a world-space triangle, a box or a sphere.
@@ -270,6 +281,11 @@ struct RaycastPush {
     uint probe_count;
 };
 
+// brdf_probe.comp: a batch of BRDF queries.
+struct BrdfProbePush {
+    uint query_count;
+};
+
 // One layer of one eye for this frame: the O(layers) numbers the CPU writes per frame, from
 // which plan.comp decides which lattice points are traced and resolve.comp composes the image.
 // Angles are radians from the gaze direction; directions are in the eye's view space.
@@ -336,6 +352,24 @@ struct GpuProbeHit {
     uint object; // TLAS object index (after BVH reordering) or NO_OBJECT
     uint primitive; // triangle index within TRIANGLES, or NO_PRIMITIVE
     uint overflow; // 1 when the traversal stack overflowed
+};
+
+// The BRDF probe (brdf_probe.comp): glTF's BRDF as the integrators sample and evaluate it, in
+// the frame where the surface normal is +z, for the sampling and reciprocity checks.
+struct GpuBrdfQuery {
+    vec4 wo; // xyz: the unit direction toward the viewer
+    vec4 wi; // xyz: a unit direction to evaluate f and the density at
+    vec4 u; // x: the lobe choice, yz: the direction's two uniform numbers (one sample)
+    uint material; // index into MATERIALS (MODEL_METALLIC_ROUGHNESS)
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+struct GpuBrdfAnswer {
+    vec4 sampled; // xyz: the direction sampled with u, w: its density (0: below the surface)
+    vec4 weight; // rgb: f cos / density of that sample (what a path's throughput is multiplied by)
+    vec4 value; // rgb: f(wo, wi) at the query's wi, w: the density of sampling wi
 };
 
 // ---- progressive accumulation and the viewer's debug views (accumulate.comp) ----------------

@@ -63,6 +63,11 @@ pub struct GpuMaterial {
     pub kd: [f32; 4],
     pub ks: [f32; 4],
     pub emission: [f32; 4],
+    pub base_color: [f32; 4],
+    pub metallic: f32,
+    pub roughness: f32,
+    pub model: u32,
+    pub pad0: u32,
 }
 
 #[repr(C)]
@@ -161,6 +166,13 @@ pub struct RaycastPush {
     pub probe_count: u32,
 }
 
+/// Push constants of brdf_probe.comp: a batch of BRDF queries.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct BrdfProbePush {
+    pub query_count: u32,
+}
+
 /// The largest push-constant struct: the size of the pipeline layout's one range.
 pub const PUSH_BYTES: usize = {
     let sizes = [
@@ -168,6 +180,7 @@ pub const PUSH_BYTES: usize = {
         std::mem::size_of::<DenoisePush>(),
         std::mem::size_of::<AccumulatePush>(),
         std::mem::size_of::<RaycastPush>(),
+        std::mem::size_of::<BrdfProbePush>(),
     ];
     let mut most = 0;
     let mut i = 0;
@@ -296,4 +309,26 @@ pub enum AccelObject {
     },
     /// A box or a sphere: the world bounds inside which the shader tests it.
     Bounds { min: [f32; 3], max: [f32; 3] },
+}
+
+/// A query of the BRDF probe (shared.h's GpuBrdfQuery).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuBrdfQuery {
+    pub wo: [f32; 4],
+    pub wi: [f32; 4],
+    pub u: [f32; 4],
+    pub material: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// The BRDF probe's answer to one query (shared.h's GpuBrdfAnswer).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuBrdfAnswer {
+    pub sampled: [f32; 4],
+    pub weight: [f32; 4],
+    pub value: [f32; 4],
 }

@@ -8,8 +8,10 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use fovea::scene::glb_write::{glb_bytes, write_glb};
-use fovea::scene::gltf_load::{load_gltf, material_from_metallic_roughness, mesh_from_glb_bytes};
-use fovea::scene::{Camera, Environment, Instance, Material, Mesh, Scene, SceneError};
+use fovea::scene::gltf_load::{load_gltf, mesh_from_glb_bytes};
+use fovea::scene::{
+    Camera, Environment, Instance, Material, Mesh, MetallicRoughness, Scene, SceneError,
+};
 use glam::{Mat4, Quat, Vec3};
 
 const ASPECT: f32 = 16.0 / 9.0;
@@ -182,11 +184,19 @@ fn round_trip_scene() -> Scene {
         indices: vec![[0, 1, 2], [0, 2, 3]],
         shading: Default::default(),
     };
+    let gltf = |base_color, metallic, roughness, emission| {
+        Material::MetallicRoughness(MetallicRoughness {
+            base_color,
+            metallic,
+            roughness,
+            emission,
+        })
+    };
     let materials = vec![
-        material_from_metallic_roughness(Vec3::new(0.8, 0.3, 0.2), 0.0, 0.5, Vec3::ZERO),
-        material_from_metallic_roughness(Vec3::new(0.9, 0.8, 0.5), 1.0, 0.0, Vec3::ZERO),
-        material_from_metallic_roughness(Vec3::splat(0.5), 0.0, 1.0, Vec3::new(5.0, 4.0, 3.0)),
-        material_from_metallic_roughness(
+        gltf(Vec3::new(0.8, 0.3, 0.2), 0.0, 0.5, Vec3::ZERO),
+        gltf(Vec3::new(0.9, 0.8, 0.5), 1.0, 0.0, Vec3::ZERO),
+        gltf(Vec3::splat(0.5), 0.0, 1.0, Vec3::new(5.0, 4.0, 3.0)),
+        gltf(
             Vec3::new(0.2, 0.6, 0.9),
             0.3,
             0.25,
@@ -250,34 +260,22 @@ fn round_trip_scene() -> Scene {
 }
 
 fn assert_material_close(loaded: &Material, original: &Material, what: &str) {
-    let close = |a: Vec3, b: Vec3| a.abs_diff_eq(b, 1e-3);
-    assert!(
-        close(loaded.kd, original.kd),
-        "{what}: kd {} vs {}",
-        loaded.kd,
-        original.kd
-    );
-    assert!(
-        close(loaded.ks, original.ks),
-        "{what}: ks {} vs {}",
-        loaded.ks,
-        original.ks
-    );
-    assert!(
-        close(loaded.emission, original.emission),
-        "{what}: emission {} vs {}",
-        loaded.emission,
-        original.emission
-    );
-    let alpha_ok = if original.alpha.is_infinite() {
-        loaded.alpha == original.alpha
-    } else {
-        (loaded.alpha - original.alpha).abs() <= 1e-3 * original.alpha.max(1.0)
+    let (Material::MetallicRoughness(l), Material::MetallicRoughness(o)) = (loaded, original)
+    else {
+        panic!("{what}: {loaded:?} and {original:?} are not both glTF materials");
     };
+    // Factors are written as JSON numbers and read back exactly; emission above 1 goes
+    // through a division by its peak (KHR_materials_emissive_strength) and back.
+    assert_eq!(l.base_color, o.base_color, "{what}");
+    let e_tol = 1e-6 * o.emission.max_element().max(1.0);
     assert!(
-        alpha_ok,
-        "{what}: alpha {} vs {}",
-        loaded.alpha, original.alpha
+        l.emission.abs_diff_eq(o.emission, e_tol),
+        "{what}: {l:?} vs {o:?}"
+    );
+    assert_eq!(
+        (l.metallic, l.roughness),
+        (o.metallic, o.roughness),
+        "{what}"
     );
 }
 
@@ -314,7 +312,7 @@ fn round_trip_preserves_geometry_materials_and_camera() {
     let emissive = loaded.materials[loaded.instances[1].material as usize];
     assert!(
         emissive
-            .emission
+            .emission()
             .abs_diff_eq(Vec3::new(5.0, 4.0, 3.0), 1e-3),
         "emission above 1 survives"
     );
@@ -516,8 +514,16 @@ fn shared_mesh_is_one_mesh_with_several_instances() {
         .instances
         .iter()
         .all(|i| i.mesh == 0 && i.material == 0));
-    // No material in the file: the default diffuse grey.
-    assert_eq!(scene.materials, vec![Material::diffuse(Vec3::splat(0.8))]);
+    // No material in the file: glTF's default material (every property at its default).
+    assert_eq!(
+        scene.materials,
+        vec![Material::MetallicRoughness(MetallicRoughness {
+            base_color: Vec3::ONE,
+            metallic: 1.0,
+            roughness: 1.0,
+            emission: Vec3::ZERO,
+        })]
+    );
     // No camera in the file: the bounding box is framed and in front of the camera.
     let (min, max) = (Vec3::ZERO, Vec3::new(4.0, 2.0, 0.0));
     let to_centre = (0.5 * (min + max) - scene.camera.position).normalize();

@@ -99,7 +99,19 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             pad2
         }
     );
-    check!(s, GpuMaterial { kd, ks, emission });
+    check!(
+        s,
+        GpuMaterial {
+            kd,
+            ks,
+            emission,
+            base_color,
+            metallic,
+            roughness,
+            model,
+            pad0
+        }
+    );
     check!(
         s,
         GpuEmitter {
@@ -180,6 +192,27 @@ fn rust_mirrors_match_shared_h_std430_layout() {
         }
     );
     check!(s, RaycastPush { probe_count });
+    check!(s, BrdfProbePush { query_count });
+    check!(
+        s,
+        GpuBrdfQuery {
+            wo,
+            wi,
+            u,
+            material,
+            pad0,
+            pad1,
+            pad2
+        }
+    );
+    check!(
+        s,
+        GpuBrdfAnswer {
+            sampled,
+            weight,
+            value
+        }
+    );
     check!(
         s,
         GpuLayer {
@@ -235,7 +268,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        16,
+        19,
         "shared.h has a struct this test does not check: add it"
     );
     for (name, size) in [
@@ -243,6 +276,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
         ("DenoisePush", size_of::<DenoisePush>()),
         ("AccumulatePush", size_of::<AccumulatePush>()),
         ("RaycastPush", size_of::<RaycastPush>()),
+        ("BrdfProbePush", size_of::<BrdfProbePush>()),
     ] {
         assert!(
             size <= 128,

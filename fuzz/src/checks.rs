@@ -4,7 +4,7 @@
 //! finite materials and transforms, and survives the GPU layout; a refusal names the input.
 
 use fovea::scene::gpu_layout::GpuScene;
-use fovea::scene::{Mesh, Scene, SceneError};
+use fovea::scene::{Material, Mesh, Scene, SceneError};
 
 /// The properties of a scene the loader accepted; `Err` says which one failed.
 pub fn check_scene(scene: &Scene) -> Result<(), String> {
@@ -30,10 +30,22 @@ pub fn check_scene(scene: &Scene) -> Result<(), String> {
     }
     for (k, m) in scene.materials.iter().enumerate() {
         // α = ∞ is a perfect mirror; everything else must be a finite, non-negative number.
-        let colours_ok = [m.kd, m.ks, m.emission]
+        let (colours, alpha_ok) = match m {
+            Material::Thesis(t) => (
+                vec![t.kd, t.ks, t.emission],
+                !t.alpha.is_nan() && t.alpha >= 0.0,
+            ),
+            Material::MetallicRoughness(g) => (
+                vec![g.base_color, g.emission],
+                [g.metallic, g.roughness]
+                    .iter()
+                    .all(|x| (0.0..=1.0).contains(x)),
+            ),
+        };
+        let colours_ok = colours
             .iter()
             .all(|c| c.is_finite() && c.min_element() >= 0.0);
-        if !colours_ok || m.alpha.is_nan() || m.alpha < 0.0 {
+        if !colours_ok || !alpha_ok {
             return Err(format!("material {k} is not finite: {m:?}"));
         }
     }

@@ -22,23 +22,13 @@ pub fn furnace_materials() -> Vec<(String, Material)> {
     for alpha in [0.0, 1.0, 10.0, 100.0, 1e3, 1e4, 1e6, f32::INFINITY] {
         out.push((
             format!("phong ks=1 alpha={alpha:e}"),
-            Material {
-                kd: Vec3::ZERO,
-                ks: Vec3::ONE,
-                alpha,
-                emission: Vec3::ZERO,
-            },
+            Material::phong(Vec3::ZERO, Vec3::ONE, alpha, Vec3::ZERO),
         ));
     }
     for alpha in [0.0, 20.0, 1e6, f32::INFINITY] {
         out.push((
             format!("kd=ks=0.5 alpha={alpha:e}"),
-            Material {
-                kd: Vec3::splat(0.5),
-                ks: Vec3::splat(0.5),
-                alpha,
-                emission: Vec3::ZERO,
-            },
+            Material::phong(Vec3::splat(0.5), Vec3::splat(0.5), alpha, Vec3::ZERO),
         ));
     }
     out
@@ -90,7 +80,7 @@ fn degenerate_triangles() -> Mesh {
 
 /// A furnace scene: the object at the origin seen from 3 units, filling ~40% of the image, so
 /// both face-on and grazing views of the surface are in the picture.
-fn furnace_scene(material: Material, triangles: bool) -> Scene {
+pub(super) fn furnace_scene(material: Material, triangles: bool) -> Scene {
     let mut scene = Scene {
         name: "white-furnace".into(),
         meshes: vec![],
@@ -132,7 +122,7 @@ fn furnace_scene(material: Material, triangles: bool) -> Scene {
 
 /// The pixels that show the object: those whose camera ray through the pixel centre hits the
 /// unit sphere (the icosphere is inscribed in it; its few rim pixels that see the sky read 1).
-fn object_mask(camera: &Camera, size: u32) -> Vec<bool> {
+pub(super) fn object_mask(camera: &Camera, size: u32) -> Vec<bool> {
     let (r, u, f) = camera.basis();
     let (l, rt) = (camera.angle_left.tan(), camera.angle_right.tan());
     let (up, dn) = (camera.angle_up.tan(), camera.angle_down.tan());
@@ -149,6 +139,21 @@ fn object_mask(camera: &Camera, size: u32) -> Vec<bool> {
         }
     }
     mask
+}
+
+/// The mean over the masked pixels of an RGB image (channels averaged), and its standard error
+/// from the pixels' spread.
+pub(super) fn masked_mean(rgb: &[f32], mask: &[bool]) -> (f64, f64) {
+    let values: Vec<f64> = rgb
+        .chunks_exact(3)
+        .zip(mask)
+        .filter(|(_, &m)| m)
+        .map(|(p, _)| p.iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+        .collect();
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, (var / n).sqrt())
 }
 
 /// Every furnace material on both shapes with both integrators.
@@ -173,22 +178,13 @@ pub fn white_furnace(
                     max_bounces: 8,
                 };
                 let frame = regular_frame(&mut renderer, &scene.camera, &settings)?;
-                let values: Vec<f64> = frame
-                    .rgb
-                    .chunks_exact(3)
-                    .zip(&mask)
-                    .filter(|(_, &m)| m)
-                    .map(|(p, _)| p.iter().map(|&v| v as f64).sum::<f64>() / 3.0)
-                    .collect();
-                let n = values.len().max(1) as f64;
-                let mean = values.iter().sum::<f64>() / n;
-                let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                let (mean, std_error) = masked_mean(&frame.rgb, &mask);
                 out.push(FurnaceResult {
                     material: name.clone(),
                     shape: if triangles { "icosphere" } else { "sphere" },
                     integrator,
                     mean,
-                    std_error: (var / n).sqrt(),
+                    std_error,
                     max_pixel: frame.rgb.iter().fold(0.0f64, |a, &v| a.max(v as f64)),
                     nonfinite_samples: frame.stats.nonfinite_samples,
                     stack_overflows: frame.stats.stack_overflows,
@@ -237,7 +233,7 @@ pub fn emission_scaling(
     for &factor in factors {
         let mut bright = scene.clone();
         for m in &mut bright.materials {
-            m.emission *= factor;
+            *m.emission_mut() *= factor;
         }
         let frame = regular_frame(&mut Renderer::new(ctx, &bright)?, &bright.camera, &settings)?;
         out.push(EmissionScaling {

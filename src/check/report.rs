@@ -2,6 +2,7 @@
 //! the totals that must be zero, and the failures judged against the tolerances stated here.
 
 use super::convergence::Convergence;
+use super::gltf_furnace::GltfFurnaceResult;
 use super::materials::{EmissionScaling, FurnaceResult};
 use super::scale::{Lighting, PlaneRadiance, ScaledScene};
 use super::watertight::MeshWatertightness;
@@ -15,6 +16,9 @@ pub const SCALED_MEAN_TOLERANCE: f64 = 0.01;
 pub const SCALED_RMSE_OVER_NOISE: f64 = 0.5;
 /// Standard errors the furnace mean may lie above 1 before it counts as creating energy.
 pub const FURNACE_SIGMAS: f64 = 4.0;
+/// A glTF furnace mean may miss the CPU's prediction by FURNACE_SIGMAS standard errors plus
+/// this share of it (the albedo quadrature and pixel centres standing in for pixels).
+pub const GLTF_FURNACE_TOLERANCE: f64 = 0.005;
 /// Relative deviation from linearity of an image under scaled emission.
 pub const EMISSION_TOLERANCE: f64 = 1e-3;
 /// Error against spp must fall as spp^(−1/2) within this.
@@ -27,6 +31,7 @@ pub struct CheckReport {
     pub plane: Vec<PlaneRadiance>,
     pub scaled: Vec<ScaledScene>,
     pub furnace: Vec<FurnaceResult>,
+    pub gltf_furnace: Vec<GltfFurnaceResult>,
     pub emission: Vec<EmissionScaling>,
     pub convergence: Vec<Convergence>,
 }
@@ -64,6 +69,9 @@ impl CheckReport {
             c.nonfinite_pixels += f.nonfinite_pixels;
             c.stack_overflows += f.stack_overflows;
         }
+        for g in &self.gltf_furnace {
+            c.nonfinite_samples += g.nonfinite_samples;
+        }
         for e in &self.emission {
             c.nonfinite_samples += e.nonfinite_samples;
             c.nonfinite_pixels += e.nonfinite_pixels;
@@ -73,6 +81,22 @@ impl CheckReport {
             c.stack_overflows += v.stack_overflows;
         }
         c
+    }
+
+    /// The glTF furnace results off the CPU's prediction.
+    fn gltf_furnace_failures(&self) -> Vec<String> {
+        let off = |g: &GltfFurnaceResult| {
+            (g.mean - g.expected).abs()
+                > FURNACE_SIGMAS * g.std_error + GLTF_FURNACE_TOLERANCE * g.expected
+        };
+        (self.gltf_furnace.iter().filter(|g| off(g)))
+            .map(|g| {
+                format!(
+                    "white furnace {} ({:?}) reflects {:.4} ± {:.4}, the CPU reference {:.4}",
+                    g.material, g.integrator, g.mean, g.std_error, g.expected
+                )
+            })
+            .collect()
     }
 
     /// Every measurement outside its tolerance, one line each; empty when all passed.
@@ -117,6 +141,7 @@ impl CheckReport {
                 ));
             }
         }
+        out.extend(self.gltf_furnace_failures());
         for e in &self.emission {
             if (e.ratio - 1.0).abs() > EMISSION_TOLERANCE {
                 out.push(format!(
@@ -211,6 +236,22 @@ impl CheckReport {
                     f.mean,
                     f.std_error,
                     f.max_pixel
+                ));
+            }
+        }
+        if !self.gltf_furnace.is_empty() {
+            out.push(
+                "white furnace, glTF's BRDF (mean over the object against the CPU's albedo):"
+                    .into(),
+            );
+            for g in &self.gltf_furnace {
+                out.push(format!(
+                    "  {:<38} {:<4}  {:.4} ± {:.4}  expected {:.4}",
+                    g.material,
+                    format!("{:?}", g.integrator),
+                    g.mean,
+                    g.std_error,
+                    g.expected
                 ));
             }
         }

@@ -8,7 +8,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use fovea::check::convergence::{self, ConvergenceOptions};
 use fovea::check::report::CheckReport;
-use fovea::check::{materials, scale, watertight};
+use fovea::check::{gltf_furnace, materials, scale, watertight};
 use fovea::gpu::GpuContext;
 use fovea::render::{RenderSettings, Traversal};
 use fovea::scene::{self, builtin::builtin};
@@ -166,8 +166,9 @@ fn furnace_section(
     report: &mut CheckReport,
 ) -> Result<()> {
     let t = Instant::now();
-    eprintln!("furnace: every material extreme in a white furnace...");
+    eprintln!("furnace: every material extreme, and glTF's BRDF, in a white furnace...");
     report.furnace = materials::white_furnace(ctx, args.size, args.spp)?;
+    report.gltf_furnace = gltf_furnace::gltf_furnace(ctx, args.size, args.spp)?;
     section_done(args, "furnace", report, t)
 }
 

@@ -2,6 +2,7 @@
 
 pub const TRACE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace.spv"));
 pub const RAYCAST: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/raycast.spv"));
+pub const BRDF_PROBE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/brdf_probe.spv"));
 /// trace and raycast with ray queries in place of the software traversal (build.rs).
 pub const TRACE_RQ: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/trace_rq.spv"));
 /// trace (software, ray query) also writing each lattice point's surface (LATTICE_SURFACE),

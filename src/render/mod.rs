@@ -1,6 +1,7 @@
 //! The frame: scene upload, per-eye planning, the passes in order, timing and read-back.
 
 pub mod accumulate;
+mod brdf_probe;
 #[cfg(any(test, feature = "test-hooks"))]
 mod compose;
 mod counters;
@@ -24,6 +25,7 @@ mod targets;
 mod version;
 mod visibility;
 
+pub use brdf_probe::MAX_BRDF_QUERIES;
 #[cfg(any(test, feature = "test-hooks"))]
 pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};

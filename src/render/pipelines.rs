@@ -1,6 +1,7 @@
 //! The renderer's compute pipelines, made on first use: the trace specialised per scene,
 //! integrator, depth and traversal (and whether it profiles or keeps surfaces for the
-//! history), the other frame passes once each, and the ray-cast probe per traversal.
+//! history), the other frame passes once each, the ray-cast probe per traversal and the BRDF
+//! probe.
 
 use super::passes::FramePipelines;
 use super::settings::{RenderSettings, Traversal};
@@ -76,6 +77,7 @@ pub struct Pipelines {
     trace: HashMap<TraceKey, ComputePipeline>,
     fixed: HashMap<Fixed, ComputePipeline>,
     raycast: HashMap<Traversal, ComputePipeline>,
+    brdf_probe: Option<ComputePipeline>,
     features: SceneFeatures,
     /// Every pipeline's layout (one descriptor-set layout for all of shared.h's bindings).
     pub layout: PipelineLayout,
@@ -88,6 +90,7 @@ impl Pipelines {
             trace: HashMap::new(),
             fixed: HashMap::new(),
             raycast: HashMap::new(),
+            brdf_probe: None,
             features,
             layout: PipelineLayout::new(ctx)?,
             ctx: ctx.clone(),
@@ -104,6 +107,7 @@ impl Pipelines {
             (SPEC_HAS_SPECULAR, f.specular as u32),
             (SPEC_HAS_EMITTERS, f.emitters as u32),
             (SPEC_HAS_SHADING, f.shading as u32),
+            (SPEC_HAS_METALLIC_ROUGHNESS, f.metallic_roughness as u32),
             (SPEC_MAX_BOUNCES, max_bounces),
             (SPEC_INTEGRATOR, integrator),
         ]
@@ -175,5 +179,17 @@ impl Pipelines {
     /// The ray-cast probe's pipeline for `traversal` (made by `ensure_raycast`).
     pub fn raycast(&self, traversal: Traversal) -> &ComputePipeline {
         &self.raycast[&traversal]
+    }
+
+    /// Makes the BRDF probe's pipeline, and gives it with the layout.
+    pub fn brdf_probe(&mut self) -> Result<(&PipelineLayout, &ComputePipeline), RenderError> {
+        if self.brdf_probe.is_none() {
+            let spec = self.specialization(INTEGRATOR_PT, 0);
+            let spirv = shaders::BRDF_PROBE;
+            let p = ComputePipeline::new(&self.ctx, &self.layout, "brdf probe", spirv, &spec)?;
+            self.brdf_probe = Some(p);
+        }
+        let pipeline = self.brdf_probe.as_ref().expect("made above");
+        Ok((&self.layout, pipeline))
     }
 }

@@ -92,6 +92,13 @@ impl SceneBuffers {
     }
 }
 
+impl SceneBuffers {
+    /// Declares that `pass` reads the scene's materials (and nothing else of it).
+    pub fn declare_materials<'g, 'a, 'r>(&'r self, pass: Pass<'g, 'a, 'r>) -> Pass<'g, 'a, 'r> {
+        pass.reads(BINDING_MATERIALS, &self.materials)
+    }
+}
+
 /// Every allocation [`SceneBuffers::upload`] and the renderer make for a scene, for the
 /// memory check before them.
 fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {

@@ -121,12 +121,12 @@ fn bunny_scene(name: &str, mesh: Mesh, aspect: f32) -> Scene {
         spheres: Vec::new(),
         materials: vec![
             Material::diffuse(Vec3::splat(0.5)),
-            Material {
-                kd: Vec3::new(0.75, 0.62, 0.58),
-                ks: Vec3::splat(0.1),
-                alpha: 40.0,
-                emission: Vec3::ZERO,
-            },
+            Material::phong(
+                Vec3::new(0.75, 0.62, 0.58),
+                Vec3::splat(0.1),
+                40.0,
+                Vec3::ZERO,
+            ),
         ],
         camera: Camera::look_at(eye, target, Vec3::Y, BUNNY_FOV_Y_DEG, aspect),
         environment: Environment::sky(),
@@ -168,12 +168,12 @@ pub fn cubes_441(aspect: f32) -> Scene {
     let mut materials = vec![Material::diffuse(Vec3::splat(0.5))];
     for colour in palette {
         materials.push(Material::diffuse(colour));
-        materials.push(Material {
-            kd: 0.7 * colour,
-            ks: Vec3::splat(0.25),
-            alpha: 60.0,
-            emission: Vec3::ZERO,
-        });
+        materials.push(Material::phong(
+            0.7 * colour,
+            Vec3::splat(0.25),
+            60.0,
+            Vec3::ZERO,
+        ));
     }
 
     let half = (CUBES_PER_SIDE - 1) as f32 * 0.5;
@@ -253,17 +253,19 @@ pub fn mirror_room(aspect: f32) -> Scene {
         },
     ];
     let materials = vec![
-        Material {
-            emission: Vec3::splat(0.05),
-            ..Material::mirror(Vec3::splat(0.9))
-        },
+        Material::phong(
+            Vec3::ZERO,
+            Vec3::splat(0.9),
+            f32::INFINITY,
+            Vec3::splat(0.05),
+        ),
         Material::diffuse(Vec3::new(0.8, 0.3, 0.2)),
-        Material {
-            kd: Vec3::new(0.1, 0.2, 0.4),
-            ks: Vec3::splat(0.6),
-            alpha: 200.0,
-            emission: Vec3::ZERO,
-        },
+        Material::phong(
+            Vec3::new(0.1, 0.2, 0.4),
+            Vec3::splat(0.6),
+            200.0,
+            Vec3::ZERO,
+        ),
         Material::diffuse(Vec3::new(0.3, 0.6, 0.3)),
     ];
     let spheres = vec![

@@ -1,7 +1,7 @@
 //! What a scene needs from the shaders. Each flag becomes a specialization constant, so the
 //! driver compiles away the intersection and shading paths a scene never uses.
 
-use super::Scene;
+use super::{Material, Scene};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SceneFeatures {
@@ -14,6 +14,8 @@ pub struct SceneFeatures {
     pub emitters: bool,
     /// Any instanced mesh with shading normals or texture coordinates.
     pub shading: bool,
+    /// Any glTF metallic-roughness material (the built-in scenes have none).
+    pub metallic_roughness: bool,
 }
 
 impl SceneFeatures {
@@ -26,10 +28,11 @@ impl SceneFeatures {
             .chain(scene.boxes.iter().map(|b| b.material))
             .chain(scene.spheres.iter().map(|s| s.material))
             .filter_map(used);
-        let (mut specular, mut emitters) = (false, false);
+        let (mut specular, mut emitters, mut metallic_roughness) = (false, false, false);
         for m in materials {
             specular |= m.is_specular();
             emitters |= m.is_emissive();
+            metallic_roughness |= matches!(m, Material::MetallicRoughness(_));
         }
         let shading = (scene.instances.iter())
             .filter_map(|i| scene.meshes.get(i.mesh as usize))
@@ -41,6 +44,7 @@ impl SceneFeatures {
             spheres: !scene.spheres.is_empty(),
             specular,
             emitters,
+            metallic_roughness,
         }
     }
 
@@ -53,6 +57,7 @@ impl SceneFeatures {
             (self.specular, "specular"),
             (self.emitters, "emitters"),
             (self.shading, "smooth/uv"),
+            (self.metallic_roughness, "metallic-roughness"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

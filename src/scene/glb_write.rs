@@ -12,19 +12,11 @@
 //! this loader reads them, but strict glTF readers expect TRS-decomposable matrices (a warning
 //! says so).
 //!
-//! # Material mapping (inverse of [`super::gltf_load::material_from_metallic_roughness`])
+//! # Materials
 //!
-//! The loader maps `(base, m, r)` to `k_s = 0.04(1−m) + m·base`, `k_d = 0.96(1−m)·base`,
-//! `α(r)`. Here `m` is solved from the channel means: with `U = mean(k_d)/0.96` and
-//! `K = mean(k_s)`, `K = 0.04(1−m) + U·m/(1−m)` has exactly one root in `(0, 1)` when
-//! `K > 0.04` (the right side is convex and 0.04 at `m = 0`), found by bisection; then
-//! `base = k_d / (0.96(1−m))`. `K ≤ 0.04` gives a dielectric (`m = 0`), `k_d = 0` a metal
-//! (`m = 1`, `base = k_s`). This is exact (up to rounding) for every material the loader
-//! produces; other materials are approximated: a pure Lambertian (`k_s = 0`) comes back with
-//! `k_s = 0.04`, coloured specular on a diffuse base comes back with the mean metalness, and a
-//! mirror that also has a diffuse part comes back with `α = 10⁶` instead of `∞`.
-//! Emission is written as `emissiveFactor`, with `KHR_materials_emissive_strength` carrying
-//! the maximum component when it exceeds 1.
+//! glTF materials are written as they are; thesis materials as the nearest metallic-roughness
+//! material ([`super::gltf_from_thesis`]). Emission is written as `emissiveFactor`, with
+//! `KHR_materials_emissive_strength` carrying the maximum component when it exceeds 1.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -32,7 +24,7 @@ use std::path::Path;
 use glam::{Mat3, Quat, Vec3, Vec4};
 use serde_json::{json, Value};
 
-use super::gltf_load::{roughness_from_phong_alpha, DIELECTRIC_F0};
+use super::gltf_from_thesis::metallic_roughness_from_thesis;
 use super::{Camera, Material, Scene, SceneError};
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -314,58 +306,20 @@ fn is_trs_decomposable(m: &glam::Mat4) -> bool {
     m.row(3).abs_diff_eq(Vec4::W, 1e-6) && orthogonal(a, b) && orthogonal(b, c) && orthogonal(a, c)
 }
 
-/// Base colour, metallic and roughness for a material (see the module docs).
-pub fn metallic_roughness_from_material(m: &Material) -> (Vec3, f32, f32) {
-    let one_minus_f0 = 1.0 - DIELECTRIC_F0;
-    let u = m.kd.element_sum() / 3.0 / one_minus_f0;
-    let k = m.ks.element_sum() / 3.0;
-    let metallic = if k <= DIELECTRIC_F0 + 1e-6 {
-        0.0
-    } else if u <= 1e-7 {
-        1.0
-    } else {
-        // f(m) = F0(1−m) + U·m/(1−m) − K is convex with f(0) < 0 and f → ∞ as m → 1.
-        let f = |m: f64| DIELECTRIC_F0 as f64 * (1.0 - m) + u as f64 * m / (1.0 - m) - k as f64;
-        let (mut lo, mut hi) = (0.0f64, 1.0 - 1e-9);
-        if f(hi) <= 0.0 {
-            lo = hi;
-        }
-        for _ in 0..100 {
-            let mid = 0.5 * (lo + hi);
-            if f(mid) > 0.0 {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        (0.5 * (lo + hi)) as f32
-    };
-    let base = if metallic >= 1.0 {
-        m.ks
-    } else {
-        m.kd / (one_minus_f0 * (1.0 - metallic))
-    }
-    .clamp(Vec3::ZERO, Vec3::ONE);
-    let roughness = if m.alpha == f32::INFINITY {
-        0.0
-    } else {
-        roughness_from_phong_alpha(m.alpha)
-    };
-    (base, metallic, roughness)
-}
-
 /// A glTF material object; the flag says whether it uses KHR_materials_emissive_strength.
 fn material_json(index: usize, m: &Material) -> Result<(Value, bool), String> {
-    let finite =
-        m.kd.is_finite() && m.ks.is_finite() && m.emission.is_finite() && !m.alpha.is_nan();
-    if !finite
-        || m.kd.min_element() < 0.0
-        || m.ks.min_element() < 0.0
+    let m = match m {
+        Material::Thesis(m) => metallic_roughness_from_thesis(m),
+        Material::MetallicRoughness(m) => *m,
+    };
+    let (base, metallic, roughness) = (m.base_color, m.metallic, m.roughness);
+    let values = [base.x, base.y, base.z, metallic, roughness];
+    if !m.emission.is_finite()
         || m.emission.min_element() < 0.0
+        || values.iter().any(|v| !v.is_finite() || *v < 0.0)
     {
         return Err("has a negative or non-finite value".into());
     }
-    let (base, metallic, roughness) = metallic_roughness_from_material(m);
     let mut value = json!({
         "name": format!("material {index}"),
         "pbrMetallicRoughness": {

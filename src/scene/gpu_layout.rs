@@ -2,7 +2,7 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
-use super::{Mesh, Scene, SceneError, SceneFeatures};
+use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
 use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -114,6 +114,28 @@ fn specular_probability(kd: Vec3, ks: Vec3) -> f32 {
     }
 }
 
+/// A material as the shaders read it (shared.h's GpuMaterial): the fields of its model, the
+/// others zero.
+fn gpu_material(m: &Material) -> GpuMaterial {
+    match m {
+        Material::Thesis(m) => GpuMaterial {
+            kd: v4(m.kd, m.alpha),
+            ks: v4(m.ks, specular_probability(m.kd, m.ks)),
+            emission: v4(m.emission, 0.0),
+            model: MODEL_THESIS,
+            ..Default::default()
+        },
+        Material::MetallicRoughness(m) => GpuMaterial {
+            emission: v4(m.emission, 0.0),
+            base_color: v4(m.base_color, 1.0),
+            metallic: m.metallic,
+            roughness: m.roughness,
+            model: MODEL_METALLIC_ROUGHNESS,
+            ..Default::default()
+        },
+    }
+}
+
 impl GpuScene {
     pub fn build(scene: &Scene) -> Result<Self, SceneError> {
         super::validate::validate(scene)?;
@@ -121,15 +143,7 @@ impl GpuScene {
             scene: scene.name.clone(),
             problem,
         };
-        let materials: Vec<GpuMaterial> = scene
-            .materials
-            .iter()
-            .map(|m| GpuMaterial {
-                kd: v4(m.kd, m.alpha),
-                ks: v4(m.ks, specular_probability(m.kd, m.ks)),
-                emission: v4(m.emission, 0.0),
-            })
-            .collect();
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
         let check_material = |m: u32, what: &str| {
             if (m as usize) < materials.len() {
                 Ok(())
@@ -415,7 +429,7 @@ fn collect_emitters(
             continue;
         }
         ob.emitter = emitters.len() as u32;
-        let emission = |area: f32| v4(m.emission, area);
+        let emission = |area: f32| v4(m.emission(), area);
         match ob.kind {
             KIND_INSTANCE => {
                 let to_world = Mat4::from_cols_array_2d(&[

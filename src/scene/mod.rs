@@ -8,6 +8,7 @@ mod error;
 mod features;
 pub mod fingerprint;
 pub mod glb_write;
+pub mod gltf_from_thesis;
 pub mod gltf_load;
 pub mod gpu_layout;
 pub mod types;

@@ -3,10 +3,19 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
+/// How a surface reflects and emits light: the thesis' model, which the built-in scenes keep
+/// so its results stay reproducible, or glTF 2.0's metallic-roughness model, which every glTF
+/// file's materials become.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    Thesis(ThesisMaterial),
+    MetallicRoughness(MetallicRoughness),
+}
+
 /// A material of the thesis' BRDF (eqs. 3.7–3.8): Lambert `k_d / π` plus modified Phong
 /// `k_s (α+2)/(2π) cos^α θ_r`. `alpha == f32::INFINITY` is a perfect mirror.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
+pub struct ThesisMaterial {
     pub kd: Vec3,
     pub ks: Vec3,
     /// Phong exponent α ≥ 0; `f32::INFINITY` means a perfect mirror.
@@ -16,36 +25,91 @@ pub struct Material {
     pub emission: Vec3,
 }
 
+/// glTF 2.0's metallic-roughness material (the specification's Appendix B): a GGX specular
+/// lobe over a Lambertian base for dielectrics, coloured specular for metals, mixed by
+/// `metallic`. Factors are in `[0, 1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetallicRoughness {
+    /// `baseColorFactor`'s RGB, linear.
+    pub base_color: Vec3,
+    pub metallic: f32,
+    /// Perceptual roughness; the GGX width is its square.
+    pub roughness: f32,
+    /// Emitted radiance: `emissiveFactor × KHR_materials_emissive_strength`.
+    pub emission: Vec3,
+}
+
+impl MetallicRoughness {
+    /// glTF's default material (every property at its default): white, metallic 1, roughness 1.
+    pub const GLTF_DEFAULT: Self = Self {
+        base_color: Vec3::ONE,
+        metallic: 1.0,
+        roughness: 1.0,
+        emission: Vec3::ZERO,
+    };
+}
+
 impl Material {
     pub fn diffuse(kd: Vec3) -> Self {
-        Self {
+        Self::Thesis(ThesisMaterial {
             kd,
             ks: Vec3::ZERO,
             alpha: 1.0,
             emission: Vec3::ZERO,
-        }
+        })
     }
     pub fn mirror(ks: Vec3) -> Self {
-        Self {
+        Self::Thesis(ThesisMaterial {
             kd: Vec3::ZERO,
             ks,
             alpha: f32::INFINITY,
             emission: Vec3::ZERO,
-        }
+        })
     }
     pub fn emitter(kd: Vec3, emission: Vec3) -> Self {
-        Self {
+        Self::Thesis(ThesisMaterial {
             kd,
             ks: Vec3::ZERO,
             alpha: 1.0,
             emission,
+        })
+    }
+    /// A thesis material with every field given.
+    pub fn phong(kd: Vec3, ks: Vec3, alpha: f32, emission: Vec3) -> Self {
+        Self::Thesis(ThesisMaterial {
+            kd,
+            ks,
+            alpha,
+            emission,
+        })
+    }
+    /// Emitted radiance, whatever the model.
+    pub fn emission(&self) -> Vec3 {
+        match self {
+            Self::Thesis(m) => m.emission,
+            Self::MetallicRoughness(m) => m.emission,
+        }
+    }
+    /// The emitted radiance, to scale it (the emission checks).
+    pub fn emission_mut(&mut self) -> &mut Vec3 {
+        match self {
+            Self::Thesis(m) => &mut m.emission,
+            Self::MetallicRoughness(m) => &mut m.emission,
         }
     }
     pub fn is_emissive(&self) -> bool {
-        self.emission.max_element() > 0.0
+        self.emission().max_element() > 0.0
     }
+    /// A thesis material with a Phong or mirror lobe (SPEC_HAS_SPECULAR).
     pub fn is_specular(&self) -> bool {
-        self.ks.max_element() > 0.0
+        matches!(self, Self::Thesis(m) if m.ks.max_element() > 0.0)
+    }
+    /// The thesis fields, for a thesis material.
+    pub fn thesis(&self) -> Option<&ThesisMaterial> {
+        match self {
+            Self::Thesis(m) => Some(m),
+            Self::MetallicRoughness(_) => None,
+        }
     }
 }
 

@@ -3,8 +3,11 @@
 //! overflow 32-bit floats. The glTF loader already produces such scenes; this catches scenes
 //! built in code and says what to change.
 
-use super::gltf_load::MAX_PHONG_ALPHA;
-use super::{Material, Scene, SceneError};
+use super::{Material, MetallicRoughness, Scene, SceneError, ThesisMaterial};
+use glam::Vec3;
+
+/// Largest finite Phong exponent accepted; sharper lobes are mirrors in practice (α = ∞).
+pub const MAX_PHONG_ALPHA: f32 = 1e6;
 
 /// Largest emitted radiance accepted. A path multiplies emission by a throughput of at most a
 /// few and divides by light-sampling densities that can reach ~1e6 for small, distant lights:
@@ -75,16 +78,31 @@ pub fn validate(scene: &Scene) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// The material rules. k_d + k_s > 1 is rejected rather than clamped: the Lambert and Phong
-/// lobes would then reflect more than they receive (a white furnace would glow), and a silent
-/// clamp would render a different material from the one asked for.
+/// The material rules, for either model; emission is checked the same way for both.
 fn check_material(m: &Material) -> Result<(), String> {
+    match m {
+        Material::Thesis(m) => check_thesis(m)?,
+        Material::MetallicRoughness(m) => check_metallic_roughness(m)?,
+    }
+    let emission = m.emission();
+    if !(emission.is_finite()
+        && emission.min_element() >= 0.0
+        && emission.max_element() <= MAX_EMISSION)
+    {
+        return Err(format!(
+            "emission {emission} must be finite, ≥ 0 and ≤ {MAX_EMISSION:e} (radiance beyond that \
+             overflows 32-bit floats); scale the emission and the exposure down together"
+        ));
+    }
+    Ok(())
+}
+
+/// k_d + k_s > 1 is rejected rather than clamped: the Lambert and Phong lobes would then
+/// reflect more than they receive (a white furnace would glow), and a silent clamp would
+/// render a different material from the one asked for.
+fn check_thesis(m: &ThesisMaterial) -> Result<(), String> {
     for (what, v) in [("k_d", m.kd), ("k_s", m.ks)] {
-        if !(v.is_finite() && v.min_element() >= 0.0 && v.max_element() <= 1.0) {
-            return Err(format!(
-                "{what} = {v} must be between 0 and 1 in every channel"
-            ));
-        }
+        check_unit(what, v)?;
     }
     let sum = m.kd + m.ks;
     if sum.max_element() > 1.0 {
@@ -100,17 +118,24 @@ fn check_material(m: &Material) -> Result<(), String> {
             m.alpha
         ));
     }
-    if !(m.emission.is_finite()
-        && m.emission.min_element() >= 0.0
-        && m.emission.max_element() <= MAX_EMISSION)
-    {
-        return Err(format!(
-            "emission {} must be finite, ≥ 0 and ≤ {MAX_EMISSION:e} (radiance beyond that \
-             overflows 32-bit floats); scale the emission and the exposure down together",
-            m.emission
-        ));
-    }
     Ok(())
+}
+
+/// glTF's factors are in [0, 1] (its schema says so); outside it the BRDF creates energy.
+fn check_metallic_roughness(m: &MetallicRoughness) -> Result<(), String> {
+    check_unit("base colour", m.base_color)?;
+    check_unit("metallic", Vec3::splat(m.metallic))?;
+    check_unit("roughness", Vec3::splat(m.roughness))
+}
+
+fn check_unit(what: &str, v: Vec3) -> Result<(), String> {
+    if v.is_finite() && v.min_element() >= 0.0 && v.max_element() <= 1.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} = {v} must be between 0 and 1 in every channel"
+        ))
+    }
 }
 
 #[cfg(test)]
@@ -133,25 +158,40 @@ mod tests {
     #[test]
     fn materials_at_the_limits_are_accepted() {
         for alpha in [0.0, 1.0, 1e6, f32::INFINITY] {
-            let m = Material {
-                kd: Vec3::splat(0.5),
-                ks: Vec3::splat(0.5),
+            let m = Material::phong(
+                Vec3::splat(0.5),
+                Vec3::splat(0.5),
                 alpha,
+                Vec3::splat(MAX_EMISSION),
+            );
+            check_material(&m).unwrap();
+        }
+        for (base, metallic, roughness) in [(0.0, 0.0, 0.0), (1.0, 1.0, 1.0)] {
+            let m = Material::MetallicRoughness(MetallicRoughness {
+                base_color: Vec3::splat(base),
+                metallic,
+                roughness,
                 emission: Vec3::splat(MAX_EMISSION),
-            };
+            });
             check_material(&m).unwrap();
         }
     }
 
     #[test]
     fn materials_that_create_energy_or_overflow_are_rejected_with_the_reason() {
-        let base = Material::diffuse(Vec3::splat(0.5));
+        let base = ThesisMaterial {
+            kd: Vec3::splat(0.5),
+            ks: Vec3::ZERO,
+            alpha: 1.0,
+            emission: Vec3::ZERO,
+        };
+        let thesis = |m: ThesisMaterial| Material::Thesis(m);
         let cases = [
             (
-                Material {
+                thesis(ThesisMaterial {
                     ks: Vec3::new(0.6, 0.1, 0.1),
                     ..base
-                },
+                }),
                 "exceeds 1",
             ),
             (
@@ -164,18 +204,18 @@ mod tests {
             ),
             (Material::diffuse(Vec3::new(f32::NAN, 0.5, 0.5)), "k_d"),
             (
-                Material {
+                thesis(ThesisMaterial {
                     alpha: -1.0,
                     ..base
-                },
+                }),
                 "α = -1",
             ),
-            (Material { alpha: 2e6, ..base }, "α = 2000000"),
+            (thesis(ThesisMaterial { alpha: 2e6, ..base }), "α = 2000000"),
             (
-                Material {
+                thesis(ThesisMaterial {
                     alpha: f32::NAN,
                     ..base
-                },
+                }),
                 "α = NaN",
             ),
             (
@@ -185,6 +225,51 @@ mod tests {
             (
                 Material::emitter(Vec3::ZERO, Vec3::new(1.0, f32::INFINITY, 1.0)),
                 "emission",
+            ),
+        ];
+        for (m, words) in cases {
+            let p = problem(m);
+            assert!(p.contains(words), "{m:?}: '{p}' lacks '{words}'");
+        }
+    }
+
+    #[test]
+    fn gltf_factors_outside_0_to_1_are_rejected_with_the_reason() {
+        let pbr = MetallicRoughness {
+            base_color: Vec3::splat(0.5),
+            metallic: 0.5,
+            roughness: 0.5,
+            emission: Vec3::ZERO,
+        };
+        let gltf = |m: MetallicRoughness| Material::MetallicRoughness(m);
+        let cases = [
+            (
+                gltf(MetallicRoughness {
+                    base_color: Vec3::new(0.5, 1.5, 0.5),
+                    ..pbr
+                }),
+                "base colour",
+            ),
+            (
+                gltf(MetallicRoughness {
+                    metallic: -0.1,
+                    ..pbr
+                }),
+                "metallic",
+            ),
+            (
+                gltf(MetallicRoughness {
+                    roughness: f32::NAN,
+                    ..pbr
+                }),
+                "roughness",
+            ),
+            (
+                gltf(MetallicRoughness {
+                    emission: Vec3::splat(1e31),
+                    ..pbr
+                }),
+                "overflows",
             ),
         ];
         for (m, words) in cases {

@@ -2,7 +2,8 @@
 //!
 //! What is read: triangle geometry (lists, strips and fans) with its shading normals and two
 //! sets of texture coordinates, the node hierarchy of the default
-//! scene with its transforms, metallic-roughness material *factors*, emission (with
+//! scene with its transforms, metallic-roughness material *factors* (as glTF's own BRDF,
+//! [`crate::scene::MetallicRoughness`]), emission (with
 //! `KHR_materials_emissive_strength`) and the first perspective camera. Everything else
 //! (textures, skins, morph targets, animations, other extensions, points and lines,
 //! orthographic cameras, transparency) is ignored with one warning per kind, not per occurrence.
@@ -18,15 +19,6 @@
 //! - bounds every vertex, instance and camera coordinate by [`MAX_COORDINATE`], so that
 //!   framing, BVH bounds and ray arithmetic cannot overflow to ±∞ or NaN,
 //! - checks file sizes before reading anything.
-//!
-//! # Material mapping (metallic-roughness → the thesis' Lambert + Phong BRDF)
-//!
-//! See [`material_from_metallic_roughness`]: `k_s = mix(0.04, base, metallic)` per channel,
-//! `k_d = base · (1 − metallic) · (1 − 0.04)`, Phong `α = 2/r⁴ − 2` (Walter et al. 2007's
-//! Beckmann/GGX ↔ Blinn-Phong equivalence with GGX `α = r²`), `r = max(roughness, 10⁻³)`,
-//! clamped to `[0, 10⁶]`; roughness 0 on a full metal is a perfect mirror (`α = ∞`).
-//! For `base ≤ 1`, `k_d + k_s = (1−m)(0.96·base + 0.04) + m·base ≤ 1` per channel, so the
-//! mapping conserves energy by construction (it is still enforced against rounding).
 
 mod accessors;
 mod document;
@@ -48,10 +40,7 @@ use sources::{load_buffers, read_file};
 use walk::{walk, Walked};
 
 pub use limits::{MAX_COORDINATE, MAX_FILE_BYTES};
-pub use materials::{
-    default_material, material_from_metallic_roughness, phong_alpha_from_roughness,
-    roughness_from_phong_alpha, DIELECTRIC_F0, MAX_PHONG_ALPHA,
-};
+pub use materials::default_material;
 
 use super::{Environment, Mesh, Scene, SceneError};
 

@@ -72,7 +72,6 @@ pub(super) fn walk(
         mesh_ids: HashMap::new(),
         material_ids: HashMap::new(),
         meshes_by_content: MeshDedup::default(),
-        materials_by_value: HashMap::new(),
     };
     let mut visited = vec![false; document.nodes().len()];
     let mut stack: Vec<(gltf::Node, Mat4)> = roots(document)
@@ -134,8 +133,6 @@ struct Walker<'w, 'd> {
     /// glTF material index (None: the default material) → Scene material index.
     material_ids: HashMap<Option<usize>, u32>,
     meshes_by_content: MeshDedup,
-    /// A material's bits (kd, ks, emission; alpha) → Scene material index.
-    materials_by_value: HashMap<([[u32; 3]; 3], u32), u32>,
 }
 
 /// What a primitive's mesh is built from: the accessors of POSITION, NORMAL, TEXCOORD_0 and
@@ -276,20 +273,15 @@ impl Walker<'_, '_> {
                 .map_err(|p| self.origin.invalid(p))?,
             None => default_material(),
         };
-        let bits = [
-            material.kd.to_array(),
-            material.ks.to_array(),
-            material.emission.to_array(),
-        ]
-        .map(|v| v.map(f32::to_bits));
+        // Factors are finite (convert_material checks them), so equality is well defined.
         let materials = &mut self.walked.materials;
-        let id = *self
-            .materials_by_value
-            .entry((bits, material.alpha.to_bits()))
-            .or_insert_with(|| {
+        let id = match materials.iter().position(|m| *m == material) {
+            Some(i) => i as u32,
+            None => {
                 materials.push(material);
                 (materials.len() - 1) as u32
-            });
+            }
+        };
         self.material_ids.insert(gltf_material.index(), id);
         Ok(id)
     }
