@@ -23,6 +23,27 @@ CUBE_TRIS = [0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
              2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5]
 
 
+def png(width, height, rgba):
+    """A PNG of 8-bit RGBA texels (rows from the top), written by hand (no imaging library)."""
+    import zlib
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    rows = b"".join(b"\0" + bytes(rgba[4 * width * y:4 * width * (y + 1)]) for y in range(height))
+    header = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows))
+            + chunk(b"IEND", b""))
+
+
+def data_uri(mime, data):
+    return "data:%s;base64,%s" % (mime, base64.b64encode(data).decode())
+
+
+CHECKER = png(2, 2, [255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255])
+
+
 class Doc:
     """A glTF document under construction with one buffer."""
 
@@ -44,7 +65,7 @@ class Doc:
         return len(self.j["bufferViews"]) - 1
 
     def accessor(self, values, ctype, kind, normalized=False, minmax=False):
-        width = {"SCALAR": 1, "VEC3": 3}[kind]
+        width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[kind]
         flat = [c for v in values for c in (v if width > 1 else (v,))]
         data = struct.pack("<%d%s" % (len(flat), FMT[ctype]), *flat)
         acc = {"bufferView": self.view(data), "componentType": ctype,
@@ -229,11 +250,11 @@ def seeds():
     d.scene([d.node(mesh=0)])
     yield "interleaved", d
 
-    d = Doc()  # ignored content: texture, sampler, image, animation, skin, unknown extension
+    d = Doc()  # a texture (data: URI PNG) and ignored content: animation, unknown extension
     d.j["extensionsUsed"] = ["EXT_example"]
     pos = d.positions(TRI)
     d.mesh([d.prim(pos, d.indices([0, 1, 2]), material=0)])
-    d.j["images"] = [{"uri": "data:image/png;base64,iVBORw0KGgo="}]
+    d.j["images"] = [{"uri": data_uri("image/png", CHECKER)}]
     d.j["samplers"] = [{}]
     d.j["textures"] = [{"source": 0, "sampler": 0}]
     d.material(pbrMetallicRoughness={"baseColorTexture": {"index": 0}})
@@ -244,6 +265,24 @@ def seeds():
                           "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]}]
     d.scene([d.node(mesh=0)])
     yield "ignored-features", d
+
+    d = Doc()  # textures in the binary buffer, texture coordinates, every slot, a transform
+    d.j["extensionsUsed"] = ["KHR_texture_transform"]
+    pos = d.positions(QUAD)
+    prim = d.prim(pos, d.indices([0, 1, 2, 2, 3, 0], U16), material=0)
+    prim["attributes"]["TEXCOORD_0"] = d.accessor([(0, 0), (1, 0), (1, 1), (0, 1)], FLOAT, "VEC2",
+                                                  minmax=False)
+    d.mesh([prim])
+    d.j["images"] = [{"bufferView": d.view(CHECKER), "mimeType": "image/png"}]
+    d.j["samplers"] = [{"magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648}]
+    d.j["textures"] = [{"source": 0, "sampler": 0}]
+    d.material(pbrMetallicRoughness={
+        "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+            "offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2]}}},
+        "metallicRoughnessTexture": {"index": 0}},
+        emissiveTexture={"index": 0}, emissiveFactor=[1, 1, 1])
+    d.scene([d.node(mesh=0)])
+    yield "textures", d
 
     d = Doc()  # a grid: more vertices, two primitives sharing one vertex array
     grid = [(x, y, math.sin(x + y) * 0.2) for y in range(6) for x in range(6)]
@@ -290,6 +329,17 @@ def broken():
     yield "bad-emission-overflow.gltf", d.gltf()
     d = one_mesh([(0, 0, 0), (3e38, 0, 0), (-3e38, 1, 0)], [0, 1, 2])
     yield "bad-coordinates-near-f32-max.glb", d.glb()
+    for name, uri in [
+        ("bad-truncated-image.gltf", "data:image/png;base64,iVBORw0KGgo="),  # the magic alone
+        ("bad-image-type.gltf", data_uri("image/gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")),
+        ("bad-missing-image.gltf", "missing.png"),
+    ]:
+        d = one_mesh(TRI, [0, 1, 2])
+        d.j["meshes"][0]["primitives"][0]["material"] = 0
+        d.j["images"] = [{"uri": uri}]
+        d.j["textures"] = [{"source": 0}]
+        d.material(pbrMetallicRoughness={"baseColorTexture": {"index": 0}})
+        yield name, d.gltf()
     d = one_mesh(TRI, [0, 1, 2])
     d.j["nodes"][0]["scale"] = [1e30, 1e30, 1e30]
     yield "bad-node-scale-overflow.gltf", d.gltf()

@@ -15,6 +15,7 @@ layout(constant_id = SPEC_INTEGRATOR) const uint INTEGRATOR = INTEGRATOR_PT;
 layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 layout(constant_id = SPEC_HAS_SHADING) const bool HAS_SHADING = true;
 layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHNESS = true;
+layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = true;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
@@ -85,6 +86,18 @@ uint load_object_kind(uint index) {
     return load_object_ids(index).x;
 }
 
+GpuTextureSlot load_texture_slot(int t) {
+    GpuTextureSlot s;
+    s.u_row = fetch_vec4(material_texels, t);
+    s.v_row = fetch_vec4(material_texels, t + 1);
+    uvec4 ids = texelFetch(material_texels, t + 2);
+    s.texture = ids.x;
+    s.texcoord = ids.y;
+    s.pad0 = ids.z;
+    s.pad1 = ids.w;
+    return s;
+}
+
 GpuMaterial load_material(uint index) {
     int t = int(index * TEXELS_PER_MATERIAL);
     GpuMaterial m;
@@ -97,6 +110,9 @@ GpuMaterial load_material(uint index) {
     m.roughness = uintBitsToFloat(more.y);
     m.model = more.z;
     m.pad0 = more.w;
+    m.base_color_texture = load_texture_slot(t + 5);
+    m.metallic_roughness_texture = load_texture_slot(t + 8);
+    m.emissive_texture = load_texture_slot(t + 11);
     return m;
 }
 

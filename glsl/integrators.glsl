@@ -6,6 +6,7 @@
 #include "gltf_brdf.glsl"
 #include "lights.glsl"
 #include "shading.glsl"
+#include "textures.glsl"
 
 // The sky gradient: ground below the horizon, horizon -> zenith above it.
 vec3 environment(vec3 d) {
@@ -19,6 +20,7 @@ struct SurfaceHit {
     vec3 ng;     // geometric normal, faced toward the incoming ray
     vec3 ns;     // shading normal (valid_shading_normal), on ng's side; ng without attributes
     vec4 uv;     // TEXCOORD_0 (xy) and TEXCOORD_1 (zw) at the hit; 0 without attributes
+    vec2 uv_per_area; // per TEXCOORD set, the triangle's uv area over its world area (textures)
     bool front;  // the ray arrived on the side the geometric normal points to
     GpuMaterial m;
     uint emitter; // this point's emitter index, or NO_EMITTER
@@ -34,6 +36,7 @@ void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
     float b0 = 1.0 - b.x - b.y;
     s.uv.xy = b0 * S.uv0_01.xy + b.x * S.uv0_01.zw + b.y * S.uv0_2_uv1_0.xy;
     s.uv.zw = b0 * S.uv0_2_uv1_0.zw + b.x * S.uv1_12.xy + b.y * S.uv1_12.zw;
+    if (HAS_TEXTURES) s.uv_per_area = uv_per_world_area(T, S, ob);
     vec3 n = interpolated_normal(S, b);
     if (n == vec3(0.0)) return;
     // Normals transform by the inverse transpose: the columns of world->object.
@@ -44,7 +47,9 @@ void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
     s.ns = valid_shading_normal(s.front ? nw : -nw, s.ng, -d);
 }
 
-SurfaceHit surface(Hit h, vec3 o, vec3 d) {
+// The surface a ray (o, d) hits; `cone_width` is its ray cone's width there (textures' level
+// of detail).
+SurfaceHit surface(Hit h, vec3 o, vec3 d, float cone_width) {
     SurfaceHit s;
     s.p = o + h.t * d;
     vec3 n = hit_normal(h, s.p);
@@ -52,9 +57,16 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d) {
     s.ng = s.front ? n : -n;
     s.ns = s.ng;
     s.uv = vec4(0.0);
+    s.uv_per_area = vec2(0.0);
     GpuObject ob = load_object(h.object);
     if (HAS_SHADING && ob.kind == KIND_INSTANCE) interpolate_attributes(s, h, ob, d);
     s.m = load_material(ob.material);
+    if (HAS_TEXTURES && is_metallic_roughness(s.m)) {
+        Footprint f;
+        f.uv_per_area = s.uv_per_area;
+        f.width = cone_width / max(abs(dot(s.ng, d)), 1e-3);
+        s.m = textured(s.m, s.uv, f);
+    }
     s.emitter = NO_EMITTER;
     if (ob.emitter != NO_EMITTER) {
         s.emitter = ob.kind == KIND_INSTANCE ? ob.emitter + (h.primitive - ob.triangle_base) : ob.emitter;
@@ -84,6 +96,10 @@ struct Path {
     bool prev_delta; // pt: camera rays and mirror bounces cannot be found by NEE
     uint bounce;     // the vertex this step's ray finds: 0 for the camera ray's hit
     bool done;
+    // The ray cone (textures' level of detail): its width at o and its spread angle, which
+    // the camera sets from the pixel's (and a layer's lattice spacing) and each bounce widens.
+    float cone_width;
+    float cone_spread;
 };
 
 Path path_start(vec3 o, vec3 d) {
@@ -97,7 +113,16 @@ Path path_start(vec3 o, vec3 d) {
     p.prev_delta = true;
     p.bounce = 0u;
     p.done = false;
+    p.cone_width = 0.0;
+    p.cone_spread = 0.0;
     return p;
+}
+
+// A bounce off a glTF material widens the cone by its lobe: 2 alpha, a lobe's angular width
+// (Akenine-Moller et al. 2021 widen by surface curvature; a rough lobe spreads the reflected
+// rays far more than curvature does).
+void widen_cone(inout Path p, GpuMaterial m) {
+    if (HAS_TEXTURES && is_metallic_roughness(m)) p.cone_spread += 2.0 * ggx_alpha(m);
 }
 
 // Traces the path's next ray: on a miss adds the sky and ends the path (false), on a hit
@@ -111,7 +136,8 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
         p.done = true;
         return false;
     }
-    s = surface(h, p.o, p.d);
+    if (HAS_TEXTURES) p.cone_width += p.cone_spread * h.t;
+    s = surface(h, p.o, p.d, p.cone_width);
     return true;
 }
 
@@ -138,6 +164,7 @@ void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow
         // glTF's BRDF, estimated the seed way: a uniform hemisphere direction, f cos / (1/2pi).
         d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
         p.throughput *= gltf_eval(s.m, wo, d, s.ns) * dot(s.ns, d) * (2.0 * PI);
+        widen_cone(p, s.m);
     } else if (rng_next(rng) < p_s) {
         if (is_mirror(s.m)) {
             d = reflect(p.d, s.ns);
@@ -255,6 +282,7 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
         p.throughput *= gltf_eval(s.m, wo, wi, n) * dot(wi, n) / pdf;
         p.prev_pdf = pdf;
         p.prev_delta = false;
+        widen_cone(p, s.m);
     } else if (spec_pick && mirror) {
         wi = reflect(p.d, n);
         if (HAS_SHADING && dot(wi, s.ng) <= 0.0) { // valid_shading_normal prevents it, up to rounding

@@ -21,6 +21,18 @@ vec2 triangle_barycentrics(GpuTriangle T, vec3 p) {
     return b / max(1.0, b.x + b.y);
 }
 
+// Per TEXCOORD set, the triangle's area in uv space over its world-space area (instance `ob`
+// maps it to the world): how many texture-space units a unit of surface holds, for the
+// textures' level of detail. 0 for a degenerate triangle.
+vec2 uv_per_world_area(GpuTriangle T, GpuTriangleShading S, GpuObject ob) {
+    mat3 to_world = transpose(mat3(ob.object_to_world0.xyz, ob.object_to_world1.xyz, ob.object_to_world2.xyz));
+    float world = length(cross(to_world * (T.v1.xyz - T.v0.xyz), to_world * (T.v2.xyz - T.v0.xyz)));
+    vec2 a0 = S.uv0_01.zw - S.uv0_01.xy, b0 = S.uv0_2_uv1_0.xy - S.uv0_01.xy;
+    vec2 a1 = S.uv1_12.xy - S.uv0_2_uv1_0.zw, b1 = S.uv1_12.zw - S.uv0_2_uv1_0.zw;
+    vec2 uv = vec2(abs(a0.x * b0.y - a0.y * b0.x), abs(a1.x * b1.y - a1.y * b1.x));
+    return world > 0.0 ? uv / world : vec2(0.0);
+}
+
 // The object-space shading normal of a triangle's attributes at barycentrics b (unnormalised),
 // or vec3(0) when the triangle has none.
 vec3 interpolated_normal(GpuTriangleShading S, vec2 b) {

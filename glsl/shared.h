@@ -54,17 +54,22 @@
                              // read, SPEC_HAS_SHADING off) when no mesh has such attributes
 #define BINDING_BRDF_QUERIES 25 // GpuBrdfQuery[] (brdf_probe.comp only)
 #define BINDING_BRDF_ANSWERS 26 // GpuBrdfAnswer[] (brdf_probe.comp only)
-#define BINDING_COUNT 27
+#define BINDING_TEXTURES 27 // sampler2D[MAX_TEXTURES] (combined image samplers, partially bound):
+                            // the scene's textures in Scene::textures' order, mip chains in
+                            // RGBA8 (sRGB or UNORM as their use), each with its glTF sampler
+#define BINDING_COUNT 28
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 27
+#define BINDING_TLAS 28
+// Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
+#define MAX_TEXTURES 1024
 
 // 16-byte RGBA32UI texels per element of the texel-buffer arrays (bindings.glsl's load_*;
 // src/shader_layout.rs checks them against the structs' sizes).
 #define TEXELS_PER_NODE 5
 #define TEXELS_PER_TRIANGLE 3
 #define TEXELS_PER_OBJECT 10
-#define TEXELS_PER_MATERIAL 5
+#define TEXELS_PER_MATERIAL 14
 #define TEXELS_PER_EMITTER 5
 #define TEXELS_PER_TRIANGLE_SHADING 4
 
@@ -79,6 +84,7 @@
 #define SPEC_PROFILE 7 // trace.comp counts its traversal work (STAT_PROFILE); off: compiled away
 #define SPEC_HAS_SHADING 8 // some mesh has shading normals or texture coordinates (SHADING)
 #define SPEC_HAS_METALLIC_ROUGHNESS 9 // some material is MODEL_METALLIC_ROUGHNESS
+#define SPEC_HAS_TEXTURES 10 // some material samples a texture (BINDING_TEXTURES)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -94,6 +100,7 @@
 #define NO_PRIMITIVE 0xffffffffu // a hit on no triangle (an analytic shape or nothing)
 #define NO_MATERIAL 0xffffffffu // a surface without material (nothing was hit)
 #define NO_LAYER 0xffffffffu    // no layer chosen yet
+#define NO_TEXTURE 0xffffffffu  // a material's texture slot that holds none
 
 // ---- stats counters (BINDING_STATS), reported after every frame ----------------------------
 #define STAT_NONFINITE 0       // samples that came out NaN/inf and were dropped (counted as black)
@@ -187,6 +194,18 @@ struct GpuObject {
     uint pad2;
 };
 
+// A material's use of a texture (MODEL_METALLIC_ROUGHNESS): which, through which texture
+// coordinates, moved by KHR_texture_transform. The lookup is at (dot(u_row.xyz, (u, v, 1)),
+// dot(v_row.xyz, (u, v, 1))).
+struct GpuTextureSlot {
+    vec4 u_row;
+    vec4 v_row;
+    uint texture; // index into TEXTURES, or NO_TEXTURE
+    uint texcoord; // 0: TEXCOORD_0, 1: TEXCOORD_1
+    uint pad0;
+    uint pad1;
+};
+
 // A material of either model (GpuMaterial.model); each reads only its own fields.
 #define MODEL_THESIS 0u             // the thesis' Lambert + Phong (brdf.glsl): kd, ks
 #define MODEL_METALLIC_ROUGHNESS 1u // glTF 2.0's (gltf_brdf.glsl): base_color, metallic, roughness
@@ -199,6 +218,9 @@ struct GpuMaterial {
     float roughness; // MODEL_METALLIC_ROUGHNESS: perceptual; the GGX width is its square
     uint model; // MODEL_*
     uint pad0;
+    GpuTextureSlot base_color_texture; // rgb x base_color (sRGB texels)
+    GpuTextureSlot metallic_roughness_texture; // b x metallic, g x roughness (linear)
+    GpuTextureSlot emissive_texture; // rgb x emission (sRGB texels)
 };
 
 // A light for next-event estimation: a world-space triangle, a box or a sphere.

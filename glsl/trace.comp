@@ -28,6 +28,14 @@ vec3 camera_ray(vec2 pixel, vec2 jitter) {
     return normalize(pc.cam.forward.xyz + t.x * pc.cam.right.xyz + t.y * pc.cam.up.xyz);
 }
 
+// A camera path through `pixel` + `jitter`, its ray cone as wide as the pixel's angle times
+// `spacing`: a layer that traces every d-th pixel sees textures at d times the footprint.
+Path camera_path(vec2 pixel, vec2 jitter, float pixel_angle) {
+    Path p = path_start(pc.cam.position.xyz, camera_ray(pixel, jitter));
+    p.cone_spread = pixel_angle;
+    return p;
+}
+
 // The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding).
 uvec4 centre_surface(ivec2 p, inout uint overflows) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
@@ -67,7 +75,9 @@ void main() {
     // and the samples are summed in the same order, so the image is too.
     uint s = 0u;
     Rng rng = rng_init(pixel_index, 0u, seed);
-    Path path = path_start(pc.cam.position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+    // The pixel's angular height at the image centre, times the layer's lattice spacing.
+    float pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
+    Path path = camera_path(vec2(pixel), rng_next2(rng), pixel_angle);
     bool overflow = false;
     // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer): the loop
     // must not depend on a path ending to end.
@@ -87,7 +97,7 @@ void main() {
         }
         if (++s == spp) break;
         rng = rng_init(pixel_index, s, seed);
-        path = path_start(pc.cam.position.xyz, camera_ray(vec2(pixel), rng_next2(rng)));
+        path = camera_path(vec2(pixel), rng_next2(rng), pixel_angle);
         overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);

@@ -68,6 +68,35 @@ pub struct GpuMaterial {
     pub roughness: f32,
     pub model: u32,
     pub pad0: u32,
+    pub base_color_texture: GpuTextureSlot,
+    pub metallic_roughness_texture: GpuTextureSlot,
+    pub emissive_texture: GpuTextureSlot,
+}
+
+/// A material's use of a texture (shared.h's GpuTextureSlot).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct GpuTextureSlot {
+    pub u_row: [f32; 4],
+    pub v_row: [f32; 4],
+    pub texture: u32,
+    pub texcoord: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+impl Default for GpuTextureSlot {
+    /// No texture: the factor alone.
+    fn default() -> Self {
+        Self {
+            u_row: [1.0, 0.0, 0.0, 0.0],
+            v_row: [0.0, 1.0, 0.0, 0.0],
+            texture: NO_TEXTURE,
+            texcoord: 0,
+            pad0: 0,
+            pad1: 0,
+        }
+    }
 }
 
 #[repr(C)]

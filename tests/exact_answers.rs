@@ -16,6 +16,7 @@ fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
         boxes: vec![],
         spheres: vec![],
         materials: vec![],
+        textures: Vec::new(),
         camera,
         environment,
     }

@@ -25,12 +25,14 @@ fn materials() -> Vec<MetallicRoughness> {
             metallic: 1.0,
             roughness,
             emission: Vec3::ZERO,
+            textures: Default::default(),
         });
         out.push(MetallicRoughness {
             base_color: Vec3::new(0.2, 0.5, 0.8),
             metallic: 0.0,
             roughness,
             emission: Vec3::ZERO,
+            textures: Default::default(),
         });
     }
     out
@@ -171,6 +173,7 @@ fn pt_and_seed_agree_on_a_cornell_box_of_gltf_materials() {
             metallic: 1.0,
             roughness: 0.5,
             emission: Vec3::ZERO,
+            textures: Default::default(),
         }));
     let glossy = scene.materials.len() as u32 - 1;
     let cube = 1; // cornell's meshes: the rectangle, the cube

@@ -190,6 +190,7 @@ fn round_trip_scene() -> Scene {
             metallic,
             roughness,
             emission,
+            textures: Default::default(),
         })
     };
     let materials = vec![
@@ -254,6 +255,7 @@ fn round_trip_scene() -> Scene {
         boxes: Vec::new(),
         spheres: Vec::new(),
         materials,
+        textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.5, 1.5, 6.0), Vec3::ZERO, Vec3::Y, 50.0, ASPECT),
         environment: Environment::sky(),
     }
@@ -522,6 +524,7 @@ fn shared_mesh_is_one_mesh_with_several_instances() {
             metallic: 1.0,
             roughness: 1.0,
             emission: Vec3::ZERO,
+            textures: Default::default(),
         })]
     );
     // No camera in the file: the bounding box is framed and in front of the camera.

@@ -24,6 +24,7 @@ fn one_object(name: &str, mesh: Option<Mesh>, environment: Environment) -> Scene
         boxes: vec![],
         spheres: vec![],
         materials: vec![Material::diffuse(Vec3::splat(0.7))],
+        textures: Vec::new(),
         camera,
         environment,
     };

@@ -109,7 +109,21 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             metallic,
             roughness,
             model,
-            pad0
+            pad0,
+            base_color_texture,
+            metallic_roughness_texture,
+            emissive_texture
+        }
+    );
+    check!(
+        s,
+        GpuTextureSlot {
+            u_row,
+            v_row,
+            texture,
+            texcoord,
+            pad0,
+            pad1
         }
     );
     check!(
@@ -268,7 +282,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        19,
+        20,
         "shared.h has a struct this test does not check: add it"
     );
     for (name, size) in [

@@ -315,6 +315,7 @@ mod tests {
             max_storage_buffer_range: 0,
             max_texel_buffer_elements: 0,
             subgroup_size: 8,
+            max_image_dimension_2d: 4096,
             ray_query: None,
         };
         let s = summarize_run(&plan, &device, &["fovea bench"], &rows, &[]);

@@ -43,6 +43,7 @@ pub fn probe_renderer(
             .iter()
             .map(|m| Material::MetallicRoughness(*m))
             .collect(),
+        textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::black(),
     };

@@ -21,6 +21,7 @@ pub fn gltf_furnace_materials() -> Vec<(String, MetallicRoughness)> {
         metallic,
         roughness,
         emission: Vec3::ZERO,
+        textures: Default::default(),
     };
     [(1.0, 0.5), (1.0, 1.0), (0.0, 0.5), (0.0, 1.0)]
         .into_iter()

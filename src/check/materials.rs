@@ -91,6 +91,7 @@ pub(super) fn furnace_scene(material: Material, triangles: bool) -> Scene {
             material,
             Material::emitter(Vec3::ZERO, Vec3::splat(MAX_EMISSION)),
         ],
+        textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::uniform(Vec3::ONE),
     };

@@ -83,6 +83,27 @@ impl CheckReport {
         c
     }
 
+    /// The glTF furnace section of the report, if it ran.
+    fn gltf_furnace_lines(&self) -> Vec<String> {
+        if self.gltf_furnace.is_empty() {
+            return Vec::new();
+        }
+        let mut out = vec![
+            "white furnace, glTF's BRDF (mean over the object against the CPU's albedo):".into(),
+        ];
+        for g in &self.gltf_furnace {
+            out.push(format!(
+                "  {:<38} {:<4}  {:.4} ± {:.4}  expected {:.4}",
+                g.material,
+                format!("{:?}", g.integrator),
+                g.mean,
+                g.std_error,
+                g.expected
+            ));
+        }
+        out
+    }
+
     /// The glTF furnace results off the CPU's prediction.
     fn gltf_furnace_failures(&self) -> Vec<String> {
         let off = |g: &GltfFurnaceResult| {
@@ -239,22 +260,7 @@ impl CheckReport {
                 ));
             }
         }
-        if !self.gltf_furnace.is_empty() {
-            out.push(
-                "white furnace, glTF's BRDF (mean over the object against the CPU's albedo):"
-                    .into(),
-            );
-            for g in &self.gltf_furnace {
-                out.push(format!(
-                    "  {:<38} {:<4}  {:.4} ± {:.4}  expected {:.4}",
-                    g.material,
-                    format!("{:?}", g.integrator),
-                    g.mean,
-                    g.std_error,
-                    g.expected
-                ));
-            }
-        }
+        out.extend(self.gltf_furnace_lines());
         if !self.emission.is_empty() {
             out.push("very large emission (image must scale linearly):".into());
             for e in &self.emission {

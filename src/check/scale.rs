@@ -75,6 +75,7 @@ pub fn plane_scene(lighting: Lighting) -> Scene {
         boxes: vec![],
         spheres: vec![],
         materials: vec![Material::diffuse(Vec3::splat(PLANE_ALBEDO))],
+        textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 2.0, 0.5), Vec3::ZERO, Vec3::Y, 30.0, 1.0),
         environment: Environment::uniform(Vec3::splat(LIGHT_RADIANCE)),
     };

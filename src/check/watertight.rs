@@ -195,6 +195,7 @@ fn single_mesh_scene(placed: &Placed) -> Scene {
         boxes: vec![],
         spheres: vec![],
         materials: vec![Material::diffuse(Vec3::splat(0.5))],
+        textures: Vec::new(),
         camera: Camera::look_at(Vec3::splat(5.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::black(),
     }

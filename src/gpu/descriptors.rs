@@ -13,7 +13,8 @@ use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::memory::{Buffer, StorageImage, TexelView};
 use super::pipeline::PipelineLayout;
-use crate::shader_layout::BINDING_COUNT;
+use super::texture::TextureSet;
+use crate::shader_layout::{BINDING_COUNT, MAX_TEXTURES};
 use ash::vk;
 use std::sync::Arc;
 
@@ -28,6 +29,8 @@ pub enum Bound<'a> {
     Image(&'a StorageImage),
     /// The top-level acceleration structure.
     Tlas(&'a AccelStructures),
+    /// The scene's textures (combined image samplers, read only).
+    Textures(&'a TextureSet),
 }
 
 impl Bound<'_> {
@@ -39,6 +42,7 @@ impl Bound<'_> {
             Bound::Texels(t) => t.buffer.as_raw(),
             Bound::Image(i) => i.image.as_raw(),
             Bound::Tlas(a) => a.tlas.as_raw(),
+            Bound::Textures(t) => t.resource(),
         }
     }
 }
@@ -83,6 +87,10 @@ impl DescriptorArena {
             size(vk::DescriptorType::STORAGE_BUFFER),
             size(vk::DescriptorType::STORAGE_IMAGE),
             size(vk::DescriptorType::UNIFORM_TEXEL_BUFFER),
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                descriptor_count: SETS * MAX_TEXTURES,
+            },
         ];
         if ctx.info.ray_query.is_some() {
             sizes.push(vk::DescriptorPoolSize {
@@ -186,6 +194,13 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
             _ => [vk::AccelerationStructureKHR::null()],
         })
         .collect();
+    let samplers: Vec<Vec<vk::DescriptorImageInfo>> = bindings
+        .iter()
+        .map(|(_, bound)| match bound {
+            Bound::Textures(t) => t.descriptors(),
+            _ => Vec::new(),
+        })
+        .collect();
     let mut tlas_writes: Vec<vk::WriteDescriptorSetAccelerationStructureKHR> = tlases
         .iter()
         .map(|t| {
@@ -194,6 +209,10 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
         .collect();
     let mut writes = Vec::with_capacity(bindings.len());
     for (i, ((binding, bound), tlas)) in bindings.iter().zip(&mut tlas_writes).enumerate() {
+        // An empty texture array writes nothing (the binding is partially bound).
+        if matches!(bound, Bound::Textures(t) if t.is_empty()) {
+            continue;
+        }
         let write = vk::WriteDescriptorSet::default()
             .dst_set(set)
             .dst_binding(*binding);
@@ -207,6 +226,9 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
             Bound::Texels(_) => write
                 .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
                 .texel_buffer_view(&views[i]),
+            Bound::Textures(_) => write
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .image_info(&samplers[i]),
             Bound::Tlas(_) => {
                 let mut write = write
                     .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)

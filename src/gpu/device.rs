@@ -55,7 +55,9 @@ pub(super) fn create_device(
     let extensions = device_extensions(picked, ray_query, needs);
     let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
         .host_query_reset(true)
-        .buffer_device_address(ray_query);
+        .buffer_device_address(ray_query)
+        .shader_sampled_image_array_non_uniform_indexing(true)
+        .descriptor_binding_partially_bound(true);
     let mut sync2 = vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
     let mut accel_features =
         vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);

@@ -18,6 +18,8 @@ pub struct DeviceInfo {
     pub max_texel_buffer_elements: u64,
     /// Invocations per subgroup (SIMD width on lavapipe, warp or wave size on a GPU).
     pub subgroup_size: u32,
+    /// The largest side of a 2D image (textures).
+    pub max_image_dimension_2d: u32,
     /// Ray queries (VK_KHR_ray_query with VK_KHR_acceleration_structure): their limits when
     /// the context enabled them, None when the device lacks them or they were not wanted.
     pub ray_query: Option<RayQueryLimits>,
@@ -222,6 +224,12 @@ fn examine(
     {
         return Err(format!("{name} (no subgroup votes in compute shaders)"));
     }
+    // Textures are one partially bound array of samplers indexed per hit (textures.glsl).
+    if !sampled_image_indexing(instance, pd) {
+        return Err(format!(
+            "{name} (no non-uniform indexing of partially bound sampled-image arrays)"
+        ));
+    }
     let extensions = Extensions::of(instance, pd);
     let required = [ash::khr::synchronization2::NAME];
     if let Some(missing) = required
@@ -243,6 +251,17 @@ fn examine(
         amd_marker: extensions.has(ash::amd::buffer_marker::NAME),
     };
     Ok((device_rank(props.device_type), picked))
+}
+
+/// Whether the device indexes arrays of sampled images non-uniformly and binds them partially
+/// (Vulkan 1.2's descriptor-indexing features that the texture array needs).
+fn sampled_image_indexing(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
+    // SAFETY: pd was enumerated from this instance, a Vulkan 1.2 one (features2 is core).
+    unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    v12.shader_sampled_image_array_non_uniform_indexing == vk::TRUE
+        && v12.descriptor_binding_partially_bound == vk::TRUE
 }
 
 /// The driver's name and version, and the subgroup properties.
@@ -304,6 +323,7 @@ fn device_info(
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
         subgroup_size: subgroups.subgroup_size,
+        max_image_dimension_2d: props.limits.max_image_dimension2_d,
         ray_query,
     }
 }

@@ -10,7 +10,11 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
-fn allocation_error(what: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
+pub(super) fn allocation_error(
+    what: &str,
+    bytes: u64,
+    e: gpu_allocator::AllocationError,
+) -> GpuError {
     match e {
         gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
             what: what.into(),

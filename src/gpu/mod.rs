@@ -20,6 +20,7 @@ mod present;
 pub mod shaders;
 mod swapchain;
 mod sync;
+mod texture;
 mod timestamps;
 mod validation;
 pub use validation::ValidationLog;
@@ -44,4 +45,5 @@ pub use swapchain::{
     Swapchain,
 };
 pub use sync::Scope;
+pub use texture::{mip_chain_bytes, MipLevel, SamplerDesc, TextureSet, TextureUpload};
 pub use timestamps::{PassTime, TimestampPool};

@@ -1,5 +1,5 @@
 //! The one descriptor-set layout every fovea compute shader uses (all of shared.h's bindings,
-//! and BINDING_TLAS where the context has ray queries), its pipeline layout with the push
+//! the texture array partially bound, and BINDING_TLAS where the context has ray queries), its pipeline layout with the push
 //! constants, and compute pipelines with specialization constants. Each pass gets its own set
 //! of this layout with only its bindings written (descriptors.rs).
 
@@ -24,7 +24,9 @@ const TEXEL_BINDINGS: [u32; 7] = [
 ];
 
 fn descriptor_type(binding: u32) -> vk::DescriptorType {
-    if IMAGE_BINDINGS.contains(&binding) {
+    if binding == BINDING_TEXTURES {
+        vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+    } else if IMAGE_BINDINGS.contains(&binding) {
         vk::DescriptorType::STORAGE_IMAGE
     } else if TEXEL_BINDINGS.contains(&binding) {
         vk::DescriptorType::UNIFORM_TEXEL_BUFFER
@@ -43,14 +45,27 @@ impl PipelineLayout {
     pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, GpuError> {
         let device = &ctx.device;
         let binding = |b, kind| {
+            let count = if b == BINDING_TEXTURES {
+                MAX_TEXTURES
+            } else {
+                1
+            };
             vk::DescriptorSetLayoutBinding::default()
                 .binding(b)
                 .descriptor_type(kind)
-                .descriptor_count(1)
+                .descriptor_count(count)
                 .stage_flags(vk::ShaderStageFlags::COMPUTE)
         };
         let mut bindings: Vec<_> = (0..BINDING_COUNT)
             .map(|b| binding(b, descriptor_type(b)))
+            .collect();
+        // The texture array is partially bound: a scene writes as many as it has (none, most
+        // often), and the shaders index only those.
+        let mut flags: Vec<vk::DescriptorBindingFlags> = (0..BINDING_COUNT)
+            .map(|b| match b == BINDING_TEXTURES {
+                true => vk::DescriptorBindingFlags::PARTIALLY_BOUND,
+                false => vk::DescriptorBindingFlags::empty(),
+            })
             .collect();
         // A device without ray queries knows no such descriptor type.
         let ray_query = ctx.info.ray_query.is_some();
@@ -59,8 +74,13 @@ impl PipelineLayout {
                 BINDING_TLAS,
                 vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
             ));
+            flags.push(vk::DescriptorBindingFlags::empty());
         }
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let mut binding_flags =
+            vk::DescriptorSetLayoutBindingFlagsCreateInfo::default().binding_flags(&flags);
+        let info = vk::DescriptorSetLayoutCreateInfo::default()
+            .bindings(&bindings)
+            .push_next(&mut binding_flags);
         // SAFETY: valid device and create info.
         let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
             .vk("vkCreateDescriptorSetLayout")?;

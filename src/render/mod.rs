@@ -19,6 +19,7 @@ mod regular;
 mod renderer;
 mod request;
 mod scene_buffers;
+mod scene_textures;
 mod settings;
 mod slots;
 mod targets;

@@ -108,6 +108,7 @@ impl Pipelines {
             (SPEC_HAS_EMITTERS, f.emitters as u32),
             (SPEC_HAS_SHADING, f.shading as u32),
             (SPEC_HAS_METALLIC_ROUGHNESS, f.metallic_roughness as u32),
+            (SPEC_HAS_TEXTURES, f.textures as u32),
             (SPEC_MAX_BOUNCES, max_bounces),
             (SPEC_INTEGRATOR, integrator),
         ]

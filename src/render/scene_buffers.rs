@@ -3,9 +3,12 @@
 
 use super::counters::FrameCounters;
 use super::graph::Pass;
+use super::scene_textures;
 use super::settings::Traversal;
 use super::RenderError;
-use crate::gpu::{AccelStructures, Bound, Buffer, GpuContext, PlannedAllocation, TexelView};
+use crate::gpu::{
+    AccelStructures, Bound, Buffer, GpuContext, PlannedAllocation, TexelView, TextureSet,
+};
 use crate::scene::gpu_layout::GpuScene;
 use crate::scene::{Scene, SceneFeatures};
 use crate::shader_layout::*;
@@ -24,6 +27,8 @@ pub struct SceneBuffers {
     emitters: TexelView,
     _storage: [Buffer; 6],
     info: Buffer,
+    /// The textures glTF materials sample (none for most scenes).
+    textures: TextureSet,
     /// The same scene for ray queries, where the context has them.
     pub accel: Option<AccelStructures>,
     /// What the scene has, for specializing the shaders.
@@ -36,10 +41,14 @@ impl SceneBuffers {
     /// Builds the BVHs, checks that the scene fits the device, and uploads it.
     pub fn upload(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Self, RenderError> {
         let gpu = GpuScene::build(scene)?;
+        scene_textures::check_sizes(&scene.textures, ctx.info.max_image_dimension_2d)
+            .map_err(RenderError::Settings)?;
+        let mut plan = memory_plan(&gpu);
+        plan.extend(scene_textures::allocations(&scene.textures));
         ctx.check_memory(
             &format!("scene '{}'", scene.name),
-            &memory_plan(&gpu),
-            "simplify the scene (fewer or smaller meshes)",
+            &plan,
+            "simplify the scene (fewer or smaller meshes and textures)",
         )?;
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
         let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
@@ -65,6 +74,7 @@ impl SceneBuffers {
             emitters: TexelView::new(&emitters, "emitters")?,
             _storage: [nodes, triangles, shading, objects, materials, emitters],
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
+            textures: TextureSet::upload(ctx, &scene_textures::uploads(&scene.textures))?,
             accel,
             features: gpu.features,
             fingerprint: gpu.fingerprint(),
@@ -84,7 +94,8 @@ impl SceneBuffers {
             .reads(BINDING_OBJECTS, &self.objects)
             .reads(BINDING_MATERIALS, &self.materials)
             .reads(BINDING_EMITTERS, &self.emitters)
-            .reads(BINDING_SCENE_INFO, &self.info);
+            .reads(BINDING_SCENE_INFO, &self.info)
+            .reads(BINDING_TEXTURES, Bound::Textures(&self.textures));
         match (traversal, &self.accel) {
             (Traversal::RayQuery, Some(accel)) => pass.reads(BINDING_TLAS, Bound::Tlas(accel)),
             _ => pass.reads(BINDING_NODES, &self.nodes),

@@ -71,6 +71,7 @@ pub fn control(aspect: f32) -> Scene {
         boxes: Vec::new(),
         spheres: Vec::new(),
         materials: Vec::new(),
+        textures: Vec::new(),
         camera: Camera::look_at(eye, eye + Vec3::NEG_Z, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::sky(),
     }
@@ -128,6 +129,7 @@ fn bunny_scene(name: &str, mesh: Mesh, aspect: f32) -> Scene {
                 Vec3::ZERO,
             ),
         ],
+        textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, BUNNY_FOV_Y_DEG, aspect),
         environment: Environment::sky(),
     }
@@ -204,6 +206,7 @@ pub fn cubes_441(aspect: f32) -> Scene {
         boxes,
         spheres: Vec::new(),
         materials,
+        textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::sky(),
     }
@@ -289,6 +292,7 @@ pub fn mirror_room(aspect: f32) -> Scene {
         boxes,
         spheres,
         materials,
+        textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::black(),
     }
@@ -401,6 +405,7 @@ pub fn cornell(aspect: f32) -> Scene {
         boxes: Vec::new(),
         spheres: Vec::new(),
         materials,
+        textures: Vec::new(),
         camera: Camera::look_at(
             Vec3::new(0.0, 0.0, 3.9),
             Vec3::ZERO,

@@ -402,6 +402,7 @@ mod tests {
                 material: 0,
             }],
             materials: vec![Material::diffuse(Vec3::splat(0.5))],
+            textures: Vec::new(),
             camera: Camera::look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0),
             environment: Environment::black(),
         }

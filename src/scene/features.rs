@@ -16,6 +16,8 @@ pub struct SceneFeatures {
     pub shading: bool,
     /// Any glTF metallic-roughness material (the built-in scenes have none).
     pub metallic_roughness: bool,
+    /// Any material that samples a texture.
+    pub textures: bool,
 }
 
 impl SceneFeatures {
@@ -29,10 +31,14 @@ impl SceneFeatures {
             .chain(scene.spheres.iter().map(|s| s.material))
             .filter_map(used);
         let (mut specular, mut emitters, mut metallic_roughness) = (false, false, false);
+        let mut textures = false;
         for m in materials {
             specular |= m.is_specular();
             emitters |= m.is_emissive();
-            metallic_roughness |= matches!(m, Material::MetallicRoughness(_));
+            if let Material::MetallicRoughness(m) = m {
+                metallic_roughness = true;
+                textures |= m.textures.iter().next().is_some();
+            }
         }
         let shading = (scene.instances.iter())
             .filter_map(|i| scene.meshes.get(i.mesh as usize))
@@ -45,6 +51,7 @@ impl SceneFeatures {
             specular,
             emitters,
             metallic_roughness,
+            textures,
         }
     }
 
@@ -58,6 +65,7 @@ impl SceneFeatures {
             (self.emitters, "emitters"),
             (self.shading, "smooth/uv"),
             (self.metallic_roughness, "metallic-roughness"),
+            (self.textures, "textures"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

@@ -51,6 +51,7 @@ pub fn metallic_roughness_from_thesis(m: &ThesisMaterial) -> MetallicRoughness {
         metallic,
         roughness: roughness_from_phong_alpha(m.alpha),
         emission: m.emission,
+        textures: Default::default(),
     }
 }
 

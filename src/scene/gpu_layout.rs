@@ -2,6 +2,7 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
+use super::gpu_materials::gpu_material;
 use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
 use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
@@ -101,39 +102,6 @@ fn octahedral_snorm(n: Vec3) -> u32 {
     };
     let snorm = |c: f32| ((c.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
     snorm(x) | (snorm(y) << 16)
-}
-
-/// Phong selection probability p_S = a_s / (a_s + a_d) (thesis eqs. 3.9–3.11).
-fn specular_probability(kd: Vec3, ks: Vec3) -> f32 {
-    let a_s = ks.element_sum() / 3.0;
-    let a_d = kd.element_sum() / 3.0;
-    if a_s + a_d > 0.0 {
-        a_s / (a_s + a_d)
-    } else {
-        0.0
-    }
-}
-
-/// A material as the shaders read it (shared.h's GpuMaterial): the fields of its model, the
-/// others zero.
-fn gpu_material(m: &Material) -> GpuMaterial {
-    match m {
-        Material::Thesis(m) => GpuMaterial {
-            kd: v4(m.kd, m.alpha),
-            ks: v4(m.ks, specular_probability(m.kd, m.ks)),
-            emission: v4(m.emission, 0.0),
-            model: MODEL_THESIS,
-            ..Default::default()
-        },
-        Material::MetallicRoughness(m) => GpuMaterial {
-            emission: v4(m.emission, 0.0),
-            base_color: v4(m.base_color, 1.0),
-            metallic: m.metallic,
-            roughness: m.roughness,
-            model: MODEL_METALLIC_ROUGHNESS,
-            ..Default::default()
-        },
-    }
 }
 
 impl GpuScene {
@@ -299,7 +267,11 @@ impl GpuScene {
             tlas_root: blas_nodes.len() as u32,
         };
         let mut features = features;
-        features.emitters = !emitters.is_empty();
+        // Zero-area emitters are dropped (they emit nothing); textured ones are not NEE's but
+        // still emit where a path hits them.
+        let textured_emission =
+            (objects.iter()).any(|o| has_emissive_texture(&scene.materials[o.material as usize]));
+        features.emitters = !emitters.is_empty() || textured_emission;
         Ok(Self {
             blas_nodes,
             tlas_nodes,
@@ -414,18 +386,25 @@ pub(crate) fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
     out
 }
 
+fn has_emissive_texture(m: &Material) -> bool {
+    matches!(m, Material::MetallicRoughness(m) if m.textures.emissive.is_some())
+}
+
 /// Emissive objects become NEE emitters: every world-space triangle of an emissive instance
 /// (in the same leaf order as TRIANGLES, so hit triangle → emitter is an offset), and each
 /// emissive box or sphere. Sets `GpuObject::emitter` to the first emitter of each object.
 fn collect_emitters(
     objects: &mut [GpuObject],
     triangles: &[GpuTriangle],
-    materials: &[super::Material],
+    materials: &[Material],
 ) -> Vec<GpuEmitter> {
     let mut emitters = Vec::new();
     for (index, ob) in objects.iter_mut().enumerate() {
         let m = &materials[ob.material as usize];
-        if !m.is_emissive() {
+        // An emissive texture varies the emission across the surface, which next-event
+        // estimation (one radiance per emitter) does not know: such a surface is found by
+        // BRDF sampling alone, with weight 1 (unbiased; noisier for small bright ones).
+        if !m.is_emissive() || has_emissive_texture(m) {
             continue;
         }
         ob.emitter = emitters.len() as u32;
@@ -551,6 +530,7 @@ mod tests {
             boxes: vec![],
             spheres: vec![],
             materials: vec![Material::emitter(Vec3::ZERO, Vec3::ONE)],
+            textures: Vec::new(),
             camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0, 1.0),
             environment: Environment::black(),
         }

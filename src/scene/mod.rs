@@ -11,6 +11,8 @@ pub mod glb_write;
 pub mod gltf_from_thesis;
 pub mod gltf_load;
 pub mod gpu_layout;
+mod gpu_materials;
+pub mod mipmaps;
 pub mod types;
 pub mod validate;
 

@@ -27,7 +27,7 @@ pub struct ThesisMaterial {
 
 /// glTF 2.0's metallic-roughness material (the specification's Appendix B): a GGX specular
 /// lobe over a Lambertian base for dielectrics, coloured specular for metals, mixed by
-/// `metallic`. Factors are in `[0, 1]`.
+/// `metallic`. Factors are in `[0, 1]`; a texture multiplies its factor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MetallicRoughness {
     /// `baseColorFactor`'s RGB, linear.
@@ -37,6 +37,7 @@ pub struct MetallicRoughness {
     pub roughness: f32,
     /// Emitted radiance: `emissiveFactor × KHR_materials_emissive_strength`.
     pub emission: Vec3,
+    pub textures: MaterialTextures,
 }
 
 impl MetallicRoughness {
@@ -46,7 +47,118 @@ impl MetallicRoughness {
         metallic: 1.0,
         roughness: 1.0,
         emission: Vec3::ZERO,
+        textures: MaterialTextures::NONE,
     };
+
+    /// A material of factors alone.
+    pub fn factors(base_color: Vec3, metallic: f32, roughness: f32, emission: Vec3) -> Self {
+        Self {
+            base_color,
+            metallic,
+            roughness,
+            emission,
+            textures: MaterialTextures::NONE,
+        }
+    }
+}
+
+/// The textures a metallic-roughness material samples, each multiplying its factor.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaterialTextures {
+    /// RGB × `base_color` (sRGB-encoded texels).
+    pub base_color: Option<TextureRef>,
+    /// B × `metallic`, G × `roughness` (linear texels).
+    pub metallic_roughness: Option<TextureRef>,
+    /// RGB × `emission` (sRGB-encoded texels).
+    pub emissive: Option<TextureRef>,
+}
+
+impl MaterialTextures {
+    pub const NONE: Self = Self {
+        base_color: None,
+        metallic_roughness: None,
+        emissive: None,
+    };
+
+    /// Every slot that holds a texture.
+    pub fn iter(&self) -> impl Iterator<Item = &TextureRef> {
+        [&self.base_color, &self.metallic_roughness, &self.emissive]
+            .into_iter()
+            .flatten()
+    }
+}
+
+/// A material's use of a texture: which one, read with which texture coordinates, moved by
+/// `KHR_texture_transform`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into [`Scene::textures`].
+    pub texture: u32,
+    /// `TEXCOORD_n`: 0 or 1.
+    pub texcoord: u32,
+    /// The texture transform as the rows of a 2×3 matrix: the lookup is at
+    /// `(row0 · (u, v, 1), row1 · (u, v, 1))`. Identity without `KHR_texture_transform`.
+    pub transform: [[f32; 3]; 2],
+}
+
+impl TextureRef {
+    pub const IDENTITY: [[f32; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+}
+
+/// How a texture's texels encode their values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TexelEncoding {
+    /// Colours (base colour, emissive): sRGB-encoded, decoded to linear by the sampler.
+    Srgb,
+    /// Data (metallic-roughness): read as stored.
+    Linear,
+}
+
+/// How a texture coordinate outside [0, 1] is brought back (glTF's sampler wrap modes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// A glTF sampler: wrap modes and filters. Minification with mipmaps picks the level by the
+/// footprint (ray cones); `mipmaps: false` reads level 0 only.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TextureSampler {
+    pub wrap_u: Wrap,
+    pub wrap_v: Wrap,
+    /// Bilinear (true) or nearest texel when magnifying.
+    pub mag_linear: bool,
+    /// Bilinear (true) or nearest texel when minifying.
+    pub min_linear: bool,
+    /// Minification reads the mip chain (glTF's *_MIPMAP_* filters and the default).
+    pub mipmaps: bool,
+}
+
+impl TextureSampler {
+    /// glTF's default when a texture names no sampler: repeat, filtering left to the
+    /// renderer (bilinear, trilinear with mipmaps).
+    pub const DEFAULT: Self = Self {
+        wrap_u: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
+        mag_linear: true,
+        min_linear: true,
+        mipmaps: true,
+    };
+}
+
+/// An image a material samples, decoded: RGBA, 8 bits per channel, rows from the top (glTF's
+/// texture coordinate (0, 0) is the first texel).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    /// What the file calls it (for messages).
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+    pub encoding: TexelEncoding,
+    pub sampler: TextureSampler,
 }
 
 impl Material {
@@ -259,6 +371,8 @@ pub struct Scene {
     pub boxes: Vec<AaBox>,
     pub spheres: Vec<Sphere>,
     pub materials: Vec<Material>,
+    /// The images glTF materials sample ([`TextureRef::texture`] indexes it).
+    pub textures: Vec<Texture>,
     pub camera: Camera,
     pub environment: Environment,
 }

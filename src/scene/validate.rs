@@ -3,7 +3,7 @@
 //! overflow 32-bit floats. The glTF loader already produces such scenes; this catches scenes
 //! built in code and says what to change.
 
-use super::{Material, MetallicRoughness, Scene, SceneError, ThesisMaterial};
+use super::{Material, MetallicRoughness, Scene, SceneError, Texture, TextureRef, ThesisMaterial};
 use glam::Vec3;
 
 /// Largest finite Phong exponent accepted; sharper lobes are mirrors in practice (α = ∞).
@@ -20,8 +20,17 @@ pub fn validate(scene: &Scene) -> Result<(), SceneError> {
         scene: scene.name.clone(),
         problem,
     };
+    for (i, t) in scene.textures.iter().enumerate() {
+        check_texture(t).map_err(|p| invalid(format!("texture {i} ('{}'): {p}", t.name)))?;
+    }
     for (i, m) in scene.materials.iter().enumerate() {
         check_material(m).map_err(|p| invalid(format!("material {i}: {p}")))?;
+        if let Material::MetallicRoughness(m) = m {
+            for r in m.textures.iter() {
+                check_texture_ref(r, scene.textures.len())
+                    .map_err(|p| invalid(format!("material {i}: {p}")))?;
+            }
+        }
     }
     for (i, mesh) in scene.meshes.iter().enumerate() {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
@@ -128,6 +137,41 @@ fn check_metallic_roughness(m: &MetallicRoughness) -> Result<(), String> {
     check_unit("roughness", Vec3::splat(m.roughness))
 }
 
+/// A texture has texels, as many as its size says.
+fn check_texture(t: &Texture) -> Result<(), String> {
+    let texels = t.width as u64 * t.height as u64;
+    if texels == 0 || t.rgba8.len() as u64 != 4 * texels {
+        return Err(format!(
+            "{}×{} texels need {} bytes of RGBA, it has {}",
+            t.width,
+            t.height,
+            4 * texels,
+            t.rgba8.len()
+        ));
+    }
+    Ok(())
+}
+
+/// A material's texture exists, is read with TEXCOORD_0 or _1, and moves by finite numbers.
+fn check_texture_ref(r: &TextureRef, textures: usize) -> Result<(), String> {
+    if r.texture as usize >= textures {
+        return Err(format!(
+            "it uses texture {} but the scene has {textures}",
+            r.texture
+        ));
+    }
+    if r.texcoord > 1 {
+        return Err(format!("TEXCOORD_{} does not exist (0 or 1)", r.texcoord));
+    }
+    if !r.transform.iter().flatten().all(|x| x.is_finite()) {
+        return Err(format!(
+            "its texture transform {:?} is not finite",
+            r.transform
+        ));
+    }
+    Ok(())
+}
+
 fn check_unit(what: &str, v: Vec3) -> Result<(), String> {
     if v.is_finite() && v.min_element() >= 0.0 && v.max_element() <= 1.0 {
         Ok(())
@@ -172,6 +216,7 @@ mod tests {
                 metallic,
                 roughness,
                 emission: Vec3::splat(MAX_EMISSION),
+                textures: Default::default(),
             });
             check_material(&m).unwrap();
         }
@@ -240,6 +285,7 @@ mod tests {
             metallic: 0.5,
             roughness: 0.5,
             emission: Vec3::ZERO,
+            textures: Default::default(),
         };
         let gltf = |m: MetallicRoughness| Material::MetallicRoughness(m);
         let cases = [

@@ -8,7 +8,11 @@ use super::origin::{Origin, Warnings};
 use crate::scene::SceneError;
 
 /// Extensions whose content this loader reads.
-const READ_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength", "KHR_mesh_quantization"];
+const READ_EXTENSIONS: &[&str] = &[
+    "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
+];
 /// A validated glTF document and the GLB binary chunk, if any.
 pub(super) struct Parsed {
     pub(super) document: gltf::Document,
@@ -167,8 +171,8 @@ fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
 }
 
 /// Checks what the `gltf` 1.4 validator would panic on, and handles required extensions:
-/// those this loader reads or may safely ignore are removed from `extensionsRequired` (the
-/// validator rejects every required extension it does not know), the others are an error.
+/// those this loader reads are removed from `extensionsRequired` (the validator rejects every
+/// required extension it does not know), any other is an error naming it.
 fn precheck(root: &mut json::Root) -> Result<(), String> {
     // The validator's primitive hook indexes `accessors[POSITION]` before bounds are checked.
     for (m, mesh) in root.meshes.iter().enumerate() {
@@ -186,18 +190,11 @@ fn precheck(root: &mut json::Root) -> Result<(), String> {
             }
         }
     }
-    let ignorable = |name: &str| {
-        READ_EXTENSIONS.contains(&name)
-            || name.starts_with("KHR_materials_")
-            || matches!(
-                name,
-                "KHR_texture_transform"
-                    | "KHR_texture_basisu"
-                    | "EXT_texture_webp"
-                    | "MSFT_texture_dds"
-            )
-    };
-    if let Some(name) = root.extensions_required.iter().find(|n| !ignorable(n)) {
+    // A required extension changes what the file means: one this loader does not read
+    // refuses the file (merely used ones are listed once, note_ignored_features).
+    if let Some(name) =
+        (root.extensions_required.iter()).find(|n| !READ_EXTENSIONS.contains(&n.as_str()))
+    {
         return Err(format!(
             "the file requires the extension {name}, which fovea cannot read; \
              re-export without it (e.g. `gltf-transform copy` decompresses Draco/meshopt)"
@@ -208,9 +205,6 @@ fn precheck(root: &mut json::Root) -> Result<(), String> {
 }
 /// Records the kinds of ignored content that can be seen at the document level.
 pub(super) fn note_ignored_features(document: &gltf::Document, warnings: &mut Warnings) {
-    if document.textures().len() > 0 || document.images().len() > 0 {
-        warnings.add("textures (only base colour and emissive factors are used)");
-    }
     if document.skins().len() > 0 {
         warnings.add("skins (meshes are used in their bind pose)");
     }

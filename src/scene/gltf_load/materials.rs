@@ -1,10 +1,14 @@
 //! glTF materials as glTF's own metallic-roughness model ([`MetallicRoughness`]): the factors,
-//! checked; the shaders evaluate the specification's BRDF (glsl/gltf_brdf.glsl).
+//! checked, and the textures that multiply them; the shaders evaluate the specification's
+//! BRDF (glsl/gltf_brdf.glsl).
 
 use glam::Vec3;
 
-use super::origin::Warnings;
-use crate::scene::{Material, MetallicRoughness};
+use super::origin::{Origin, Warnings};
+use super::textures::TextureLoader;
+use crate::scene::{
+    Material, MaterialTextures, MetallicRoughness, SceneError, TexelEncoding, TextureRef,
+};
 
 /// The material of primitives that have none: glTF's default material (white, metallic 1,
 /// roughness 1: every property at the specification's default).
@@ -12,12 +16,45 @@ pub fn default_material() -> Material {
     Material::MetallicRoughness(MetallicRoughness::GLTF_DEFAULT)
 }
 
-/// A glTF material's factors as a [`MetallicRoughness`]; a negative, non-finite or
-/// overflowing factor is an error naming the material.
+/// A glTF material as a [`MetallicRoughness`], its textures loaded through `textures`.
 pub(super) fn convert_material(
     material: &gltf::Material,
+    textures: &mut TextureLoader,
+    origin: &Origin,
     warnings: &mut Warnings,
-) -> Result<Material, String> {
+) -> Result<Material, SceneError> {
+    let factors = convert_factors(material, warnings).map_err(|p| origin.invalid(p))?;
+    let pbr = material.pbr_metallic_roughness();
+    let mut slot =
+        |info: Option<gltf::texture::Info>, encoding| -> Result<Option<TextureRef>, SceneError> {
+            info.map(|i| textures.reference(&i, encoding, origin))
+                .transpose()
+        };
+    let textures = MaterialTextures {
+        base_color: slot(pbr.base_color_texture(), TexelEncoding::Srgb)?,
+        metallic_roughness: slot(pbr.metallic_roughness_texture(), TexelEncoding::Linear)?,
+        emissive: slot(material.emissive_texture(), TexelEncoding::Srgb)?,
+    };
+    if material.normal_texture().is_some() {
+        warnings.add("normal maps (shading uses the interpolated normals)");
+    }
+    // A path tracer computes occlusion by tracing: glTF's baked ambient occlusion would count
+    // it twice (the specification leaves its use to the renderer).
+    if material.occlusion_texture().is_some() {
+        warnings.add("occlusion textures (a path tracer traces occlusion itself)");
+    }
+    Ok(Material::MetallicRoughness(MetallicRoughness {
+        textures,
+        ..factors
+    }))
+}
+
+/// A glTF material's factors; a negative, non-finite or overflowing factor is an error naming
+/// the material.
+fn convert_factors(
+    material: &gltf::Material,
+    warnings: &mut Warnings,
+) -> Result<MetallicRoughness, String> {
     let label = match (material.name(), material.index()) {
         (Some(name), Some(i)) => format!("material '{name}' (#{i})"),
         (_, i) => format!("material #{}", i.unwrap_or(0)),
@@ -51,10 +88,10 @@ pub(super) fn convert_material(
     }
     // The schema bounds the factors by 1; exporters round past it by an ulp or so.
     let unit = |x: f32| x.min(1.0);
-    Ok(Material::MetallicRoughness(MetallicRoughness {
-        base_color: Vec3::new(unit(r), unit(g), unit(b)),
-        metallic: unit(metallic),
-        roughness: unit(roughness),
+    Ok(MetallicRoughness::factors(
+        Vec3::new(unit(r), unit(g), unit(b)),
+        unit(metallic),
+        unit(roughness),
         emission,
-    }))
+    ))
 }

@@ -28,6 +28,7 @@ mod materials;
 mod origin;
 mod primitive;
 mod sources;
+mod textures;
 mod walk;
 
 use std::borrow::Cow;
@@ -199,6 +200,7 @@ fn scene_from_bytes(
         boxes: Vec::new(),
         spheres: Vec::new(),
         materials: walked.materials,
+        textures: walked.textures,
         camera,
         environment: Environment::sky(),
     })
@@ -218,7 +220,7 @@ fn walk_bytes(
     let buffers = load_buffers(&parsed.document, parsed.blob, base_dir, origin)?;
     let mut warnings = Warnings::default();
     note_ignored_features(&parsed.document, &mut warnings);
-    let walked = walk(&parsed.document, &buffers, origin, &mut warnings)?;
+    let walked = walk(&parsed.document, &buffers, base_dir, origin, &mut warnings)?;
     warnings.emit(origin);
     Ok(walked)
 }

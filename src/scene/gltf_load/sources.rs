@@ -76,19 +76,19 @@ pub(super) fn load_buffers(
 }
 
 /// Shortens a URI for messages (a huge `data:` URI must not flood the log).
-fn short(uri: &str) -> String {
+pub(super) fn short(uri: &str) -> String {
     match uri.char_indices().nth(60) {
         Some((cut, _)) => format!("{}…", &uri[..cut]),
         None => uri.to_owned(),
     }
 }
 
-/// Resolves a buffer URI that is not a `data:` URI to a file path.
-fn external_path(uri: &str, base_dir: Option<&Path>) -> Result<PathBuf, String> {
+/// Resolves a buffer or image URI that is not a `data:` URI to a file path.
+pub(super) fn external_path(uri: &str, base_dir: Option<&Path>) -> Result<PathBuf, String> {
     let Some(base_dir) = base_dir else {
         return Err(
-            "the buffer is an external file, which cannot be found for glTF data loaded from \
-             memory (there is no directory to look in); embed the buffers as data: URIs or \
+            "it is an external file, which cannot be found for glTF data loaded from \
+             memory (there is no directory to look in); embed it as a data: URI or \
              use a .glb"
                 .into(),
         );
@@ -145,7 +145,7 @@ fn percent_decode(text: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 /// The bytes of a base64 `data:` URI (the only encoding glTF allows for buffers).
-fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
+pub(super) fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
     use base64::Engine;
     let (header, payload) = uri.split_once(',').ok_or("no ',' after the media type")?;
     if !header.ends_with(";base64") {

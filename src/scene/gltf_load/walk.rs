@@ -11,13 +11,15 @@ use super::limits::MAX_COORDINATE;
 use super::materials::{convert_material, default_material};
 use super::origin::{Origin, Warnings};
 use super::primitive::{build_primitive, is_triangles};
-use crate::scene::{Camera, Instance, Material, Mesh, SceneError};
+use super::textures::TextureLoader;
+use crate::scene::{Camera, Instance, Material, Mesh, SceneError, Texture};
 
 /// The result of walking the node tree.
 pub(super) struct Walked {
     pub(super) meshes: Vec<Mesh>,
     pub(super) instances: Vec<Instance>,
     pub(super) materials: Vec<Material>,
+    pub(super) textures: Vec<Texture>,
     pub(super) camera: Option<NodeCamera>,
     /// Distinct primitives skipped because they are points or lines.
     pub(super) skipped_primitives: usize,
@@ -51,9 +53,11 @@ impl NodeCamera {
 
 /// Walks the default scene (or the first; or, with no scenes, every root node) depth first,
 /// composing transforms, building deduplicated meshes, materials and instances.
+/// Images beside a `.gltf` are read from `base_dir` (`None`: not allowed).
 pub(super) fn walk(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
+    base_dir: Option<&std::path::Path>,
     origin: &Origin,
     warnings: &mut Warnings,
 ) -> Result<Walked, SceneError> {
@@ -62,10 +66,12 @@ pub(super) fn walk(
         buffers,
         origin,
         warnings,
+        textures: TextureLoader::new(buffers, base_dir),
         walked: Walked {
             meshes: Vec::new(),
             instances: Vec::new(),
             materials: Vec::new(),
+            textures: Vec::new(),
             camera: None,
             skipped_primitives: 0,
         },
@@ -94,6 +100,7 @@ pub(super) fn walk(
         let children: Vec<gltf::Node> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
+    walker.walked.textures = std::mem::take(&mut walker.textures.textures);
     Ok(walker.walked)
 }
 
@@ -126,6 +133,7 @@ struct Walker<'w, 'd> {
     buffers: &'d [Vec<u8>],
     origin: &'w Origin<'w>,
     warnings: &'w mut Warnings,
+    textures: TextureLoader<'d>,
     walked: Walked,
     /// The accessors a primitive reads → Mesh index, or None when the primitive has no
     /// triangles.
@@ -269,8 +277,12 @@ impl Walker<'_, '_> {
             return Ok(id);
         }
         let material = match gltf_material.index() {
-            Some(_) => convert_material(gltf_material, self.warnings)
-                .map_err(|p| self.origin.invalid(p))?,
+            Some(_) => convert_material(
+                gltf_material,
+                &mut self.textures,
+                self.origin,
+                self.warnings,
+            )?,
             None => default_material(),
         };
         // Factors are finite (convert_material checks them), so equality is well defined.
