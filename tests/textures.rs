@@ -7,7 +7,8 @@
 mod common;
 
 use fovea::check::gltf_brdf::GltfBrdf;
-use fovea::render::Integrator;
+use fovea::foveation::{FoveationConfig, Gaze, Layer};
+use fovea::render::{DebugView, EyeView, FrameOptions, FrameRequest, Integrator, Renderer};
 use fovea::scene::gltf_load::load_gltf;
 use fovea::scene::{
     Camera, Environment, Instance, Material, MaterialTextures, Mesh, MetallicRoughness, Scene,
@@ -246,4 +247,261 @@ fn box_textured_reads_its_image() {
         .filter(|p| p[1] > 1.5 * p[0] && p[1] > p[2])
         .count();
     assert!(blue > 20 && green > 20, "blue {blue}, green {green} pixels");
+}
+
+/// The pixel (x, y) where `camera` sees world point `p` in a `w × h` image.
+fn project(camera: &Camera, p: Vec3, w: usize, h: usize) -> (usize, usize) {
+    let (r, u, f) = camera.basis();
+    let d = p - camera.position;
+    let (tx, ty) = (d.dot(r) / d.dot(f), d.dot(u) / d.dot(f));
+    let (left, right) = (camera.angle_left.tan(), camera.angle_right.tan());
+    let (up, down) = (camera.angle_up.tan(), camera.angle_down.tan());
+    let x = (tx - left) / (right - left) * w as f32;
+    let y = (up - ty) / (up - down) * h as f32;
+    (x as usize, y as usize)
+}
+
+#[test]
+fn texture_transform_test_reads_correct() {
+    // Khronos' TextureTransformTest (Debian's assimp-testmodels). Top row: UV.png moved by
+    // offsets shows a coloured "correct" tick, and yellow where the offset was not applied.
+    // Bottom left: Arrow.png rotated by 22.5° about the uv origin (the quad's top-left corner)
+    // points at the green "correct" marker; rotated the other way it would point at the red
+    // "error" one, unrotated along the diagonal between them.
+    let path = "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf";
+    let (w, h) = (400, 300);
+    let scene = load_gltf(path.as_ref(), w as f32 / h as f32).expect("assimp-testmodels");
+    let ctx = common::context();
+    let frame = common::render(
+        &ctx,
+        &scene,
+        &common::settings(w as u32, h as u32, 16, 1, Integrator::Pt),
+    );
+    let at = |p: Vec3| {
+        let (x, y) = project(&scene.camera, p, w, h);
+        let i = 3 * (y * w + x);
+        Vec3::new(frame.rgb[i], frame.rgb[i + 1], frame.rgb[i + 2])
+    };
+    // The quads' centres (node translations), a little off the tick's white strokes.
+    for (name, centre) in [("Offset U", -1.1), ("Offset V", 0.0), ("Offset UV", 1.1)] {
+        let c = at(Vec3::new(centre - 0.35, 0.85, 0.0));
+        assert!(
+            c.x < 0.5 * c.y.max(c.z),
+            "{name}: {c} is yellow (offset not applied)"
+        );
+    }
+    // Rotation: darkness 60% of the way from the quad's top-left corner to each marker.
+    let centre = Vec3::new(-1.1, -0.55, 0.0);
+    let corner = centre + Vec3::new(-0.5, 0.5, 0.0);
+    let toward = |marker: Vec3| {
+        let p = corner + 0.6 * (marker - corner);
+        let (x, y) = project(&scene.camera, p, w, h);
+        // The darkest pixel of a 5 × 5 window: the arrow is a few pixels wide here.
+        (y - 2..=y + 2)
+            .flat_map(|yy| (x - 2..=x + 2).map(move |xx| (xx, yy)))
+            .map(|(xx, yy)| {
+                frame.rgb[3 * (yy * w + xx)..3 * (yy * w + xx) + 3]
+                    .iter()
+                    .sum::<f32>()
+            })
+            .fold(f32::INFINITY, f32::min)
+    };
+    let correct = toward(centre + Vec3::new(-0.079, -0.516, 0.0));
+    let error = toward(centre + Vec3::new(0.516, 0.079, 0.0));
+    eprintln!(
+        "rotation: darkest toward the correct marker {correct:.3}, toward the error one {error:.3}"
+    );
+    assert!(
+        correct < 0.3 * error,
+        "the arrow does not point at the correct marker"
+    );
+}
+
+/// A 1-texel checkerboard of black and white, `n × n` texels.
+fn checkerboard(n: u32, mipmaps: bool) -> Texture {
+    let rgba8 = (0..n * n)
+        .flat_map(|i| {
+            let v = if (i % n + i / n) % 2 == 0 { 255 } else { 0 };
+            [v, v, v, 255]
+        })
+        .collect();
+    Texture {
+        name: "checkerboard".into(),
+        width: n,
+        height: n,
+        rgba8,
+        encoding: TexelEncoding::Srgb,
+        sampler: TextureSampler {
+            mipmaps,
+            ..TextureSampler::DEFAULT
+        },
+    }
+}
+
+/// A floor with a checkerboard of 64² texels repeated `repeats` times across, seen at a
+/// grazing angle. The checkerboard is the floor's emission in the dark (a black base reflects
+/// next to nothing), so what a pixel shows is the texel its camera ray reads.
+fn checker_floor(repeats: f32, mipmaps: bool) -> Scene {
+    let mut mesh = textured_quad();
+    for uv in &mut mesh.shading.uv[0] {
+        *uv *= repeats;
+    }
+    Scene {
+        name: "checker-floor".into(),
+        meshes: vec![mesh],
+        instances: vec![Instance {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::from_scale(Vec3::new(50.0, 50.0, 1.0)),
+        }],
+        boxes: vec![],
+        spheres: vec![],
+        materials: vec![Material::MetallicRoughness(MetallicRoughness {
+            textures: MaterialTextures {
+                emissive: slot(),
+                ..MaterialTextures::NONE
+            },
+            ..MetallicRoughness::factors(Vec3::ZERO, 0.0, 1.0, Vec3::ONE)
+        })],
+        textures: vec![checkerboard(64, mipmaps)],
+        camera: Camera::look_at(
+            Vec3::new(0.0, -20.0, 1.0),
+            Vec3::new(0.0, 30.0, 0.0),
+            Vec3::Z,
+            40.0,
+            1.0,
+        ),
+        environment: Environment::black(),
+    }
+}
+
+/// Mean and variance of rows `rows` of an RGB frame `w` wide (channels averaged).
+fn row_stats(rgb: &[f32], w: usize, rows: std::ops::Range<usize>) -> (f64, f64) {
+    let values: Vec<f64> = rgb[3 * w * rows.start..3 * w * rows.end]
+        .chunks_exact(3)
+        .map(|p| p.iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+        .collect();
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, var)
+}
+
+#[test]
+fn ray_cones_read_coarser_levels_where_texels_are_smaller_than_pixels() {
+    // Towards the horizon hundreds of texels fall in a pixel. Read at the level the ray cone
+    // asks for, a pixel there is their mean (grey); read at level 0, each sample is black or
+    // white.
+    let ctx = common::context();
+    // The upper rows of the floor (below the horizon at the image's middle).
+    let far_rows = |scene: &Scene| {
+        let frame = common::render(&ctx, scene, &common::settings(32, 32, 1, 9, Integrator::Pt));
+        row_stats(&frame.rgb, 32, 17..22)
+    };
+    let (cone_mean, cone_var) = far_rows(&checker_floor(100.0, true));
+    let (finest_mean, finest_var) = far_rows(&checker_floor(100.0, false));
+    eprintln!(
+        "far floor, 1 spp: ray cones {cone_mean:.3} (variance {cone_var:.4}), level 0 \
+         {finest_mean:.3} (variance {finest_var:.4})"
+    );
+    assert!(
+        cone_var < 0.25 * finest_var,
+        "cones do not filter: {cone_var} vs {finest_var}"
+    );
+    assert!(
+        (cone_mean - finest_mean).abs() < 0.15 * finest_mean,
+        "the mean moved"
+    );
+}
+
+#[test]
+fn a_sparser_lattice_reads_coarser_levels() {
+    // The checkerboard quad seen face on, a pixel covering about a texel: at lattice spacing 1
+    // the cone reads level 0 and the checkerboard aliases with or without mipmaps. A layer
+    // that traces every 4th pixel starts its cones 4 times wider: it reads level 2, which is
+    // grey, where the same layer without mipmaps still reads black or white texels.
+    let ctx = common::context();
+    let size = 64usize;
+    let rows = 4..60;
+    let spacing_stats = |spacing: u32, mipmaps: bool| {
+        let emissive = MetallicRoughness {
+            textures: MaterialTextures {
+                emissive: slot(),
+                ..MaterialTextures::NONE
+            },
+            ..MetallicRoughness::factors(Vec3::ZERO, 0.0, 1.0, Vec3::ONE)
+        };
+        let mut scene = scene(emissive, checkerboard(64, mipmaps));
+        scene.environment = Environment::black();
+        let config = FoveationConfig {
+            layers: vec![Layer {
+                radius_deg: None,
+                spacing,
+                spp: 1,
+                denoise: 0,
+            }],
+            blend_deg: 0.0,
+            occlusion_deg: None,
+        };
+        let eyes = [EyeView {
+            camera: scene.camera,
+            gaze: Gaze::Forward,
+        }];
+        let request = FrameRequest {
+            settings: common::settings(size as u32, size as u32, 1, 5, Integrator::Pt),
+            foveation: &config,
+            eyes: &eyes,
+            debug: DebugView::None,
+        };
+        let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+        let frame = renderer
+            .frame(&request, FrameOptions::pixels())
+            .unwrap()
+            .unwrap();
+        drop(renderer);
+        common::assert_no_validation_messages(&ctx);
+        row_stats(&frame.rgb, size, rows.clone()).1
+    };
+    let (dense_mips, dense_finest) = (spacing_stats(1, true), spacing_stats(1, false));
+    let (sparse_mips, sparse_finest) = (spacing_stats(4, true), spacing_stats(4, false));
+    eprintln!(
+        "face-on checkerboard variance: spacing 1 {dense_mips:.4} (level 0 only {dense_finest:.4}), \
+         spacing 4 {sparse_mips:.4} (level 0 only {sparse_finest:.4})"
+    );
+    assert!(
+        dense_mips > 0.5 * dense_finest,
+        "spacing 1 already filters here"
+    );
+    assert!(
+        sparse_mips < 0.25 * sparse_finest,
+        "spacing 4 does not read coarser levels"
+    );
+}
+
+#[test]
+fn textures_count_in_the_memory_plan() {
+    // A 2048² texture takes 16 MiB, 21.3 MiB with its mip chain: under a 16 MiB cap the scene
+    // is refused before anything is allocated, with the texture named.
+    let mut options = fovea::gpu::GpuOptions::from_env();
+    options.validation = true;
+    options.memory_limit = Some(16 << 20);
+    let ctx = std::sync::Arc::new(fovea::gpu::GpuContext::new(&options).unwrap());
+    let material = MetallicRoughness {
+        textures: MaterialTextures {
+            base_color: slot(),
+            ..MaterialTextures::NONE
+        },
+        ..MetallicRoughness::factors(Vec3::ONE, 0.0, 1.0, Vec3::ZERO)
+    };
+    let mut big = checkerboard(2048, true);
+    big.name = "big checkerboard".into();
+    let error = Renderer::new(&ctx, &scene(material, big))
+        .err()
+        .expect("refused");
+    let text = error.to_string();
+    assert!(
+        text.contains("texture 'big checkerboard' 21.33 MiB"),
+        "{text}"
+    );
+    common::assert_no_validation_messages(&ctx);
 }
