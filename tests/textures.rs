@@ -321,7 +321,11 @@ fn texture_transform_test_reads_correct() {
 fn checkerboard(n: u32, mipmaps: bool) -> Texture {
     let rgba8 = (0..n * n)
         .flat_map(|i| {
-            let v = if (i % n + i / n) % 2 == 0 { 255 } else { 0 };
+            let v = if (i % n + i / n).is_multiple_of(2) {
+                255
+            } else {
+                0
+            };
             [v, v, v, 255]
         })
         .collect();
