@@ -46,6 +46,7 @@ fn floor() -> Scene {
                     vec![uv(0.0, 1.0), uv(1.0, 1.0), uv(1.0, 0.0), uv(0.0, 0.0)],
                     vec![],
                 ],
+                tangents: vec![],
             },
         }],
         instances: vec![Instance {

@@ -272,6 +272,7 @@ def seeds():
     prim = d.prim(pos, d.indices([0, 1, 2, 2, 3, 0], U16), material=0)
     prim["attributes"]["TEXCOORD_0"] = d.accessor([(0, 0), (1, 0), (1, 1), (0, 1)], FLOAT, "VEC2",
                                                   minmax=False)
+    prim["attributes"]["NORMAL"] = d.accessor([(0, 0, 1)] * 4, FLOAT, "VEC3")
     d.mesh([prim])
     d.j["images"] = [{"bufferView": d.view(CHECKER), "mimeType": "image/png"}]
     d.j["samplers"] = [{"magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648}]
@@ -280,7 +281,8 @@ def seeds():
         "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
             "offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2]}}},
         "metallicRoughnessTexture": {"index": 0}},
-        emissiveTexture={"index": 0}, emissiveFactor=[1, 1, 1])
+        emissiveTexture={"index": 0}, emissiveFactor=[1, 1, 1],
+        normalTexture={"index": 0, "scale": 0.5})
     d.scene([d.node(mesh=0)])
     yield "textures", d
 

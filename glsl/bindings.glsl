@@ -49,6 +49,7 @@ GpuTriangleShading load_triangle_shading(uint index) {
     S.uv0_01 = fetch_vec4(shading_texels, t + 1);
     S.uv0_2_uv1_0 = fetch_vec4(shading_texels, t + 2);
     S.uv1_12 = fetch_vec4(shading_texels, t + 3);
+    S.tangents = texelFetch(shading_texels, t + 4);
     return S;
 }
 
@@ -109,10 +110,11 @@ GpuMaterial load_material(uint index) {
     m.metallic = uintBitsToFloat(more.x);
     m.roughness = uintBitsToFloat(more.y);
     m.model = more.z;
-    m.pad0 = more.w;
+    m.normal_scale = uintBitsToFloat(more.w);
     m.base_color_texture = load_texture_slot(t + 5);
     m.metallic_roughness_texture = load_texture_slot(t + 8);
     m.emissive_texture = load_texture_slot(t + 11);
+    m.normal_texture = load_texture_slot(t + 14);
     return m;
 }
 

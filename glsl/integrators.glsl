@@ -21,6 +21,8 @@ struct SurfaceHit {
     vec3 ns;     // shading normal (valid_shading_normal), on ng's side; ng without attributes
     vec4 uv;     // TEXCOORD_0 (xy) and TEXCOORD_1 (zw) at the hit; 0 without attributes
     vec2 uv_per_area; // per TEXCOORD set, the triangle's uv area over its world area (textures)
+    vec3 n_smooth; // the interpolated normal facing the viewer (ng without normals), unbent
+    vec4 tangent;  // world-space tangent, w the bitangent's sign; 0 without tangents
     bool front;  // the ray arrived on the side the geometric normal points to
     GpuMaterial m;
     uint emitter; // this point's emitter index, or NO_EMITTER
@@ -36,7 +38,10 @@ void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
     float b0 = 1.0 - b.x - b.y;
     s.uv.xy = b0 * S.uv0_01.xy + b.x * S.uv0_01.zw + b.y * S.uv0_2_uv1_0.xy;
     s.uv.zw = b0 * S.uv0_2_uv1_0.zw + b.x * S.uv1_12.xy + b.y * S.uv1_12.zw;
-    if (HAS_TEXTURES) s.uv_per_area = uv_per_world_area(T, S, ob);
+    if (HAS_TEXTURES) {
+        s.uv_per_area = uv_per_world_area(T, S, ob);
+        s.tangent = world_tangent(S, b, ob);
+    }
     vec3 n = interpolated_normal(S, b);
     if (n == vec3(0.0)) return;
     // Normals transform by the inverse transpose: the columns of world->object.
@@ -44,7 +49,8 @@ void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
     float len = length(nw);
     if (!(len > 0.0)) return;
     nw /= len;
-    s.ns = valid_shading_normal(s.front ? nw : -nw, s.ng, -d);
+    s.n_smooth = s.front ? nw : -nw;
+    s.ns = valid_shading_normal(s.n_smooth, s.ng, -d);
 }
 
 // The surface a ray (o, d) hits; `cone_width` is its ray cone's width there (textures' level
@@ -58,6 +64,8 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d, float cone_width) {
     s.ns = s.ng;
     s.uv = vec4(0.0);
     s.uv_per_area = vec2(0.0);
+    s.n_smooth = s.ng;
+    s.tangent = vec4(0.0);
     GpuObject ob = load_object(h.object);
     if (HAS_SHADING && ob.kind == KIND_INSTANCE) interpolate_attributes(s, h, ob, d);
     s.m = load_material(ob.material);
@@ -66,6 +74,12 @@ SurfaceHit surface(Hit h, vec3 o, vec3 d, float cone_width) {
         f.uv_per_area = s.uv_per_area;
         f.width = cone_width / max(abs(dot(s.ng, d)), 1e-3);
         s.m = textured(s.m, s.uv, f);
+        // A normal map bends the interpolated normal in its tangent frame; the result is made
+        // valid for the view like any shading normal (valid_shading_normal).
+        if (s.m.normal_texture.texture != NO_TEXTURE && s.tangent.w != 0.0) {
+            vec3 mapped = mapped_normal(s.m, s.uv, f, s.n_smooth, s.tangent);
+            s.ns = valid_shading_normal(mapped, s.ng, -d);
+        }
     }
     s.emitter = NO_EMITTER;
     if (ob.emitter != NO_EMITTER) {

@@ -33,6 +33,22 @@ vec2 uv_per_world_area(GpuTriangle T, GpuTriangleShading S, GpuObject ob) {
     return world > 0.0 ? uv / world : vec2(0.0);
 }
 
+// The world-space tangent at barycentrics b (unnormalised; w the bitangent's sign), or
+// vec4(0) when the triangle has none. Tangents transform with the object (they lie in the
+// surface), not by the inverse transpose as normals do.
+vec4 world_tangent(GpuTriangleShading S, vec2 b, GpuObject ob) {
+    if ((S.tangents.w & SHADING_TANGENTS) == 0u) return vec4(0.0);
+    vec3 t0 = from_octahedral(unpackSnorm2x16(S.tangents.x));
+    vec3 t1 = from_octahedral(unpackSnorm2x16(S.tangents.y));
+    vec3 t2 = from_octahedral(unpackSnorm2x16(S.tangents.z));
+    vec3 t = (1.0 - b.x - b.y) * t0 + b.x * t1 + b.y * t2;
+    mat3 to_world = transpose(mat3(ob.object_to_world0.xyz, ob.object_to_world1.xyz, ob.object_to_world2.xyz));
+    // The sign of the corner nearest to the hit (the signs agree except across a mirror seam).
+    uint corner = b.x > b.y ? (b.x > 1.0 - b.x - b.y ? 1u : 0u) : (b.y > 1.0 - b.x - b.y ? 2u : 0u);
+    float sign = (S.tangents.w & (1u << corner)) != 0u ? -1.0 : 1.0;
+    return vec4(to_world * t, sign);
+}
+
 // The object-space shading normal of a triangle's attributes at barycentrics b (unnormalised),
 // or vec3(0) when the triangle has none.
 vec3 interpolated_normal(GpuTriangleShading S, vec2 b) {

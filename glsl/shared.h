@@ -69,9 +69,9 @@
 #define TEXELS_PER_NODE 5
 #define TEXELS_PER_TRIANGLE 3
 #define TEXELS_PER_OBJECT 10
-#define TEXELS_PER_MATERIAL 14
+#define TEXELS_PER_MATERIAL 17
 #define TEXELS_PER_EMITTER 5
-#define TEXELS_PER_TRIANGLE_SHADING 4
+#define TEXELS_PER_TRIANGLE_SHADING 5
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
 #define SPEC_HAS_TRIANGLES 0
@@ -167,11 +167,14 @@ struct GpuTriangle {
 // surface.glsl's encoding) and their two sets of texture coordinates (0 where absent).
 #define SHADING_NORMALS 1u // GpuTriangleShading.normals.w: the corners have shading normals
                            // (else, no normals in the mesh or an unusable one: shaded flat)
+#define SHADING_TANGENTS 8u // GpuTriangleShading.tangents.w: the corners have tangents (normal maps)
 struct GpuTriangleShading {
     uvec4 normals; // x, y, z: corners 0, 1, 2; w: SHADING_* flags
     vec4 uv0_01;   // TEXCOORD_0 of corner 0 (xy) and corner 1 (zw)
     vec4 uv0_2_uv1_0; // TEXCOORD_0 of corner 2 (xy), TEXCOORD_1 of corner 0 (zw)
     vec4 uv1_12;   // TEXCOORD_1 of corner 1 (xy) and corner 2 (zw)
+    uvec4 tangents; // x, y, z: corners 0, 1, 2's tangents (octahedral as the normals); w:
+                    // bit k the sign of corner k's bitangent (1: negative), SHADING_TANGENTS
 };
 
 // An instance of a mesh, an axis-aligned box or a sphere: the TLAS leaves.
@@ -217,10 +220,11 @@ struct GpuMaterial {
     float metallic; // MODEL_METALLIC_ROUGHNESS
     float roughness; // MODEL_METALLIC_ROUGHNESS: perceptual; the GGX width is its square
     uint model; // MODEL_*
-    uint pad0;
+    float normal_scale; // MODEL_METALLIC_ROUGHNESS: normal_texture's x and y scale
     GpuTextureSlot base_color_texture; // rgb x base_color (sRGB texels)
     GpuTextureSlot metallic_roughness_texture; // b x metallic, g x roughness (linear)
     GpuTextureSlot emissive_texture; // rgb x emission (sRGB texels)
+    GpuTextureSlot normal_texture; // tangent-space normal (linear texels)
 };
 
 // A light for next-event estimation: a world-space triangle, a box or a sphere.

@@ -49,4 +49,20 @@ GpuMaterial textured(GpuMaterial m, vec4 uv, Footprint f) {
     return m;
 }
 
+// The normal a normal map gives at the hit: its texel (2 rgb - 1, x and y times the scale)
+// in the frame of the tangent t (w: the bitangent's sign) and the smooth normal n, with the
+// bitangent w (n x t) pointing up the image (glTF 2.0, 3.9.3: +Y is up).
+vec3 mapped_normal(GpuMaterial m, vec4 uv, Footprint f, vec3 n, vec4 t) {
+    vec3 c = sample_slot(m.normal_texture, uv, f).xyz * 2.0 - 1.0;
+    c.xy *= m.normal_scale;
+    vec3 T = t.xyz - n * dot(n, t.xyz);
+    float len = length(T);
+    if (!(len > 1e-6)) return n;
+    T /= len;
+    vec3 B = t.w * cross(n, T);
+    vec3 mapped = c.x * T + c.y * B + c.z * n;
+    float l = length(mapped);
+    return l > 0.0 ? mapped / l : n;
+}
+
 #endif

@@ -34,6 +34,7 @@ pub struct GpuTriangleShading {
     pub uv0_01: [f32; 4],
     pub uv0_2_uv1_0: [f32; 4],
     pub uv1_12: [f32; 4],
+    pub tangents: [u32; 4],
 }
 
 #[repr(C)]
@@ -67,10 +68,11 @@ pub struct GpuMaterial {
     pub metallic: f32,
     pub roughness: f32,
     pub model: u32,
-    pub pad0: u32,
+    pub normal_scale: f32,
     pub base_color_texture: GpuTextureSlot,
     pub metallic_roughness_texture: GpuTextureSlot,
     pub emissive_texture: GpuTextureSlot,
+    pub normal_texture: GpuTextureSlot,
 }
 
 /// A material's use of a texture (shared.h's GpuTextureSlot).

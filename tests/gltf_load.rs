@@ -740,3 +740,26 @@ fn normals_that_do_not_match_the_vertices_are_reported() {
         &["NORMAL has 2 entries", "POSITION has 3", "mesh 'thing'"],
     );
 }
+
+#[test]
+fn a_normal_map_without_tangents_gets_mikktspace_ones() {
+    // The corpus seed: a quad with NORMAL and TEXCOORD_0 but no TANGENT, its material's
+    // normalTexture at scale 0.5. The mesh is unwelded (a vertex per triangle corner) with a
+    // tangent per corner along +u (+x here).
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/fuzz/corpus/gltf_load/seed-textures.gltf"
+    );
+    let scene = load_gltf(path.as_ref(), ASPECT).expect("load");
+    let mesh = &scene.meshes[0];
+    assert_eq!(mesh.positions.len(), 6);
+    assert_eq!(mesh.shading.tangents.len(), 6);
+    for t in &mesh.shading.tangents {
+        assert!(t.truncate().abs_diff_eq(Vec3::X, 1e-5), "{t}");
+    }
+    let Material::MetallicRoughness(m) = scene.materials[0] else {
+        panic!("{:?}", scene.materials[0]);
+    };
+    assert_eq!(m.textures.normal_scale, 0.5);
+    assert!(m.textures.normal.is_some());
+}

@@ -75,7 +75,8 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             normals,
             uv0_01,
             uv0_2_uv1_0,
-            uv1_12
+            uv1_12,
+            tangents
         }
     );
     check!(
@@ -109,10 +110,11 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             metallic,
             roughness,
             model,
-            pad0,
+            normal_scale,
             base_color_texture,
             metallic_roughness_texture,
-            emissive_texture
+            emissive_texture,
+            normal_texture
         }
     );
     check!(

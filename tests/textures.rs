@@ -14,7 +14,7 @@ use fovea::scene::{
     Camera, Environment, Instance, Material, MaterialTextures, Mesh, MetallicRoughness, Scene,
     TexelEncoding, Texture, TextureRef, TextureSampler, VertexShading,
 };
-use glam::{DVec3, Mat4, Vec2, Vec3};
+use glam::{DVec3, Mat4, Vec2, Vec3, Vec4};
 
 const SIZE: usize = 32;
 
@@ -41,6 +41,7 @@ fn textured_quad() -> Mesh {
                 ],
                 vec![],
             ],
+            tangents: vec![],
         },
     }
 }
@@ -508,4 +509,102 @@ fn textures_count_in_the_memory_plan() {
         "{text}"
     );
     common::assert_no_validation_messages(&ctx);
+}
+
+/// A 20 × 20 quad in the y = 0 plane facing +y, smooth normals +y, u along +x, v along +z,
+/// tangents +x (the bitangent w (n × t) = −z, up the image where v shrinks).
+fn floor_quad() -> Mesh {
+    Mesh {
+        name: "floor".into(),
+        positions: vec![
+            Vec3::new(-10.0, 0.0, 10.0),
+            Vec3::new(10.0, 0.0, 10.0),
+            Vec3::new(10.0, 0.0, -10.0),
+            Vec3::new(-10.0, 0.0, -10.0),
+        ],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        shading: VertexShading {
+            normals: vec![Vec3::Y; 4],
+            uv: [
+                vec![
+                    Vec2::new(0.0, 1.0),
+                    Vec2::new(1.0, 1.0),
+                    Vec2::new(1.0, 0.0),
+                    Vec2::new(0.0, 0.0),
+                ],
+                vec![],
+            ],
+            tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+        },
+    }
+}
+
+#[test]
+fn a_normal_map_tilts_shading_as_geometry_would() {
+    // Light from the zenith only (the sky's radiance is its direction's height, black below
+    // the horizon), a rough grey dielectric seen from above. A texel encoding a normal tilted
+    // 20° toward +x must shade the flat floor as the floor turned 20° shades.
+    let tilt = 20f32.to_radians();
+    let n = Vec3::new(tilt.sin(), 0.0, tilt.cos()); // tangent space: x along the tangent
+    let byte = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+    let texel = [byte(n.x), byte(n.y), byte(n.z), 255];
+    let normal_map = Texture {
+        name: "tilt".into(),
+        width: 1,
+        height: 1,
+        rgba8: texel.to_vec(),
+        encoding: TexelEncoding::Linear,
+        sampler: TextureSampler::DEFAULT,
+    };
+    let grey = MetallicRoughness::factors(Vec3::splat(0.8), 0.0, 1.0, Vec3::ZERO);
+    let mapped = MetallicRoughness {
+        textures: MaterialTextures {
+            normal: slot(),
+            ..MaterialTextures::NONE
+        },
+        ..grey
+    };
+    let floor = |material: MetallicRoughness, transform: Mat4| Scene {
+        name: "floor".into(),
+        meshes: vec![floor_quad()],
+        instances: vec![Instance {
+            mesh: 0,
+            material: 0,
+            transform,
+        }],
+        boxes: vec![],
+        spheres: vec![],
+        materials: vec![Material::MetallicRoughness(material)],
+        textures: vec![normal_map.clone()],
+        camera: Camera::look_at(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, 30.0, 1.0),
+        environment: Environment {
+            zenith: Vec3::ONE,
+            horizon: Vec3::ZERO,
+            ground: Vec3::ZERO,
+        },
+    };
+    let ctx = common::context();
+    let mean = |scene: &Scene| {
+        let frame = common::render(
+            &ctx,
+            scene,
+            &common::settings(32, 32, 256, 4, Integrator::Pt),
+        );
+        row_stats(&frame.rgb, 32, 0..32)
+    };
+    // The flat floor with the normal map, the floor turned so its normal is the mapped one
+    // (a turn of −20° about z takes +y to (sin 20°, cos 20°, 0)), and the flat floor alone.
+    let (with_map, map_var) = mean(&floor(mapped, Mat4::IDENTITY));
+    let (turned, turned_var) = mean(&floor(grey, Mat4::from_rotation_z(-tilt)));
+    let (flat, _) = mean(&floor(grey, Mat4::IDENTITY));
+    let se = ((map_var + turned_var) / (32.0 * 32.0)).sqrt();
+    eprintln!("normal-mapped {with_map:.4}, turned {turned:.4}, flat {flat:.4} (± {se:.4})");
+    assert!(
+        (with_map - turned).abs() < 4.0 * se + 0.005 * turned,
+        "mapped ≠ turned"
+    );
+    assert!(
+        (flat - turned).abs() > 10.0 * se,
+        "the tilt must show (the test has power)"
+    );
 }

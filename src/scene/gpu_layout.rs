@@ -88,7 +88,28 @@ fn triangle_shading(mesh: &Mesh, corners: [u32; 3]) -> GpuTriangleShading {
         uv0_01: pair(uv(0, 0), uv(0, 1)),
         uv0_2_uv1_0: pair(uv(0, 2), uv(1, 0)),
         uv1_12: pair(uv(1, 1), uv(1, 2)),
+        tangents: packed_tangents(mesh, corners),
     }
+}
+
+/// The corners' tangents (octahedral) and bitangent signs (bit k set: corner k's is
+/// negative), with SHADING_TANGENTS; all zero when a corner has none or a zero one.
+fn packed_tangents(mesh: &Mesh, corners: [u32; 3]) -> [u32; 4] {
+    let tangents: Option<Vec<glam::Vec4>> = (corners.iter())
+        .map(|&c| mesh.shading.tangents.get(c as usize).copied())
+        .collect::<Option<_>>()
+        .filter(|t: &Vec<glam::Vec4>| t.iter().all(|t| t.truncate() != Vec3::ZERO));
+    let Some(tangents) = tangents else {
+        return [0; 4];
+    };
+    let mut packed = [0, 0, 0, SHADING_TANGENTS];
+    for (k, t) in tangents.iter().enumerate() {
+        packed[k] = octahedral_snorm(t.truncate());
+        if t.w < 0.0 {
+            packed[3] |= 1 << k;
+        }
+    }
+    packed
 }
 
 /// A unit vector as glsl/surface.glsl's `packSnorm2x16(to_octahedral(n))`.

@@ -40,6 +40,8 @@ pub(super) fn gpu_material(m: &Material) -> GpuMaterial {
             base_color_texture: texture_slot(m.textures.base_color),
             metallic_roughness_texture: texture_slot(m.textures.metallic_roughness),
             emissive_texture: texture_slot(m.textures.emissive),
+            normal_texture: texture_slot(m.textures.normal),
+            normal_scale: m.textures.normal_scale,
             ..Default::default()
         },
     }

@@ -13,6 +13,7 @@ pub mod gltf_load;
 pub mod gpu_layout;
 mod gpu_materials;
 pub mod mipmaps;
+pub mod tangents;
 pub mod types;
 pub mod validate;
 

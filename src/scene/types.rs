@@ -1,7 +1,7 @@
 //! The renderer-independent scene description: what a built-in scene or a glTF file becomes.
 //! Everything here is in world units (metres by convention), right-handed, Y up.
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// How a surface reflects and emits light: the thesis' model, which the built-in scenes keep
 /// so its results stay reproducible, or glTF 2.0's metallic-roughness model, which every glTF
@@ -63,7 +63,7 @@ impl MetallicRoughness {
 }
 
 /// The textures a metallic-roughness material samples, each multiplying its factor.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MaterialTextures {
     /// RGB × `base_color` (sRGB-encoded texels).
     pub base_color: Option<TextureRef>,
@@ -71,6 +71,16 @@ pub struct MaterialTextures {
     pub metallic_roughness: Option<TextureRef>,
     /// RGB × `emission` (sRGB-encoded texels).
     pub emissive: Option<TextureRef>,
+    /// Tangent-space normals (linear texels), x and y × `normal_scale`.
+    pub normal: Option<TextureRef>,
+    /// glTF's `normalTexture.scale`.
+    pub normal_scale: f32,
+}
+
+impl Default for MaterialTextures {
+    fn default() -> Self {
+        Self::NONE
+    }
 }
 
 impl MaterialTextures {
@@ -78,13 +88,20 @@ impl MaterialTextures {
         base_color: None,
         metallic_roughness: None,
         emissive: None,
+        normal: None,
+        normal_scale: 1.0,
     };
 
     /// Every slot that holds a texture.
     pub fn iter(&self) -> impl Iterator<Item = &TextureRef> {
-        [&self.base_color, &self.metallic_roughness, &self.emissive]
-            .into_iter()
-            .flatten()
+        [
+            &self.base_color,
+            &self.metallic_roughness,
+            &self.emissive,
+            &self.normal,
+        ]
+        .into_iter()
+        .flatten()
     }
 }
 
@@ -246,6 +263,9 @@ pub struct VertexShading {
     pub normals: Vec<Vec3>,
     /// `TEXCOORD_0` and `TEXCOORD_1`, glTF's convention (origin top left, v down).
     pub uv: [Vec<Vec2>; 2],
+    /// Unit tangents (object space, along +u of `TEXCOORD_0`) with the bitangent's sign in w
+    /// (glTF's TANGENT, or MikkTSpace's): the frame a normal map's texels are in.
+    pub tangents: Vec<Vec4>,
 }
 
 impl VertexShading {

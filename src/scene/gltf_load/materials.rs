@@ -30,14 +30,25 @@ pub(super) fn convert_material(
             info.map(|i| textures.reference(&i, encoding, origin))
                 .transpose()
         };
-    let textures = MaterialTextures {
-        base_color: slot(pbr.base_color_texture(), TexelEncoding::Srgb)?,
-        metallic_roughness: slot(pbr.metallic_roughness_texture(), TexelEncoding::Linear)?,
-        emissive: slot(material.emissive_texture(), TexelEncoding::Srgb)?,
-    };
-    if material.normal_texture().is_some() {
-        warnings.add("normal maps (shading uses the interpolated normals)");
+    let base_color = slot(pbr.base_color_texture(), TexelEncoding::Srgb)?;
+    let metallic_roughness = slot(pbr.metallic_roughness_texture(), TexelEncoding::Linear)?;
+    let emissive = slot(material.emissive_texture(), TexelEncoding::Srgb)?;
+    let normal_texture = material.normal_texture();
+    let normal_scale = normal_texture.as_ref().map_or(1.0, |n| n.scale());
+    if !normal_scale.is_finite() {
+        return Err(origin.invalid(format!(
+            "a material's normalTexture.scale is {normal_scale}; it must be a finite number"
+        )));
     }
+    let textures = MaterialTextures {
+        base_color,
+        metallic_roughness,
+        emissive,
+        normal: (normal_texture.as_ref())
+            .map(|n| textures.normal_reference(n, origin))
+            .transpose()?,
+        normal_scale,
+    };
     // A path tracer computes occlusion by tracing: glTF's baked ambient occlusion would count
     // it twice (the specification leaves its use to the renderer).
     if material.occlusion_texture().is_some() {

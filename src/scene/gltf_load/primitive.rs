@@ -2,7 +2,7 @@
 
 use std::collections::HashSet;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::accessors::{component_f32, component_u32, read_accessor};
 use super::limits::MAX_COORDINATE;
@@ -37,6 +37,7 @@ pub(super) fn build_primitive(
         shading: VertexShading {
             normals: gather(&shading.normals, &hittable.vertices),
             uv: shading.uv.map(|uv| gather(&uv, &hittable.vertices)),
+            tangents: gather(&shading.tangents, &hittable.vertices),
         },
     }))
 }
@@ -279,7 +280,7 @@ fn corners(tri: &[u32; 3], positions: &[Vec3], names: &Names) -> Result<[Vec3; 3
     Ok(corners)
 }
 
-/// The primitive's NORMAL, TEXCOORD_0 and TEXCOORD_1, each empty when absent. Normals are
+/// The primitive's NORMAL, TEXCOORD_0, TEXCOORD_1 and TANGENT, each empty when absent. Normals are
 /// normalised; one that is zero or not finite becomes the zero vector (its triangles are
 /// shaded flat). A texture coordinate that is not finite is an error.
 fn read_shading(
@@ -313,7 +314,27 @@ fn read_shading(
         }
         *list = values.into_iter().map(Vec2::from).collect();
     }
-    Ok(VertexShading { normals, uv })
+    // TANGENT: xyz a unit vector, w ±1 (the bitangent's sign). One that is not finite or
+    // zero becomes the zero vector (its triangles are not normal-mapped).
+    let tangents = read_floats::<4>(
+        primitive,
+        &gltf::Semantic::Tangents,
+        buffers,
+        vertex_count,
+        label,
+        warnings,
+    )?
+    .into_iter()
+    .map(|t| match Vec3::new(t[0], t[1], t[2]).try_normalize() {
+        Some(unit) if t[3].is_finite() => unit.extend(if t[3] < 0.0 { -1.0 } else { 1.0 }),
+        _ => Vec4::ZERO,
+    })
+    .collect();
+    Ok(VertexShading {
+        normals,
+        uv,
+        tangents,
+    })
 }
 
 /// An attribute of `N` components per vertex, as floats (normalised integers decoded as glTF

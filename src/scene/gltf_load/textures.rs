@@ -35,12 +35,44 @@ impl<'d> TextureLoader<'d> {
         encoding: TexelEncoding,
         origin: &Origin,
     ) -> Result<TextureRef, SceneError> {
-        let texture = info.texture();
-        let transform = info.texture_transform();
-        let texcoord = transform
-            .as_ref()
-            .and_then(|t| t.tex_coord())
-            .unwrap_or_else(|| info.tex_coord());
+        let transform = info.texture_transform().map(|t| UvTransform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+            texcoord: t.tex_coord(),
+        });
+        self.slot(
+            &info.texture(),
+            info.tex_coord(),
+            transform,
+            encoding,
+            origin,
+        )
+    }
+
+    /// A material's normal texture (linear texels); its KHR_texture_transform is read from
+    /// the JSON (the gltf crate gives normal textures none).
+    pub(super) fn normal_reference(
+        &mut self,
+        normal: &gltf::material::NormalTexture,
+        origin: &Origin,
+    ) -> Result<TextureRef, SceneError> {
+        let transform = normal
+            .extension_value("KHR_texture_transform")
+            .map(UvTransform::from_json);
+        let (texture, set) = (normal.texture(), normal.tex_coord());
+        self.slot(&texture, set, transform, TexelEncoding::Linear, origin)
+    }
+
+    fn slot(
+        &mut self,
+        texture: &gltf::Texture,
+        texcoord: u32,
+        transform: Option<UvTransform>,
+        encoding: TexelEncoding,
+        origin: &Origin,
+    ) -> Result<TextureRef, SceneError> {
+        let texcoord = transform.and_then(|t| t.texcoord).unwrap_or(texcoord);
         if texcoord > 1 {
             return Err(origin.invalid(format!(
                 "texture #{} is read with TEXCOORD_{texcoord}; only TEXCOORD_0 and TEXCOORD_1 \
@@ -51,7 +83,7 @@ impl<'d> TextureLoader<'d> {
         let id = match self.ids.get(&(texture.index(), encoding)) {
             Some(&id) => id,
             None => {
-                let loaded = self.load(&texture, encoding).map_err(|p| origin.load(p))?;
+                let loaded = self.load(texture, encoding).map_err(|p| origin.load(p))?;
                 self.textures.push(loaded);
                 let id = (self.textures.len() - 1) as u32;
                 self.ids.insert((texture.index(), encoding), id);
@@ -62,7 +94,7 @@ impl<'d> TextureLoader<'d> {
             texture: id,
             texcoord,
             transform: transform.map_or(TextureRef::IDENTITY, |t| {
-                uv_transform(t.offset(), t.rotation(), t.scale())
+                uv_transform(t.offset, t.rotation, t.scale)
             }),
         })
     }
@@ -116,6 +148,31 @@ impl<'d> TextureLoader<'d> {
                     )
                 })
             }
+        }
+    }
+}
+
+/// KHR_texture_transform's values (glTF's defaults where absent).
+#[derive(Clone, Copy)]
+struct UvTransform {
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+    texcoord: Option<u32>,
+}
+
+impl UvTransform {
+    fn from_json(v: &gltf::json::Value) -> Self {
+        let pair = |key: &str, default: [f32; 2]| {
+            v.get(key)
+                .and_then(|p| Some([p.get(0)?.as_f64()? as f32, p.get(1)?.as_f64()? as f32]))
+                .unwrap_or(default)
+        };
+        Self {
+            offset: pair("offset", [0.0, 0.0]),
+            rotation: v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32,
+            scale: pair("scale", [1.0, 1.0]),
+            texcoord: v.get("texCoord").and_then(|t| t.as_u64()).map(|t| t as u32),
         }
     }
 }

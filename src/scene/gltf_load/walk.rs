@@ -12,6 +12,7 @@ use super::materials::{convert_material, default_material};
 use super::origin::{Origin, Warnings};
 use super::primitive::{build_primitive, is_triangles};
 use super::textures::TextureLoader;
+use crate::scene::tangents::with_generated_tangents;
 use crate::scene::{Camera, Instance, Material, Mesh, SceneError, Texture};
 
 /// The result of walking the node tree.
@@ -143,13 +144,15 @@ struct Walker<'w, 'd> {
     meshes_by_content: MeshDedup,
 }
 
-/// What a primitive's mesh is built from: the accessors of POSITION, NORMAL, TEXCOORD_0 and
-/// TEXCOORD_1, of its indices, and its mode. Primitives with equal keys are one mesh.
+/// What a primitive's mesh is built from: the accessors of POSITION, NORMAL, TEXCOORD_0,
+/// TEXCOORD_1 and TANGENT, of its indices, its mode, and whether its material's normal map
+/// needs tangents the file does not have. Primitives with equal keys are one mesh.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 struct PrimitiveKey {
-    attributes: [Option<usize>; 4],
+    attributes: [Option<usize>; 5],
     indices: Option<usize>,
     mode: u32,
+    generates_tangents: bool,
 }
 
 impl Walker<'_, '_> {
@@ -242,21 +245,28 @@ impl Walker<'_, '_> {
         primitive: &gltf::Primitive,
     ) -> Result<Option<u32>, SceneError> {
         let accessor = |semantic: gltf::Semantic| primitive.get(&semantic).map(|a| a.index());
+        let tangents = accessor(gltf::Semantic::Tangents);
+        let normal_mapped = primitive.material().normal_texture().is_some();
         let key = PrimitiveKey {
             attributes: [
                 accessor(gltf::Semantic::Positions),
                 accessor(gltf::Semantic::Normals),
                 accessor(gltf::Semantic::TexCoords(0)),
                 accessor(gltf::Semantic::TexCoords(1)),
+                tangents,
             ],
             indices: primitive.indices().map(|a| a.index()),
             mode: primitive.mode().as_gl_enum(),
+            generates_tangents: normal_mapped && tangents.is_none(),
         };
         if let Some(&id) = self.mesh_ids.get(&key) {
             return Ok(id);
         }
-        let built = build_primitive(mesh, primitive, self.buffers, self.warnings)
+        let mut built = build_primitive(mesh, primitive, self.buffers, self.warnings)
             .map_err(|p| self.origin.invalid(p))?;
+        if key.generates_tangents {
+            built = built.map(|m| with_generated_tangents(&m).unwrap_or(m));
+        }
         let id = match built {
             Some(m) => Some(self.meshes_by_content.add(m, &mut self.walked.meshes)),
             None => {
