@@ -1,8 +1,8 @@
 //! glTF's metallic-roughness BRDF on the GPU (glsl/gltf_brdf.glsl): its sampler draws the
 //! density it reports (chi-square, as Mitsuba's and pbrt's tests do), its values are the
 //! specification's (against an independent CPU implementation) and reciprocal, a white
-//! furnace shows exactly its albedo, and `pt` (next-event estimation + MIS) agrees with
-//! `seed` (neither) on a scene of glTF materials.
+//! furnace shows exactly its albedo. (`pt` and `seed` agreeing on a scene of glTF
+//! materials, which checks MIS, is in tests/integrators_agree.rs.)
 
 mod common;
 
@@ -11,10 +11,7 @@ use fovea::check::brdf_sampling::{
 };
 use fovea::check::gltf_brdf::GltfBrdf;
 use fovea::check::gltf_furnace::gltf_furnace;
-use fovea::render::Integrator;
-use fovea::scene::builtin::builtin;
-use fovea::scene::gltf_from_thesis::metallic_roughness_from_thesis;
-use fovea::scene::{Material, MetallicRoughness};
+use fovea::scene::MetallicRoughness;
 use glam::Vec3;
 
 fn materials() -> Vec<MetallicRoughness> {
@@ -131,92 +128,4 @@ fn a_white_furnace_shows_exactly_the_albedo() {
         }
     }
     common::assert_no_validation_messages(&ctx);
-}
-
-/// Mean radiance of each block × block tile, per channel.
-fn block_means(rgb: &[f32], w: usize, block: usize) -> Vec<[f64; 3]> {
-    let h = rgb.len() / 3 / w;
-    let mut out = Vec::new();
-    for by in (0..h).step_by(block) {
-        for bx in (0..w).step_by(block) {
-            let mut sum = [0.0f64; 3];
-            for y in by..by + block {
-                for x in bx..bx + block {
-                    for (c, s) in sum.iter_mut().enumerate() {
-                        *s += rgb[3 * (y * w + x) + c] as f64;
-                    }
-                }
-            }
-            out.push(sum.map(|s| s / (block * block) as f64));
-        }
-    }
-    out
-}
-
-#[test]
-fn pt_and_seed_agree_on_a_cornell_box_of_gltf_materials() {
-    // Next-event estimation weighted by MIS against the BRDF's own density (pt) and plain
-    // uniform hemisphere sampling (seed) estimate the same integral: if the MIS weights of
-    // the two strategies did not sum to one, or the density disagreed with the sampler, the
-    // block means would part. The box's walls become their nearest glTF materials, and the
-    // two blocks become glossy metals, so both lobes and the light are in play.
-    let ctx = common::context();
-    let mut scene = builtin("cornell", 1.0).unwrap();
-    for m in scene.materials.iter_mut() {
-        let thesis = *m.thesis().unwrap();
-        *m = Material::MetallicRoughness(metallic_roughness_from_thesis(&thesis));
-    }
-    scene
-        .materials
-        .push(Material::MetallicRoughness(MetallicRoughness {
-            base_color: Vec3::new(0.9, 0.7, 0.4),
-            metallic: 1.0,
-            roughness: 0.5,
-            emission: Vec3::ZERO,
-            textures: Default::default(),
-        }));
-    let glossy = scene.materials.len() as u32 - 1;
-    let cube = 1; // cornell's meshes: the rectangle, the cube
-    for instance in scene.instances.iter_mut().filter(|i| i.mesh == cube) {
-        instance.material = glossy;
-    }
-    let (w, block) = (32usize, 16usize);
-    let run = |integrator, spp, seed| {
-        let f = common::render(
-            &ctx,
-            &scene,
-            &common::settings(w as u32, w as u32, spp, seed, integrator),
-        );
-        assert_eq!(f.stats.nonfinite_samples, 0);
-        block_means(&f.rgb, w, block)
-    };
-    let pt: Vec<_> = (1..=2)
-        .map(|seed| run(Integrator::Pt, 1024, seed))
-        .collect();
-    let seed: Vec<_> = (3..=6)
-        .map(|seed| run(Integrator::Seed, 4096, seed))
-        .collect();
-    let stats = |runs: &[Vec<[f64; 3]>], b: usize, c: usize| {
-        let n = runs.len() as f64;
-        let mean = runs.iter().map(|r| r[b][c]).sum::<f64>() / n;
-        let var = runs.iter().map(|r| (r[b][c] - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        (mean, var / n)
-    };
-    let mut worst_z = 0.0f64;
-    for b in 0..pt[0].len() {
-        for c in 0..3 {
-            let (mp, vp) = stats(&pt, b, c);
-            let (ms, vs) = stats(&seed, b, c);
-            // As for the thesis' cornell (tests/integrators_agree.rs): a few runs may agree
-            // by chance, so the standard error is floored at 1% of the value.
-            let se = (vp + vs).sqrt().max(0.01 * mp);
-            let z = (mp - ms).abs() / se;
-            worst_z = worst_z.max(z);
-            assert!(
-                z < 5.0,
-                "block {b} channel {c}: pt {mp} vs seed {ms} (z = {z:.1})"
-            );
-        }
-    }
-    eprintln!("pt vs seed on the glTF cornell: worst block z-score {worst_z:.2}");
 }

@@ -10,11 +10,32 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
-pub(super) fn allocation_error(
-    what: &str,
-    bytes: u64,
-    e: gpu_allocator::AllocationError,
-) -> GpuError {
+/// Device-local memory for `image`, counted against the context's memory use (as the bytes
+/// returned, which the owner releases with the allocation). The caller binds it.
+pub(super) fn image_memory(
+    ctx: &Arc<GpuContext>,
+    name: &str,
+    image: vk::Image,
+) -> Result<(Allocation, u64), GpuError> {
+    // SAFETY: image from this device.
+    let requirements = unsafe { ctx.device.get_image_memory_requirements(image) };
+    ctx.memory.reserve(name, requirements.size, false)?;
+    ctx.allocator()
+        .allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        })
+        .map(|a| (a, requirements.size))
+        .map_err(|e| {
+            ctx.memory.release(requirements.size, false);
+            allocation_error(name, requirements.size, e)
+        })
+}
+
+fn allocation_error(what: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
     match e {
         gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
             what: what.into(),
@@ -320,25 +341,7 @@ impl StorageImage {
         // SAFETY: valid device and create info.
         let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
         let image = Pending::new(device, image);
-        // SAFETY: image from this device.
-        let requirements = unsafe { device.get_image_memory_requirements(image.get()) };
-        let allocation = ctx
-            .memory
-            .reserve(name, requirements.size, false)
-            .and_then(|()| {
-                ctx.allocator()
-                    .allocate(&AllocationCreateDesc {
-                        name,
-                        requirements,
-                        location: MemoryLocation::GpuOnly,
-                        linear: false,
-                        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-                    })
-                    .map_err(|e| {
-                        ctx.memory.release(requirements.size, false);
-                        allocation_error(name, requirements.size, e)
-                    })
-            })?;
+        let (allocation, counted) = image_memory(ctx, name, image.get())?;
         // SAFETY: the allocation satisfies the image's requirements.
         let bound = unsafe {
             device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
@@ -350,7 +353,7 @@ impl StorageImage {
             image,
             view: vk::ImageView::null(),
             allocation: Some(allocation),
-            counted: requirements.size,
+            counted,
             width,
             height,
             layers,

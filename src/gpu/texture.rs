@@ -4,11 +4,11 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::memory::Buffer;
+use super::memory::{image_memory, Buffer};
 use super::owned::Pending;
 use super::sync::{ImageTransition, Scope};
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -146,26 +146,7 @@ impl SampledImage {
         // SAFETY: valid device and create info.
         let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
         let image = Pending::new(device, image);
-        // SAFETY: image from this device.
-        let requirements = unsafe { device.get_image_memory_requirements(image.get()) };
-        let name = t.name.as_str();
-        let allocation = ctx
-            .memory
-            .reserve(name, requirements.size, false)
-            .and_then(|()| {
-                ctx.allocator()
-                    .allocate(&AllocationCreateDesc {
-                        name,
-                        requirements,
-                        location: MemoryLocation::GpuOnly,
-                        linear: false,
-                        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-                    })
-                    .map_err(|e| {
-                        ctx.memory.release(requirements.size, false);
-                        super::memory::allocation_error(name, requirements.size, e)
-                    })
-            })?;
+        let (allocation, counted) = image_memory(ctx, &t.name, image.get())?;
         // SAFETY: the allocation satisfies the image's requirements.
         let bound = unsafe {
             device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
@@ -178,7 +159,7 @@ impl SampledImage {
             view: vk::ImageView::null(),
             sampler: vk::Sampler::null(),
             allocation: Some(allocation),
-            counted: requirements.size,
+            counted,
         };
         bound.vk("vkBindImageMemory")?;
         this.view = view(ctx, image, format, t.levels.len() as u32)?;
