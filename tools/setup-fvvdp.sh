@@ -20,7 +20,8 @@ if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c 'import pyfvvdp, torch' 2>
   exit 0
 fi
 python3 -m venv "$VENV"
-"$VENV/bin/pip" install -q "$PYFVVDP"
+# No download cache: the wheels (~3 GB) would stay in ~/.cache beside their installed copy.
+"$VENV/bin/pip" install -q --no-cache-dir "$PYFVVDP"
 # The check fovea makes before it trusts the venv: the metric loads and scores an image.
 "$VENV/bin/python" - <<'PY'
 import numpy as np, torch, pyfvvdp
