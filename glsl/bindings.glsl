@@ -16,6 +16,8 @@ layout(constant_id = SPEC_PROFILE) const bool PROFILE = false;
 layout(constant_id = SPEC_HAS_SHADING) const bool HAS_SHADING = true;
 layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHNESS = true;
 layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = true;
+layout(constant_id = SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = true;
+layout(constant_id = SPEC_HAS_SINGLE_SIDED) const bool HAS_SINGLE_SIDED = true;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
@@ -78,9 +80,15 @@ GpuObject load_object(uint index) {
     uvec4 more = texelFetch(object_texels, t + 9);
     o.emitter = more.x;
     o.triangle_count = more.y;
-    o.pad1 = more.z;
-    o.pad2 = more.w;
+    o.surface = more.z;
+    o.alpha_cutoff = uintBitsToFloat(more.w);
     return o;
+}
+
+// An object's OBJECT_* flags and alpha cutoff: what a traversal reads on entering an instance,
+// in a scene with single-sided or alpha-cut surfaces.
+uvec2 load_object_surface(uint index) {
+    return texelFetch(object_texels, int(index * TEXELS_PER_OBJECT) + 9).zw;
 }
 
 uint load_object_kind(uint index) {

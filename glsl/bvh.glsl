@@ -9,6 +9,7 @@
 #ifndef FOVEA_BVH_GLSL
 #define FOVEA_BVH_GLSL
 #include "bindings.glsl"
+#include "coverage.glsl"
 #include "geometry.glsl"
 
 // Ize 2013: widen t_max by 2*gamma(3) so rounding in the slab test never culls a box the ray touches.
@@ -156,6 +157,11 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     uvec2 tlas_prim = uvec2(0u);
     uint object = 0u;               // the instance whose BLAS is being walked
     uint tri_base = 0u;
+    // The instance's coverage (coverage.glsl), in scenes with single-sided or alpha-cut ones.
+    bool covers_all = true;
+    uvec2 surface = uvec2(0u);
+    uint material = 0u;
+    uint key = HAS_CUTOUTS ? coverage_key(o, d) : 0u;
     for (;;) {
         while (prim.y != 0u) {
             uint local = uint(findMSB(prim.y));
@@ -166,6 +172,10 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
                 uint tri = tri_base + index;
                 GpuTriangle T = load_triangle(tri);
                 float t = intersect_triangle(ray.o, w, T.v0.xyz, T.v1.xyz, T.v2.xyz, t_min, t_max);
+                if ((HAS_CUTOUTS || HAS_SINGLE_SIDED) && t < t_max && !covers_all &&
+                    !meets(surface, material, tri, T, ray.o, ray.d, t, key)) {
+                    t = INF;
+                }
                 if (t < t_max) {
                     t_max = t;
                     hit.t = t;
@@ -185,6 +195,11 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
                     object = index;
                     root = ids.z;     // blas_root
                     tri_base = ids.w; // triangle_base
+                    if (HAS_CUTOUTS || HAS_SINGLE_SIDED) {
+                        surface = load_object_surface(index);
+                        material = ids.y;
+                        covers_all = surface.x == 0u;
+                    }
                     ray = level_ray(affine(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, world.o),
                                     linear(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, world.d));
                     w = watertight_setup(ray.d);

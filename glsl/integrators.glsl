@@ -35,9 +35,7 @@ void interpolate_attributes(inout SurfaceHit s, Hit h, GpuObject ob, vec3 d) {
     vec3 p = affine(ob.world_to_object0, ob.world_to_object1, ob.world_to_object2, s.p);
     vec2 b = triangle_barycentrics(T, p);
     GpuTriangleShading S = load_triangle_shading(h.primitive);
-    float b0 = 1.0 - b.x - b.y;
-    s.uv.xy = b0 * S.uv0_01.xy + b.x * S.uv0_01.zw + b.y * S.uv0_2_uv1_0.xy;
-    s.uv.zw = b0 * S.uv0_2_uv1_0.zw + b.x * S.uv1_12.xy + b.y * S.uv1_12.zw;
+    s.uv = interpolated_uv(S, b);
     if (HAS_TEXTURES) {
         s.uv_per_area = uv_per_world_area(T, S, ob);
         s.tangent = world_tangent(S, b, ob);

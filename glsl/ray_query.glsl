@@ -29,13 +29,33 @@ Hit trace_scene(vec3 o, vec3 d, float t_min, float t_max, bool any_hit) {
     if (!(HAS_TRIANGLES || HAS_BOXES || HAS_SPHERES) || scene_info.object_count == 0u) return hit;
     vec3 sd = safe_direction(d);
     vec3 inv_d = 1.0 / sd;
-    // Triangles are opaque: the driver commits the closest one itself, and only box and
-    // sphere candidates come back to the loop below. A shadow ray stops at its first hit.
-    uint flags = gl_RayFlagsOpaqueEXT | (any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
+    // Opaque triangles are committed by the driver itself; box and sphere candidates, and
+    // alpha-cut instances' triangles (src/gpu/accel/inputs.rs makes those non-opaque), come
+    // back to the loop below. Single-sided instances' back faces are culled by the driver
+    // (the others' instances disable culling). A shadow ray stops at its first hit.
+    uint flags = (HAS_CUTOUTS ? 0u : gl_RayFlagsOpaqueEXT) |
+                 (HAS_SINGLE_SIDED ? gl_RayFlagsCullBackFacingTrianglesEXT : 0u) |
+                 (any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
+    uint key = HAS_CUTOUTS ? coverage_key(o, d) : 0u;
     rayQueryEXT q;
     rayQueryInitializeEXT(q, tlas, flags, 0xffu, o, t_min, d, min(t_max, RAY_QUERY_T_LIMIT));
     while (rayQueryProceedEXT(q)) {
-        if (rayQueryGetIntersectionTypeEXT(q, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
+        uint type = rayQueryGetIntersectionTypeEXT(q, false);
+        if (HAS_CUTOUTS && type == gl_RayQueryCandidateIntersectionTriangleEXT) {
+            uint object = rayQueryGetIntersectionInstanceCustomIndexEXT(q, false);
+            uvec4 ids = load_object_ids(object);
+            uint tri = ids.w + rayQueryGetIntersectionPrimitiveIndexEXT(q, false);
+            vec2 b = rayQueryGetIntersectionBarycentricsEXT(q, false);
+            if (alpha_covers(load_object_surface(object), ids.y, tri, b, key)) {
+                rayQueryConfirmIntersectionEXT(q);
+                if (any_hit) {
+                    rayQueryTerminateEXT(q);
+                    break;
+                }
+            }
+            continue;
+        }
+        if (type != gl_RayQueryCandidateIntersectionAABBEXT) continue;
         uint index = rayQueryGetIntersectionPrimitiveIndexEXT(q, false);
         // The closest hit so far bounds the candidate, as t_max does in the software loop.
         float bound = rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT

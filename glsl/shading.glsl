@@ -21,6 +21,13 @@ vec2 triangle_barycentrics(GpuTriangle T, vec3 p) {
     return b / max(1.0, b.x + b.y);
 }
 
+// TEXCOORD_0 (xy) and TEXCOORD_1 (zw) at barycentrics b.
+vec4 interpolated_uv(GpuTriangleShading S, vec2 b) {
+    float b0 = 1.0 - b.x - b.y;
+    return vec4(b0 * S.uv0_01.xy + b.x * S.uv0_01.zw + b.y * S.uv0_2_uv1_0.xy,
+                b0 * S.uv0_2_uv1_0.zw + b.x * S.uv1_12.xy + b.y * S.uv1_12.zw);
+}
+
 // Per TEXCOORD set, the triangle's area in uv space over its world-space area (instance `ob`
 // maps it to the world): how many texture-space units a unit of surface holds, for the
 // textures' level of detail. 0 for a degenerate triangle.

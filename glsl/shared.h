@@ -85,6 +85,8 @@
 #define SPEC_HAS_SHADING 8 // some mesh has shading normals or texture coordinates (SHADING)
 #define SPEC_HAS_METALLIC_ROUGHNESS 9 // some material is MODEL_METALLIC_ROUGHNESS
 #define SPEC_HAS_TEXTURES 10 // some material samples a texture (BINDING_TEXTURES)
+#define SPEC_HAS_CUTOUTS 11 // some mesh instance is OBJECT_ALPHA_MASK or OBJECT_ALPHA_BLEND
+#define SPEC_HAS_SINGLE_SIDED 12 // some mesh instance is OBJECT_SINGLE_SIDED
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -177,6 +179,13 @@ struct GpuTriangleShading {
                     // bit k the sign of corner k's bitangent (1: negative), SHADING_TANGENTS
 };
 
+// GpuObject.surface: a mesh instance's coverage (glTF's doubleSided and alphaMode), which both
+// traversals apply to every ray. Alpha is the base colour's (factor x texture at level 0).
+#define OBJECT_SINGLE_SIDED 1u // back faces (clockwise from the ray, in object space) are not there
+#define OBJECT_ALPHA_MASK 2u   // present where alpha >= alpha_cutoff
+#define OBJECT_ALPHA_BLEND 4u  // present with probability alpha (stochastic transparency)
+#define OBJECT_CUTOUT 6u       // either alpha mode
+
 // An instance of a mesh, an axis-aligned box or a sphere: the TLAS leaves.
 struct GpuObject {
     vec4 world_to_object0; // rows of the 3x4 affine world->object matrix (instances)
@@ -193,8 +202,8 @@ struct GpuObject {
     uint triangle_base; // index of the mesh's first triangle in TRIANGLES
     uint emitter; // index into EMITTERS of this object's first emitter, or NO_EMITTER
     uint triangle_count; // the mesh's triangles (instances)
-    uint pad1;
-    uint pad2;
+    uint surface; // OBJECT_* flags: which of its triangles' points rays meet (instances)
+    float alpha_cutoff; // OBJECT_ALPHA_MASK: present where alpha >= this
 };
 
 // A material's use of a texture (MODEL_METALLIC_ROUGHNESS): which, through which texture
@@ -216,7 +225,7 @@ struct GpuMaterial {
     vec4 kd; // MODEL_THESIS: xyz = k_d, w = Phong exponent alpha (+inf: perfect mirror)
     vec4 ks; // MODEL_THESIS: xyz = k_s, w = p_S, the thesis' specular selection probability (eq. 3.11)
     vec4 emission; // xyz = radiance (both models)
-    vec4 base_color; // MODEL_METALLIC_ROUGHNESS: rgb = linear base colour factor, a unused
+    vec4 base_color; // MODEL_METALLIC_ROUGHNESS: rgb = linear base colour factor, a = alpha factor
     float metallic; // MODEL_METALLIC_ROUGHNESS
     float roughness; // MODEL_METALLIC_ROUGHNESS: perceptual; the GGX width is its square
     uint model; // MODEL_*

@@ -54,8 +54,9 @@ pub struct GpuObject {
     pub triangle_base: u32,
     pub emitter: u32,
     pub triangle_count: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    /// OBJECT_* flags (shared.h).
+    pub surface: u32,
+    pub alpha_cutoff: f32,
 }
 
 #[repr(C)]
@@ -337,6 +338,8 @@ pub enum AccelObject {
         first: u32,
         count: u32,
         to_world: [[f32; 4]; 3],
+        /// OBJECT_* flags: single-sided, alpha-cut.
+        surface: u32,
     },
     /// A box or a sphere: the world bounds inside which the shader tests it.
     Bounds { min: [f32; 3], max: [f32; 3] },

@@ -11,7 +11,7 @@ use fovea::check::brdf_sampling::{
 };
 use fovea::check::gltf_brdf::GltfBrdf;
 use fovea::check::gltf_furnace::gltf_furnace;
-use fovea::scene::MetallicRoughness;
+use fovea::scene::{Coverage, MetallicRoughness};
 use glam::Vec3;
 
 fn materials() -> Vec<MetallicRoughness> {
@@ -23,6 +23,7 @@ fn materials() -> Vec<MetallicRoughness> {
             roughness,
             emission: Vec3::ZERO,
             textures: Default::default(),
+            coverage: Coverage::SOLID,
         });
         out.push(MetallicRoughness {
             base_color: Vec3::new(0.2, 0.5, 0.8),
@@ -30,6 +31,7 @@ fn materials() -> Vec<MetallicRoughness> {
             roughness,
             emission: Vec3::ZERO,
             textures: Default::default(),
+            coverage: Coverage::SOLID,
         });
     }
     out

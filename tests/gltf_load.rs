@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use fovea::scene::glb_write::{glb_bytes, write_glb};
 use fovea::scene::gltf_load::{load_gltf, mesh_from_glb_bytes};
 use fovea::scene::{
-    Camera, Environment, Instance, Material, Mesh, MetallicRoughness, Scene, SceneError,
+    Camera, Coverage, Environment, Instance, Material, Mesh, MetallicRoughness, Scene, SceneError,
 };
 use glam::{Mat4, Quat, Vec3};
 
@@ -191,6 +191,7 @@ fn round_trip_scene() -> Scene {
             roughness,
             emission,
             textures: Default::default(),
+            coverage: Coverage::SOLID,
         })
     };
     let materials = vec![
@@ -525,6 +526,7 @@ fn shared_mesh_is_one_mesh_with_several_instances() {
             roughness: 1.0,
             emission: Vec3::ZERO,
             textures: Default::default(),
+            coverage: Coverage::GLTF_DEFAULT,
         })]
     );
     // No camera in the file: the bounding box is framed and in front of the camera.

@@ -185,28 +185,6 @@ fn rays_from_inside_closed_meshes_escape_the_ray_query_traversal_only_as_the_dri
     assert_eq!(results.len(), 3);
 }
 
-/// Per block of `block`x`block` pixels and channel: the mean and its standard error (the
-/// pixels' spread over the square root of their count).
-fn block_stats(rgb: &[f32], w: usize, block: usize) -> Vec<[(f64, f64); 3]> {
-    let h = rgb.len() / 3 / w;
-    let mut out = Vec::new();
-    for by in (0..h).step_by(block) {
-        for bx in (0..w).step_by(block) {
-            out.push(std::array::from_fn(|c| {
-                let values: Vec<f64> = (by..by + block)
-                    .flat_map(|y| (bx..bx + block).map(move |x| (y, x)))
-                    .map(|(y, x)| rgb[3 * (y * w + x) + c] as f64)
-                    .collect();
-                let n = values.len() as f64;
-                let mean = values.iter().sum::<f64>() / n;
-                let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-                (mean, (var / n).sqrt())
-            }));
-        }
-    }
-    out
-}
-
 fn render(
     ctx: &std::sync::Arc<fovea::gpu::GpuContext>,
     scene: &Scene,
@@ -227,8 +205,8 @@ fn both_traversals_render_statistically_equal_images() {
     let (w, block) = (32usize, 8usize);
     for name in ["bunny-low", "cubes-441", "mirror-room", "cornell"] {
         let scene = builtin(name, 1.0).unwrap();
-        let software = block_stats(&render(&ctx, &scene, Traversal::Software), w, block);
-        let ray_query = block_stats(&render(&ctx, &scene, Traversal::RayQuery), w, block);
+        let software = common::block_stats(&render(&ctx, &scene, Traversal::Software), w, block);
+        let ray_query = common::block_stats(&render(&ctx, &scene, Traversal::RayQuery), w, block);
         common::assert_no_validation_messages(&ctx);
         let mut worst_z = 0.0f64;
         for (b, (s, q)) in software.iter().zip(&ray_query).enumerate() {

@@ -96,8 +96,8 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             triangle_base,
             emitter,
             triangle_count,
-            pad1,
-            pad2
+            surface,
+            alpha_cutoff
         }
     );
     check!(

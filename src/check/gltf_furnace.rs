@@ -12,7 +12,7 @@ use super::gltf_brdf::GltfBrdf;
 use super::materials::{furnace_scene, object_mask};
 use crate::gpu::GpuContext;
 use crate::render::{regular_frame, Integrator, RenderError, RenderSettings, Renderer};
-use crate::scene::{Camera, Material, MetallicRoughness};
+use crate::scene::{Camera, Coverage, Material, MetallicRoughness};
 
 /// The furnace's glTF materials: white metals and white dielectrics, a glossy and a rough one.
 pub fn gltf_furnace_materials() -> Vec<(String, MetallicRoughness)> {
@@ -22,6 +22,7 @@ pub fn gltf_furnace_materials() -> Vec<(String, MetallicRoughness)> {
         roughness,
         emission: Vec3::ZERO,
         textures: Default::default(),
+        coverage: Coverage::SOLID,
     };
     [(1.0, 0.5), (1.0, 1.0), (0.0, 0.5), (0.0, 1.0)]
         .into_iter()

@@ -109,6 +109,8 @@ impl Pipelines {
             (SPEC_HAS_SHADING, f.shading as u32),
             (SPEC_HAS_METALLIC_ROUGHNESS, f.metallic_roughness as u32),
             (SPEC_HAS_TEXTURES, f.textures as u32),
+            (SPEC_HAS_CUTOUTS, f.cutouts as u32),
+            (SPEC_HAS_SINGLE_SIDED, f.single_sided as u32),
             (SPEC_MAX_BOUNCES, max_bounces),
             (SPEC_INTEGRATOR, integrator),
         ]

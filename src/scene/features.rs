@@ -1,7 +1,7 @@
 //! What a scene needs from the shaders. Each flag becomes a specialization constant, so the
 //! driver compiles away the intersection and shading paths a scene never uses.
 
-use super::{Material, Scene};
+use super::{Coverage, Material, Scene};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SceneFeatures {
@@ -18,6 +18,10 @@ pub struct SceneFeatures {
     pub metallic_roughness: bool,
     /// Any material that samples a texture.
     pub textures: bool,
+    /// Any mesh instance whose alpha cuts holes in it (glTF's MASK or BLEND).
+    pub cutouts: bool,
+    /// Any mesh instance that is single-sided (glTF's default).
+    pub single_sided: bool,
 }
 
 impl SceneFeatures {
@@ -40,6 +44,14 @@ impl SceneFeatures {
                 textures |= m.textures.iter().next().is_some();
             }
         }
+        // Coverage is applied to triangles only: boxes and spheres are closed and opaque.
+        let coverages: Vec<Coverage> = (scene.instances.iter())
+            .filter_map(|i| used(i.material))
+            .filter_map(|m| match m {
+                Material::MetallicRoughness(m) => Some(m.coverage),
+                Material::Thesis(_) => None,
+            })
+            .collect();
         let shading = (scene.instances.iter())
             .filter_map(|i| scene.meshes.get(i.mesh as usize))
             .any(|m| !m.shading.is_empty());
@@ -52,6 +64,8 @@ impl SceneFeatures {
             emitters,
             metallic_roughness,
             textures,
+            cutouts: coverages.iter().any(|c| c.cuts_out()),
+            single_sided: coverages.iter().any(|c| !c.double_sided),
         }
     }
 
@@ -66,6 +80,8 @@ impl SceneFeatures {
             (self.shading, "smooth/uv"),
             (self.metallic_roughness, "metallic-roughness"),
             (self.textures, "textures"),
+            (self.cutouts, "alpha"),
+            (self.single_sided, "single-sided"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

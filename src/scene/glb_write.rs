@@ -25,7 +25,7 @@ use glam::{Mat3, Quat, Vec3, Vec4};
 use serde_json::{json, Value};
 
 use super::gltf_from_thesis::metallic_roughness_from_thesis;
-use super::{Camera, Material, Scene, SceneError};
+use super::{AlphaMode, Camera, Material, Scene, SceneError};
 
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -313,21 +313,42 @@ fn material_json(index: usize, m: &Material) -> Result<(Value, bool), String> {
         Material::MetallicRoughness(m) => *m,
     };
     let (base, metallic, roughness) = (m.base_color, m.metallic, m.roughness);
-    let values = [base.x, base.y, base.z, metallic, roughness];
+    let values = [
+        base.x,
+        base.y,
+        base.z,
+        metallic,
+        roughness,
+        m.coverage.alpha,
+    ];
     if !m.emission.is_finite()
         || m.emission.min_element() < 0.0
         || values.iter().any(|v| !v.is_finite() || *v < 0.0)
     {
         return Err("has a negative or non-finite value".into());
     }
+    let coverage = m.coverage;
     let mut value = json!({
         "name": format!("material {index}"),
         "pbrMetallicRoughness": {
-            "baseColorFactor": [base.x, base.y, base.z, 1.0],
+            "baseColorFactor": [base.x, base.y, base.z, coverage.alpha],
             "metallicFactor": metallic,
             "roughnessFactor": roughness,
         },
+        "doubleSided": coverage.double_sided,
     });
+    if let Some(object) = value.as_object_mut() {
+        match coverage.mode {
+            AlphaMode::Opaque => {}
+            AlphaMode::Mask { cutoff } => {
+                object.insert("alphaMode".into(), json!("MASK"));
+                object.insert("alphaCutoff".into(), json!(cutoff));
+            }
+            AlphaMode::Blend => {
+                object.insert("alphaMode".into(), json!("BLEND"));
+            }
+        }
+    }
     let peak = m.emission.max_element();
     let mut uses_strength = false;
     if peak > 0.0 {

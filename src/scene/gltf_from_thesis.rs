@@ -15,7 +15,7 @@
 
 use glam::Vec3;
 
-use super::{MetallicRoughness, ThesisMaterial};
+use super::{Coverage, MetallicRoughness, ThesisMaterial};
 
 /// Normal-incidence Fresnel reflectance of glTF's dielectrics.
 pub const DIELECTRIC_F0: f32 = 0.04;
@@ -52,6 +52,8 @@ pub fn metallic_roughness_from_thesis(m: &ThesisMaterial) -> MetallicRoughness {
         roughness: roughness_from_phong_alpha(m.alpha),
         emission: m.emission,
         textures: Default::default(),
+        // The thesis' surfaces are there from both sides.
+        coverage: Coverage::SOLID,
     }
 }
 

@@ -2,7 +2,7 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
-use super::gpu_materials::gpu_material;
+use super::gpu_materials::{gpu_material, surface_flags};
 use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
 use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
@@ -204,6 +204,7 @@ impl GpuScene {
             }
             let to_world = rows(inst.transform);
             let to_object = rows(inst.transform.inverse());
+            let (surface, alpha_cutoff) = surface_flags(&scene.materials[inst.material as usize]);
             bounds.push(transform_aabb(aabb, inst.transform));
             objects.push(GpuObject {
                 world_to_object0: to_object[0],
@@ -218,6 +219,8 @@ impl GpuScene {
                 triangle_base: *base,
                 triangle_count: *count,
                 emitter: NO_EMITTER,
+                surface,
+                alpha_cutoff,
                 ..Default::default()
             });
         }
@@ -288,11 +291,13 @@ impl GpuScene {
             tlas_root: blas_nodes.len() as u32,
         };
         let mut features = features;
-        // Zero-area emitters are dropped (they emit nothing); textured ones are not NEE's but
+        // Zero-area emitters are dropped (they emit nothing); uneven ones are not NEE's but
         // still emit where a path hits them.
-        let textured_emission =
-            (objects.iter()).any(|o| has_emissive_texture(&scene.materials[o.material as usize]));
-        features.emitters = !emitters.is_empty() || textured_emission;
+        let uneven_emission = (objects.iter()).any(|o| {
+            let m = &scene.materials[o.material as usize];
+            m.is_emissive() && emits_unevenly(m)
+        });
+        features.emitters = !emitters.is_empty() || uneven_emission;
         Ok(Self {
             blas_nodes,
             tlas_nodes,
@@ -347,6 +352,7 @@ impl GpuScene {
                         ob.object_to_world1,
                         ob.object_to_world2,
                     ],
+                    surface: ob.surface,
                 },
                 KIND_BOX => padded_bounds([ob.a[0], ob.a[1], ob.a[2]], [ob.b[0], ob.b[1], ob.b[2]]),
                 _ => {
@@ -407,8 +413,12 @@ pub(crate) fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
     out
 }
 
-fn has_emissive_texture(m: &Material) -> bool {
-    matches!(m, Material::MetallicRoughness(m) if m.textures.emissive.is_some())
+/// Emission that varies across the surface, which next-event estimation (one radiance per
+/// emitter, over its whole area) does not know: an emissive texture, or alpha that cuts
+/// holes in the emitter.
+fn emits_unevenly(m: &Material) -> bool {
+    matches!(m, Material::MetallicRoughness(m)
+        if m.textures.emissive.is_some() || m.coverage.cuts_out())
 }
 
 /// Emissive objects become NEE emitters: every world-space triangle of an emissive instance
@@ -422,10 +432,9 @@ fn collect_emitters(
     let mut emitters = Vec::new();
     for (index, ob) in objects.iter_mut().enumerate() {
         let m = &materials[ob.material as usize];
-        // An emissive texture varies the emission across the surface, which next-event
-        // estimation (one radiance per emitter) does not know: such a surface is found by
-        // BRDF sampling alone, with weight 1 (unbiased; noisier for small bright ones).
-        if !m.is_emissive() || has_emissive_texture(m) {
+        // Uneven emission is found by BRDF sampling alone, with weight 1 (unbiased; noisier
+        // for small bright ones).
+        if !m.is_emissive() || emits_unevenly(m) {
             continue;
         }
         ob.emitter = emitters.len() as u32;

@@ -1,7 +1,7 @@
 //! Materials as the shaders read them (shared.h's GpuMaterial): either model's fields, and a
 //! glTF material's texture slots.
 
-use super::{Material, TextureRef};
+use super::{AlphaMode, Material, TextureRef};
 use crate::shader_layout::*;
 use glam::Vec3;
 
@@ -33,7 +33,7 @@ pub(super) fn gpu_material(m: &Material) -> GpuMaterial {
         },
         Material::MetallicRoughness(m) => GpuMaterial {
             emission: v4(m.emission, 0.0),
-            base_color: v4(m.base_color, 1.0),
+            base_color: v4(m.base_color, m.coverage.alpha),
             metallic: m.metallic,
             roughness: m.roughness,
             model: MODEL_METALLIC_ROUGHNESS,
@@ -44,6 +44,24 @@ pub(super) fn gpu_material(m: &Material) -> GpuMaterial {
             normal_scale: m.textures.normal_scale,
             ..Default::default()
         },
+    }
+}
+
+/// A mesh instance's GpuObject.surface flags and alpha cutoff, from its material's coverage
+/// (thesis materials are opaque from both sides: no flags).
+pub(super) fn surface_flags(m: &Material) -> (u32, f32) {
+    let Material::MetallicRoughness(m) = m else {
+        return (0, 0.0);
+    };
+    let sides = if m.coverage.double_sided {
+        0
+    } else {
+        OBJECT_SINGLE_SIDED
+    };
+    match m.coverage.mode {
+        AlphaMode::Opaque => (sides, 0.0),
+        AlphaMode::Mask { cutoff } => (sides | OBJECT_ALPHA_MASK, cutoff),
+        AlphaMode::Blend => (sides | OBJECT_ALPHA_BLEND, 0.0),
     }
 }
 

@@ -38,6 +38,53 @@ pub struct MetallicRoughness {
     /// Emitted radiance: `emissiveFactor × KHR_materials_emissive_strength`.
     pub emission: Vec3,
     pub textures: MaterialTextures,
+    /// Which parts of the surface rays meet: alpha and faces.
+    pub coverage: Coverage,
+}
+
+/// Which parts of a surface are there for rays: glTF's `alphaMode`, `alphaCutoff` and
+/// `doubleSided` (glTF 2.0, 3.9.4 and 3.9.5). Every ray sees them the same way: camera,
+/// bounce and shadow rays, in both traversals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coverage {
+    /// `baseColorFactor`'s alpha; the base colour texture's alpha multiplies it.
+    pub alpha: f32,
+    pub mode: AlphaMode,
+    /// Both faces are there. A single-sided surface is invisible from behind (glTF's back-face
+    /// culling: its front face winds counter-clockwise, its back face is not there).
+    pub double_sided: bool,
+}
+
+/// How a surface's alpha covers it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    Opaque,
+    /// Present where alpha ≥ `cutoff`, absent elsewhere.
+    Mask { cutoff: f32 },
+    /// Present with probability alpha (stochastic transparency: a ray passes through with
+    /// probability 1 − alpha, which averages to alpha blending over samples).
+    Blend,
+}
+
+impl Coverage {
+    /// glTF's default: opaque and single-sided.
+    pub const GLTF_DEFAULT: Self = Self {
+        alpha: 1.0,
+        mode: AlphaMode::Opaque,
+        double_sided: false,
+    };
+    /// Opaque from both sides: every thesis material, and materials made in code.
+    pub const SOLID: Self = Self {
+        alpha: 1.0,
+        mode: AlphaMode::Opaque,
+        double_sided: true,
+    };
+
+    /// Alpha decides, per point, whether the surface is there (MASK or BLEND).
+    pub fn cuts_out(&self) -> bool {
+        self.mode != AlphaMode::Opaque
+    }
 }
 
 impl MetallicRoughness {
@@ -48,9 +95,10 @@ impl MetallicRoughness {
         roughness: 1.0,
         emission: Vec3::ZERO,
         textures: MaterialTextures::NONE,
+        coverage: Coverage::GLTF_DEFAULT,
     };
 
-    /// A material of factors alone.
+    /// A material of factors alone, opaque from both sides.
     pub fn factors(base_color: Vec3, metallic: f32, roughness: f32, emission: Vec3) -> Self {
         Self {
             base_color,
@@ -58,6 +106,7 @@ impl MetallicRoughness {
             roughness,
             emission,
             textures: MaterialTextures::NONE,
+            coverage: Coverage::SOLID,
         }
     }
 }

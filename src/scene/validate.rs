@@ -3,7 +3,9 @@
 //! overflow 32-bit floats. The glTF loader already produces such scenes; this catches scenes
 //! built in code and says what to change.
 
-use super::{Material, MetallicRoughness, Scene, SceneError, Texture, TextureRef, ThesisMaterial};
+use super::{
+    AlphaMode, Material, MetallicRoughness, Scene, SceneError, Texture, TextureRef, ThesisMaterial,
+};
 use glam::Vec3;
 
 /// Largest finite Phong exponent accepted; sharper lobes are mirrors in practice (α = ∞).
@@ -134,7 +136,14 @@ fn check_thesis(m: &ThesisMaterial) -> Result<(), String> {
 fn check_metallic_roughness(m: &MetallicRoughness) -> Result<(), String> {
     check_unit("base colour", m.base_color)?;
     check_unit("metallic", Vec3::splat(m.metallic))?;
-    check_unit("roughness", Vec3::splat(m.roughness))
+    check_unit("roughness", Vec3::splat(m.roughness))?;
+    check_unit("alpha", Vec3::splat(m.coverage.alpha))?;
+    match m.coverage.mode {
+        AlphaMode::Mask { cutoff } if !(cutoff.is_finite() && cutoff >= 0.0) => Err(format!(
+            "its alpha cutoff {cutoff} must be a number ≥ 0 (glTF's default is 0.5)"
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A texture has texels, as many as its size says.
@@ -186,6 +195,7 @@ fn check_unit(what: &str, v: Vec3) -> Result<(), String> {
 mod tests {
     use super::*;
     use crate::scene::builtin::{builtin, BUILTIN_SCENES};
+    use crate::scene::Coverage;
     use glam::Vec3;
 
     fn problem(m: Material) -> String {
@@ -217,6 +227,7 @@ mod tests {
                 roughness,
                 emission: Vec3::splat(MAX_EMISSION),
                 textures: Default::default(),
+                coverage: Coverage::SOLID,
             });
             check_material(&m).unwrap();
         }
@@ -286,6 +297,7 @@ mod tests {
             roughness: 0.5,
             emission: Vec3::ZERO,
             textures: Default::default(),
+            coverage: Coverage::SOLID,
         };
         let gltf = |m: MetallicRoughness| Material::MetallicRoughness(m);
         let cases = [
@@ -316,6 +328,26 @@ mod tests {
                     ..pbr
                 }),
                 "overflows",
+            ),
+            (
+                gltf(MetallicRoughness {
+                    coverage: Coverage {
+                        alpha: 1.5,
+                        ..Coverage::SOLID
+                    },
+                    ..pbr
+                }),
+                "alpha",
+            ),
+            (
+                gltf(MetallicRoughness {
+                    coverage: Coverage {
+                        mode: AlphaMode::Mask { cutoff: f32::NAN },
+                        ..Coverage::SOLID
+                    },
+                    ..pbr
+                }),
+                "cutoff",
             ),
         ];
         for (m, words) in cases {

@@ -126,3 +126,25 @@ pub fn gpu_assisted_context() -> Arc<GpuContext> {
 /// Where a command that should fail before writing anything is told to write: inside the
 /// tests' own directory (target/tmp), so that one which does write leaves nothing elsewhere.
 pub const SCRATCH_PNG: &str = concat!(env!("CARGO_TARGET_TMPDIR"), "/fovea-scratch.png");
+
+/// Per block of `block`x`block` pixels and channel: the mean and its standard error (the
+/// pixels' spread over the square root of their count).
+pub fn block_stats(rgb: &[f32], w: usize, block: usize) -> Vec<[(f64, f64); 3]> {
+    let h = rgb.len() / 3 / w;
+    let mut out = Vec::new();
+    for by in (0..h).step_by(block) {
+        for bx in (0..w).step_by(block) {
+            out.push(std::array::from_fn(|c| {
+                let values: Vec<f64> = (by..by + block)
+                    .flat_map(|y| (bx..bx + block).map(move |x| (y, x)))
+                    .map(|(y, x)| rgb[3 * (y * w + x) + c] as f64)
+                    .collect();
+                let n = values.len() as f64;
+                let mean = values.iter().sum::<f64>() / n;
+                let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                (mean, (var / n).sqrt())
+            }));
+        }
+    }
+    out
+}

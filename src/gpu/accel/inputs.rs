@@ -6,8 +6,8 @@ use crate::gpu::context::GpuContext;
 use crate::gpu::device_pick::RayQueryLimits;
 use crate::gpu::error::GpuError;
 use crate::gpu::memory::Buffer;
-use crate::shader_layout::AccelObject;
 use crate::shader_layout::GpuTriangle;
+use crate::shader_layout::{AccelObject, OBJECT_CUTOUT, OBJECT_SINGLE_SIDED};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use std::collections::HashMap;
@@ -54,6 +54,8 @@ pub(super) struct Placed {
     pub(super) blas: usize,
     pub(super) custom_index: u32,
     pub(super) to_world: [[f32; 4]; 3],
+    /// shared.h's OBJECT_* flags (0 for the boxes and spheres).
+    pub(super) surface: u32,
 }
 
 /// The custom index of the boxes-and-spheres instance (its hits name their object by
@@ -72,6 +74,7 @@ pub(super) fn blas_sources(objects: &[AccelObject]) -> (Vec<BlasSource>, Vec<Pla
             first,
             count,
             to_world,
+            surface,
         } = *object
         {
             let blas = *meshes.entry((first, count)).or_insert_with(|| {
@@ -82,6 +85,7 @@ pub(super) fn blas_sources(objects: &[AccelObject]) -> (Vec<BlasSource>, Vec<Pla
                 blas,
                 custom_index: index as u32,
                 to_world,
+                surface,
             });
         }
     }
@@ -94,6 +98,7 @@ pub(super) fn blas_sources(objects: &[AccelObject]) -> (Vec<BlasSource>, Vec<Pla
             blas: sources.len() - 1,
             custom_index: PROCEDURAL_INSTANCE,
             to_world: IDENTITY,
+            surface: 0,
         });
     }
     (sources, placed)
@@ -360,16 +365,14 @@ pub(super) fn range(primitives: u32) -> vk::AccelerationStructureBuildRangeInfoK
 }
 
 /// A VkAccelerationStructureInstanceKHR's bytes: the 3x4 row-major transform, the custom
-/// index (24 bits) with mask 0xff, SBT offset 0 with its flags, the BLAS's address. Opaque and
-/// never culled: the integrators shade both faces.
+/// index (24 bits) with mask 0xff, SBT offset 0 with its flags, the BLAS's address.
 pub(super) fn instance(
     to_world: [[f32; 4]; 3],
     custom_index: u32,
+    surface: u32,
     blas: u64,
 ) -> [u8; INSTANCE_BYTES] {
-    let flags = (vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE
-        | vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE)
-        .as_raw();
+    let flags = instance_flags(surface).as_raw();
     let mut bytes = [0u8; INSTANCE_BYTES];
     let floats: Vec<f32> = to_world.iter().flatten().copied().collect();
     bytes[..48].copy_from_slice(bytemuck::cast_slice(&floats));
@@ -377,6 +380,26 @@ pub(super) fn instance(
     bytes[52..56].copy_from_slice(&(flags << 24).to_le_bytes());
     bytes[56..].copy_from_slice(&blas.to_le_bytes());
     bytes
+}
+
+/// How the driver treats an instance's triangles, from its OBJECT_* flags. Opaque ones are
+/// committed by the driver; alpha-cut ones come back to ray_query.glsl's loop as candidates.
+/// Culling is off but for single-sided instances, and applies only to rays that ask for it
+/// (ray_query.glsl's flags in a scene with single-sided instances). Vulkan's front face is
+/// clockwise seen from the ray in a left-handed frame, which is glTF's counter-clockwise in
+/// its right-handed one: no flip. Both are in object space, so a mirroring transform leaves
+/// them alone, as glTF's determinant rule wants.
+fn instance_flags(surface: u32) -> vk::GeometryInstanceFlagsKHR {
+    let alpha = if surface & OBJECT_CUTOUT != 0 {
+        vk::GeometryInstanceFlagsKHR::FORCE_NO_OPAQUE
+    } else {
+        vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE
+    };
+    if surface & OBJECT_SINGLE_SIDED != 0 {
+        alpha
+    } else {
+        alpha | vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE
+    }
 }
 
 #[cfg(test)]
@@ -390,7 +413,7 @@ mod tests {
             [5.0, 6.0, 7.0, 8.0],
             [9.0, 10.0, 11.0, 12.0],
         ];
-        let bytes = instance(to_world, 0x123456, 0x1122_3344_5566_7788);
+        let bytes = instance(to_world, 0x123456, 0, 0x1122_3344_5566_7788);
         let word = |i: usize| u32::from_le_bytes(bytes[i * 4..i * 4 + 4].try_into().unwrap());
         assert_eq!(f32::from_bits(word(3)), 4.0);
         assert_eq!(f32::from_bits(word(11)), 12.0);
@@ -408,6 +431,7 @@ mod tests {
             first,
             count: 4,
             to_world: IDENTITY,
+            surface: 0,
         };
         let bounds = AccelObject::Bounds {
             min: [0.0; 3],

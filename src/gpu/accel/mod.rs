@@ -109,7 +109,14 @@ impl AccelStructures {
         let blas_addresses: Vec<u64> = self.blases.iter().map(|&b| self.address(b)).collect();
         let bytes: Vec<u8> = placed
             .iter()
-            .flat_map(|p| instance(p.to_world, p.custom_index, blas_addresses[p.blas]))
+            .flat_map(|p| {
+                instance(
+                    p.to_world,
+                    p.custom_index,
+                    p.surface,
+                    blas_addresses[p.blas],
+                )
+            })
             .collect();
         upload(ctx, "ray-query instances", &bytes, INPUT_USAGE)
     }

@@ -7,7 +7,8 @@ use glam::Vec3;
 use super::origin::{Origin, Warnings};
 use super::textures::TextureLoader;
 use crate::scene::{
-    Material, MaterialTextures, MetallicRoughness, SceneError, TexelEncoding, TextureRef,
+    AlphaMode, Coverage, Material, MaterialTextures, MetallicRoughness, SceneError, TexelEncoding,
+    TextureRef,
 };
 
 /// The material of primitives that have none: glTF's default material (white, metallic 1,
@@ -23,7 +24,7 @@ pub(super) fn convert_material(
     origin: &Origin,
     warnings: &mut Warnings,
 ) -> Result<Material, SceneError> {
-    let factors = convert_factors(material, warnings).map_err(|p| origin.invalid(p))?;
+    let factors = convert_factors(material).map_err(|p| origin.invalid(p))?;
     let pbr = material.pbr_metallic_roughness();
     let mut slot =
         |info: Option<gltf::texture::Info>, encoding| -> Result<Option<TextureRef>, SceneError> {
@@ -60,12 +61,9 @@ pub(super) fn convert_material(
     }))
 }
 
-/// A glTF material's factors; a negative, non-finite or overflowing factor is an error naming
+/// A glTF material's factors and coverage; a negative, non-finite or overflowing factor is an error naming
 /// the material.
-fn convert_factors(
-    material: &gltf::Material,
-    warnings: &mut Warnings,
-) -> Result<MetallicRoughness, String> {
+fn convert_factors(material: &gltf::Material) -> Result<MetallicRoughness, String> {
     let label = match (material.name(), material.index()) {
         (Some(name), Some(i)) => format!("material '{name}' (#{i})"),
         (_, i) => format!("material #{}", i.unwrap_or(0)),
@@ -86,9 +84,6 @@ fn convert_factors(
             "{label} has a negative or non-finite factor (NaN or ±∞); fix the material"
         ));
     }
-    if a < 1.0 && material.alpha_mode() != gltf::material::AlphaMode::Opaque {
-        warnings.add("transparency (alpha; materials are opaque)");
-    }
     let emission = emissive * strength;
     if !emission.is_finite() {
         return Err(format!(
@@ -99,10 +94,36 @@ fn convert_factors(
     }
     // The schema bounds the factors by 1; exporters round past it by an ulp or so.
     let unit = |x: f32| x.min(1.0);
-    Ok(MetallicRoughness::factors(
-        Vec3::new(unit(r), unit(g), unit(b)),
-        unit(metallic),
-        unit(roughness),
-        emission,
-    ))
+    Ok(MetallicRoughness {
+        coverage: coverage(material, unit(a), &label)?,
+        ..MetallicRoughness::factors(
+            Vec3::new(unit(r), unit(g), unit(b)),
+            unit(metallic),
+            unit(roughness),
+            emission,
+        )
+    })
+}
+
+/// glTF's alphaMode, alphaCutoff (0.5 unless given) and doubleSided.
+fn coverage(material: &gltf::Material, alpha: f32, label: &str) -> Result<Coverage, String> {
+    use gltf::material::AlphaMode as Mode;
+    let mode = match material.alpha_mode() {
+        Mode::Opaque => AlphaMode::Opaque,
+        Mode::Blend => AlphaMode::Blend,
+        Mode::Mask => {
+            let cutoff = material.alpha_cutoff().unwrap_or(0.5);
+            if !(cutoff.is_finite() && cutoff >= 0.0) {
+                return Err(format!(
+                    "{label} has alphaCutoff {cutoff}; it must be a number ≥ 0 (0.5 if absent)"
+                ));
+            }
+            AlphaMode::Mask { cutoff }
+        }
+    };
+    Ok(Coverage {
+        alpha,
+        mode,
+        double_sided: material.double_sided(),
+    })
 }
