@@ -15,6 +15,10 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Downscale (by halving) every texture of a glTF file wider or taller than N texels,
+    /// instead of refusing one larger than the device's largest image.
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    max_texture_size: Option<u32>,
 }
 
 #[derive(Subcommand)]
@@ -52,6 +56,9 @@ fn main() {
         .init();
     let matches = Cli::command().get_matches();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let Some(n) = cli.max_texture_size {
+        fovea::scene::texture_size::set_max_texture_size(n);
+    }
     let result = match &cli.command {
         Command::Render(args) => commands::render::run(args),
         Command::Bench(args) => {

@@ -608,3 +608,29 @@ fn a_normal_map_tilts_shading_as_geometry_would() {
         "the tilt must show (the test has power)"
     );
 }
+
+#[test]
+fn max_texture_size_downscales_at_load_and_says_so() {
+    let path = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    let dir = common::test_dir("max-texture-size");
+    let out = dir.join("box.png");
+    let args = |n: &'static str| {
+        let out = out.to_str().unwrap().to_string();
+        move || {
+            let flags = ["render", "--scene", path, "--width", "16", "--height", "16"];
+            let more = ["--spp", "1", "--max-texture-size", n, "--out", out.as_str()];
+            common::fovea(&[&flags[..], &more[..]].concat())
+        }
+    };
+    // 211 → 105 → 52 → 26: halved until it fits in 32.
+    let (ok, text) = args("32")();
+    assert!(ok, "{text}");
+    assert!(text.contains("211×211 → 26×26"), "{text}");
+    assert!(out.exists());
+    // A texture within the limit is left alone, and says nothing.
+    let (ok, text) = args("4096")();
+    assert!(ok && !text.contains("downscaled"), "{text}");
+    // No texture is 0 texels wide.
+    let (ok, text) = args("0")();
+    assert!(!ok && text.contains("--max-texture-size"), "{text}");
+}

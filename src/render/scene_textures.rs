@@ -51,7 +51,8 @@ pub fn check_sizes(textures: &[Texture], max_side: u32) -> Result<(), String> {
     match textures.iter().find(|t| t.width.max(t.height) > max_side) {
         Some(t) => Err(format!(
             "texture '{}' is {}×{} texels, larger than this device's largest image side \
-             ({max_side}); downscale the image in the file",
+             ({max_side}); run with --max-texture-size {max_side} to downscale it at load, \
+             or downscale the image in the file",
             t.name, t.width, t.height
         )),
         None => Ok(()),

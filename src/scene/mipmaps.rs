@@ -35,6 +35,24 @@ pub fn mip_chain(t: &Texture) -> Vec<Level> {
     levels
 }
 
+/// The first level of the texture's chain whose sides are at most `max_side` (≥ 1), by the
+/// same filter as the chain; `None` when the texture already fits.
+pub fn fitted(t: &Texture, max_side: u32) -> Option<Level> {
+    if t.width.max(t.height) <= max_side {
+        return None;
+    }
+    let decode = decoding_table(t.encoding);
+    let mut level = Level {
+        width: t.width,
+        height: t.height,
+        rgba8: t.rgba8.clone(),
+    };
+    while level.width.max(level.height) > max_side.max(1) {
+        level = halve(&level, t.encoding, &decode);
+    }
+    Some(level)
+}
+
 /// Texel byte → linear value, per channel kind (colour channels of an sRGB texture are
 /// decoded; alpha and linear data are not).
 fn decoding_table(encoding: TexelEncoding) -> [f32; 256] {

@@ -14,6 +14,7 @@ pub mod gpu_layout;
 mod gpu_materials;
 pub mod mipmaps;
 pub mod tangents;
+pub mod texture_size;
 pub mod types;
 pub mod validate;
 
@@ -30,7 +31,17 @@ pub fn load(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     if is_file {
-        gltf_load::load_gltf(path, aspect)
+        let mut scene = gltf_load::load_gltf(path, aspect)?;
+        if let Some(max_side) = texture_size::max_texture_size() {
+            let changed = texture_size::downscale_textures(&mut scene, max_side);
+            if !changed.is_empty() {
+                tracing::warn!(
+                    "--max-texture-size {max_side}: downscaled {}",
+                    changed.join(", ")
+                );
+            }
+        }
+        Ok(scene)
     } else {
         builtin::builtin(name_or_path, aspect)
     }
