@@ -12,11 +12,14 @@
 //! this loader reads them, but strict glTF readers expect TRS-decomposable matrices (a warning
 //! says so).
 //!
-//! # Materials
+//! # Materials and textures
 //!
-//! glTF materials are written as they are; thesis materials as the nearest metallic-roughness
-//! material ([`super::gltf_from_thesis`]). Emission is written as `emissiveFactor`, with
-//! `KHR_materials_emissive_strength` carrying the maximum component when it exceeds 1.
+//! glTF materials are written as they are (factors, alpha, faces, texture slots with
+//! `KHR_texture_transform` where not the identity); thesis materials as the nearest
+//! metallic-roughness material ([`super::gltf_from_thesis`]). Emission is written as
+//! `emissiveFactor`, with `KHR_materials_emissive_strength` carrying the maximum component
+//! when it exceeds 1. Every texture becomes a PNG image in the binary chunk with a sampler and
+//! a texture of its own, in order. Meshes keep their normals, tangents and texture coordinates.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -24,8 +27,12 @@ use std::path::Path;
 use glam::{Mat3, Quat, Vec3, Vec4};
 use serde_json::{json, Value};
 
-use super::gltf_from_thesis::metallic_roughness_from_thesis;
-use super::{AlphaMode, Camera, Material, Scene, SceneError};
+use super::{Camera, Scene, SceneError};
+use materials::material_json;
+use textures::write_textures;
+
+mod materials;
+mod textures;
 
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -137,18 +144,20 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
         })
         .collect();
 
-    let mut uses_strength = false;
+    let mut extensions = std::collections::BTreeSet::new();
     let materials = scene
         .materials
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let (value, strength) =
+            let (value, used) =
                 material_json(i, m).map_err(|p| invalid(format!("material {i}: {p}")))?;
-            uses_strength |= strength;
+            extensions.extend(used);
             Ok(value)
         })
         .collect::<Result<Vec<Value>, SceneError>>()?;
+    let [images, samplers, textures] =
+        write_textures(&scene.textures, &mut bin, &mut views).map_err(invalid)?;
 
     let (camera_node, camera) =
         camera_json(&scene.camera).map_err(|p| invalid(format!("camera: {p}")))?;
@@ -171,14 +180,18 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     if !meshes.is_empty() {
         object.insert("meshes".into(), Value::Array(meshes));
         object.insert("accessors".into(), Value::Array(accessors));
+    }
+    if !textures.is_empty() {
+        object.insert("images".into(), Value::Array(images));
+        object.insert("samplers".into(), Value::Array(samplers));
+        object.insert("textures".into(), Value::Array(textures));
+    }
+    if !views.is_empty() {
         object.insert("bufferViews".into(), Value::Array(views));
         object.insert("buffers".into(), json!([{ "byteLength": bin.len() }]));
     }
-    if uses_strength {
-        object.insert(
-            "extensionsUsed".into(),
-            json!(["KHR_materials_emissive_strength"]),
-        );
+    if !extensions.is_empty() {
+        object.insert("extensionsUsed".into(), json!(extensions));
     }
 
     let json_text = serde_json::to_vec(&root)
@@ -245,6 +258,11 @@ fn write_mesh_data(
         let accessor = write_floats(floats, "VEC3", vertex_count, bin, views, accessors);
         attributes["NORMAL"] = json!(accessor);
     }
+    if !shading.tangents.is_empty() {
+        let floats = shading.tangents.iter().flat_map(|t| t.to_array());
+        let accessor = write_floats(floats, "VEC4", vertex_count, bin, views, accessors);
+        attributes["TANGENT"] = json!(accessor);
+    }
     for (set, uv) in shading
         .uv
         .iter()
@@ -304,75 +322,6 @@ fn is_trs_decomposable(m: &glam::Mat4) -> bool {
     );
     let orthogonal = |u: Vec3, v: Vec3| u.dot(v).abs() <= 1e-5 * u.length() * v.length();
     m.row(3).abs_diff_eq(Vec4::W, 1e-6) && orthogonal(a, b) && orthogonal(b, c) && orthogonal(a, c)
-}
-
-/// A glTF material object; the flag says whether it uses KHR_materials_emissive_strength.
-fn material_json(index: usize, m: &Material) -> Result<(Value, bool), String> {
-    let m = match m {
-        Material::Thesis(m) => metallic_roughness_from_thesis(m),
-        Material::MetallicRoughness(m) => *m,
-    };
-    let (base, metallic, roughness) = (m.base_color, m.metallic, m.roughness);
-    let values = [
-        base.x,
-        base.y,
-        base.z,
-        metallic,
-        roughness,
-        m.coverage.alpha,
-    ];
-    if !m.emission.is_finite()
-        || m.emission.min_element() < 0.0
-        || values.iter().any(|v| !v.is_finite() || *v < 0.0)
-    {
-        return Err("has a negative or non-finite value".into());
-    }
-    let coverage = m.coverage;
-    let mut value = json!({
-        "name": format!("material {index}"),
-        "pbrMetallicRoughness": {
-            "baseColorFactor": [base.x, base.y, base.z, coverage.alpha],
-            "metallicFactor": metallic,
-            "roughnessFactor": roughness,
-        },
-        "doubleSided": coverage.double_sided,
-    });
-    if let Some(object) = value.as_object_mut() {
-        match coverage.mode {
-            AlphaMode::Opaque => {}
-            AlphaMode::Mask { cutoff } => {
-                object.insert("alphaMode".into(), json!("MASK"));
-                object.insert("alphaCutoff".into(), json!(cutoff));
-            }
-            AlphaMode::Blend => {
-                object.insert("alphaMode".into(), json!("BLEND"));
-            }
-        }
-    }
-    let peak = m.emission.max_element();
-    let mut uses_strength = false;
-    if peak > 0.0 {
-        let object = value
-            .as_object_mut()
-            .ok_or("internal: material is not an object")?;
-        if peak > 1.0 {
-            object.insert(
-                "emissiveFactor".into(),
-                json!((m.emission / peak).to_array().to_vec()),
-            );
-            object.insert(
-                "extensions".into(),
-                json!({ "KHR_materials_emissive_strength": { "emissiveStrength": peak } }),
-            );
-            uses_strength = true;
-        } else {
-            object.insert(
-                "emissiveFactor".into(),
-                json!(m.emission.to_array().to_vec()),
-            );
-        }
-    }
-    Ok((value, uses_strength))
 }
 
 /// The camera node (looking down its −Z, +Y up) and a symmetric perspective camera with the
