@@ -10,6 +10,7 @@ pub mod fingerprint;
 pub mod glb_write;
 pub mod gltf_from_thesis;
 pub mod gltf_load;
+pub mod gltf_samples;
 pub mod gpu_layout;
 mod gpu_materials;
 pub mod mipmaps;
