@@ -634,3 +634,20 @@ fn max_texture_size_downscales_at_load_and_says_so() {
     let (ok, text) = args("0")();
     assert!(!ok && text.contains("--max-texture-size"), "{text}");
 }
+
+#[test]
+fn a_scene_reports_its_gpu_memory_textures_with_every_mip_level() {
+    let path = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+    let scene = load_gltf(path.as_ref(), 1.0).expect("tools/setup.sh installs assimp-testmodels");
+    let ctx = common::context();
+    let renderer = Renderer::new(&ctx, &scene).unwrap();
+    let memory = renderer.scene_memory();
+    // 211² texels and each level halved (rounded down) to 1², 4 bytes a texel.
+    let texels: u64 = [211u64, 105, 52, 26, 13, 6, 3, 1]
+        .iter()
+        .map(|s| s * s)
+        .sum();
+    assert_eq!(memory.textures, 4 * texels);
+    // Its 12 triangles' arrays: at least the triangles themselves (48 bytes each).
+    assert!(memory.buffers >= 12 * 48, "{memory:?}");
+}

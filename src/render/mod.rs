@@ -36,6 +36,7 @@ pub use renderer::Renderer;
 pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
 };
+pub use scene_buffers::SceneMemory;
 pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
 pub use slots::MAX_FRAMES_IN_FLIGHT;
 pub use version::renderer_version;

@@ -10,7 +10,7 @@ use super::history::{History, HistoryKey, TemporalSettings};
 use super::in_flight::FrameRing;
 use super::pipelines::{Pipelines, TraceKey};
 use super::request::{FrameOptions, FrameRequest};
-use super::scene_buffers::SceneBuffers;
+use super::scene_buffers::{SceneBuffers, SceneMemory};
 use super::settings::Traversal;
 use super::targets::{TargetCache, TargetKey};
 use super::visibility::Visibility;
@@ -92,6 +92,11 @@ impl Renderer {
 
     pub fn features(&self) -> SceneFeatures {
         self.scene.features
+    }
+
+    /// What the scene holds in device-local memory.
+    pub fn scene_memory(&self) -> SceneMemory {
+        self.scene.memory
     }
 
     pub fn context(&self) -> &Arc<GpuContext> {

@@ -35,6 +35,23 @@ pub struct SceneBuffers {
     pub features: SceneFeatures,
     /// The scene as uploaded ([`GpuScene::fingerprint`]).
     pub fingerprint: u64,
+    /// What the scene holds in device-local memory (acceleration structures aside).
+    pub memory: SceneMemory,
+}
+
+/// Device-local bytes of a scene: its arrays (BVH nodes, triangles, shading, objects,
+/// materials, emitters) and its textures (every mip level).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneMemory {
+    pub buffers: u64,
+    pub textures: u64,
+}
+
+fn device_bytes(plan: &[PlannedAllocation]) -> u64 {
+    plan.iter()
+        .filter(|a| !a.host_visible)
+        .map(|a| a.bytes)
+        .sum()
 }
 
 impl SceneBuffers {
@@ -44,7 +61,12 @@ impl SceneBuffers {
         scene_textures::check_sizes(&scene.textures, ctx.info.max_image_dimension_2d)
             .map_err(RenderError::Settings)?;
         let mut plan = memory_plan(&gpu);
-        plan.extend(scene_textures::allocations(&scene.textures));
+        let texture_plan = scene_textures::allocations(&scene.textures);
+        let memory = SceneMemory {
+            buffers: device_bytes(&plan) - device_bytes(&FrameCounters::allocations()),
+            textures: device_bytes(&texture_plan),
+        };
+        plan.extend(texture_plan);
         ctx.check_memory(
             &format!("scene '{}'", scene.name),
             &plan,
@@ -78,6 +100,7 @@ impl SceneBuffers {
             accel,
             features: gpu.features,
             fingerprint: gpu.fingerprint(),
+            memory,
         })
     }
 

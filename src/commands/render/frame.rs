@@ -14,7 +14,7 @@ use fovea::render::{
 };
 use fovea::scene::{self, Scene};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Renders, reports and writes the frame `args` ask for (`trace`: its gaze trace).
 pub fn run(
@@ -25,8 +25,10 @@ pub fn run(
     trace: Option<GazeTrace>,
 ) -> Result<()> {
     let aspect = settings.width as f32 / settings.height as f32;
+    let started = Instant::now();
     let scene = scene::load(&args.scene, aspect)?;
-    let mut renderer = load(ctx, &scene, args.profile_traversal)?;
+    let read = started.elapsed();
+    let mut renderer = load(ctx, &scene, read, args.profile_traversal)?;
     let eyes = frame_eyes(args, &scene, settings, trace);
     let request = FrameRequest {
         settings: *settings,
@@ -62,20 +64,32 @@ pub fn run(
     Ok(())
 }
 
-/// The scene's renderer, and what building it took.
-fn load(ctx: &Arc<GpuContext>, scene: &Scene, profile_traversal: bool) -> Result<Renderer> {
+/// The scene's renderer, and what reading (`read`) and building it took.
+fn load(
+    ctx: &Arc<GpuContext>,
+    scene: &Scene,
+    read: Duration,
+    profile_traversal: bool,
+) -> Result<Renderer> {
     let started = Instant::now();
     let mut renderer = Renderer::new(ctx, scene)?;
     renderer.set_traversal_profile(profile_traversal);
     let setup = started.elapsed();
+    let memory = renderer.scene_memory();
+    let mib = |bytes: u64| bytes as f64 / (1u64 << 20) as f64;
     println!(
-        "scene {}: {} triangles, {} boxes, {} spheres ({}); BVH build + upload {:.1} ms",
+        "scene {}: {} triangles, {} boxes, {} spheres, {} textures ({}); read in {:.1} ms, \
+         BVH build + upload {:.1} ms; GPU memory {:.2} MiB arrays + {:.2} MiB textures",
         scene.name,
         scene.triangle_count(),
         scene.boxes.len(),
         scene.spheres.len(),
+        scene.textures.len(),
         renderer.features().describe(),
-        setup.as_secs_f64() * 1e3
+        read.as_secs_f64() * 1e3,
+        setup.as_secs_f64() * 1e3,
+        mib(memory.buffers),
+        mib(memory.textures),
     );
     Ok(renderer)
 }
