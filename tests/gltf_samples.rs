@@ -45,7 +45,8 @@ fn each_sample_loads_with_what_it_shows_and_renders() {
             "sphere-grid",
             "normal-mapped-quad",
             "alpha-card",
-            "emissive-panel"
+            "emissive-panel",
+            "textured-room"
         ]
     );
     for name in &names {
@@ -69,7 +70,16 @@ fn each_sample_loads_with_what_it_shows_and_renders() {
                 .iter()
                 .any(|m| m.coverage.mode == AlphaMode::Mask { cutoff: 0.5 }
                     && m.textures.base_color.is_some())),
-            _ => assert!(materials.iter().any(|m| m.emission.max_element() > 1.0)),
+            "emissive-panel" => {
+                assert!(materials.iter().any(|m| m.emission.max_element() > 1.0))
+            }
+            _ => assert_eq!(
+                (materials.iter())
+                    .filter(|m| m.textures.base_color.is_some())
+                    .count(),
+                3,
+                "the floor, the back wall and the box are textured"
+            ),
         }
         let frame = common::render(
             &ctx,

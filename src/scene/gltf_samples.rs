@@ -21,6 +21,7 @@ pub fn gltf_samples() -> Vec<Scene> {
         normal_mapped_quad(),
         alpha_card(),
         emissive_panel(),
+        textured_room(),
     ]
 }
 
@@ -145,6 +146,85 @@ pub fn emissive_panel() -> Scene {
         Vec3::new(0.0, 0.5, 0.0),
         Vec3::Y,
         45.0,
+        1.0,
+    ))
+}
+
+/// A closed room (no ray escapes: the environment plays no part) with base-colour textures on
+/// the floor, the back wall and a box, rough dielectrics all (roughness 1), lit by a ceiling
+/// panel. Its textures are read texel by texel (nearest, no mipmaps), so a renderer without
+/// ray cones sees the same colours: tools/mitsuba-gltf.py compares it with Mitsuba 3.
+pub fn textured_room() -> Scene {
+    let mut b = SampleBuilder::new("textured-room");
+    let quad = b.mesh(quad());
+    let rough = |colour: Vec3| MetallicRoughness::factors(colour, 0.0, 1.0, Vec3::ZERO);
+    let textured = |texture: u32| MetallicRoughness {
+        textures: MaterialTextures {
+            base_color: Some(slot(texture)),
+            ..MaterialTextures::NONE
+        },
+        ..rough(Vec3::ONE)
+    };
+    let floor_texture = b.texture(colour_cells(8, 7), TexelEncoding::Srgb);
+    let wall_texture = b.texture(colour_cells(4, 3), TexelEncoding::Srgb);
+    let floor = b.material(textured(floor_texture));
+    let back = b.material(textured(wall_texture));
+    let white = b.material(rough(Vec3::splat(0.75)));
+    let red = b.material(rough(Vec3::new(0.7, 0.15, 0.1)));
+    // The room spans x, z in [-2, 2] and y in [0, 3]; every wall faces inward.
+    let wall = |at: Vec3, rotation: Mat4, half: Vec2| {
+        Mat4::from_translation(at) * rotation * Mat4::from_scale(half.extend(1.0))
+    };
+    let rx = Mat4::from_rotation_x;
+    let ry = Mat4::from_rotation_y;
+    b.place(
+        quad,
+        floor,
+        wall(Vec3::ZERO, rx(-PI / 2.0), Vec2::splat(2.0)),
+    );
+    b.place(
+        quad,
+        white,
+        wall(Vec3::Y * 3.0, rx(PI / 2.0), Vec2::splat(2.0)),
+    );
+    b.place(
+        quad,
+        back,
+        wall(
+            Vec3::new(0.0, 1.5, -2.0),
+            Mat4::IDENTITY,
+            Vec2::new(2.0, 1.5),
+        ),
+    );
+    b.place(
+        quad,
+        white,
+        wall(Vec3::new(0.0, 1.5, 2.0), ry(PI), Vec2::new(2.0, 1.5)),
+    );
+    b.place(
+        quad,
+        red,
+        wall(Vec3::new(-2.0, 1.5, 0.0), ry(PI / 2.0), Vec2::new(2.0, 1.5)),
+    );
+    b.place(
+        quad,
+        white,
+        wall(Vec3::new(2.0, 1.5, 0.0), ry(-PI / 2.0), Vec2::new(2.0, 1.5)),
+    );
+    // A textured box standing on the floor, turned a little.
+    let cube = b.mesh(cube());
+    let box_texture = b.texture(colour_cells(2, 5), TexelEncoding::Srgb);
+    let boxed = b.material(textured(box_texture));
+    let placed = Mat4::from_translation(Vec3::new(0.4, 0.5, -0.6))
+        * ry(0.5)
+        * Mat4::from_scale(Vec3::splat(0.5));
+    b.place(cube, boxed, placed);
+    b.light(Vec3::new(0.0, 2.99, 0.0), 1.0, 12.0);
+    b.finish(Camera::look_at(
+        Vec3::new(0.0, 1.5, 1.9),
+        Vec3::new(0.0, 1.0, -2.0),
+        Vec3::Y,
+        60.0,
         1.0,
     ))
 }
@@ -298,6 +378,72 @@ fn uv_sphere(segments: u32, rings: u32) -> Mesh {
         },
         positions,
         indices,
+    }
+}
+
+/// A cube of side 2 around the origin: 6 faces of 2 triangles, each face's uv the whole
+/// texture, counter-clockwise from outside.
+fn cube() -> Mesh {
+    let mut positions = Vec::new();
+    let mut uv = Vec::new();
+    let mut indices = Vec::new();
+    // Each face: its normal, and two axes spanning it with u × v = normal.
+    let faces = [
+        (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+        (Vec3::Y, Vec3::X, Vec3::NEG_Z),
+        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+        (Vec3::Z, Vec3::X, Vec3::Y),
+        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
+    ];
+    for (n, u, v) in faces {
+        let base = positions.len() as u32;
+        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            positions.push(n + su * u + sv * v);
+            uv.push(Vec2::new(0.5 + 0.5 * su, 0.5 - 0.5 * sv));
+        }
+        indices.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+    }
+    Mesh {
+        name: "cube".into(),
+        positions,
+        indices,
+        shading: VertexShading {
+            normals: vec![],
+            uv: [uv, vec![]],
+            tangents: vec![],
+        },
+    }
+}
+
+/// `cells` × `cells` texels of distinct, saturated colours (a hue per texel, `seed` shifting
+/// them), read exactly (nearest, no mipmaps).
+fn colour_cells(cells: u32, seed: u32) -> Texture {
+    let rgba8 = (0..cells * cells)
+        .flat_map(|i| {
+            let k = (i * 7 + seed * 13) % 24;
+            let hue = k as f32 / 24.0 * TAU;
+            let channel = |shift: f32| (0.55 + 0.4 * (hue + shift).cos()) * 255.0;
+            [
+                channel(0.0) as u8,
+                channel(2.1) as u8,
+                channel(4.2) as u8,
+                255,
+            ]
+        })
+        .collect();
+    Texture {
+        name: format!("cells {cells}x{cells}"),
+        width: cells,
+        height: cells,
+        rgba8,
+        encoding: TexelEncoding::Srgb,
+        sampler: TextureSampler {
+            mag_linear: false,
+            min_linear: false,
+            mipmaps: false,
+            ..TextureSampler::DEFAULT
+        },
     }
 }
 
