@@ -31,8 +31,9 @@ enum Command {
     /// Numerical stress report: watertightness, scale invariance, white furnace, emission,
     /// convergence; prints the counts that must be zero and fails if any check does.
     Check(Box<commands::check::CheckArgs>),
-    /// List the built-in scenes with their triangle counts and what they need.
-    Scenes,
+    /// List the built-in scenes with their triangle counts and what they need (or, given
+    /// .gltf/.glb files, what those hold and need).
+    Scenes(commands::scenes::ScenesArgs),
     /// A desktop window: the mouse is the gaze, live foveation controls, progressive refinement.
     View(Box<commands::view::ViewArgs>),
     /// An OpenXR headset session (SteamVR, Vive Pro Eye): the eye tracker moves each eye's
@@ -68,13 +69,19 @@ fn main() {
             commands::bench::run(args, sub)
         }
         Command::Check(args) => commands::check::run(args),
-        Command::Scenes => commands::scenes::run(),
+        Command::Scenes(args) => commands::scenes::run(args),
         Command::View(args) => commands::view::run(args),
         Command::Xr(args) => commands::xr::run(args),
         Command::Tune(args) => commands::tune::run(args),
         Command::GpuReport(args) => commands::gpu_report::run(args),
     };
     if let Err(e) = result {
+        // Output piped into a reader that stopped (`fovea scenes | head`) is not an error.
+        let closed_pipe = (e.downcast_ref::<std::io::Error>())
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe);
+        if closed_pipe {
+            return;
+        }
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

@@ -91,3 +91,23 @@ fn each_sample_loads_with_what_it_shows_and_renders() {
         assert!(mean > 0.01, "{name}: a dark image (mean {mean})");
     }
 }
+
+#[test]
+fn fovea_scenes_describes_the_files_it_is_given() {
+    let (ok, text) = common::fovea(&["scenes", &path("alpha-card"), &path("sphere-grid")]);
+    assert!(ok, "{text}");
+    let card = text
+        .lines()
+        .find(|l| l.starts_with("alpha-card"))
+        .expect("a row per file");
+    for word in ["textures", "alpha", "3 materials"] {
+        assert!(card.contains(word), "'{word}' missing: {card}");
+    }
+    assert!(text.lines().any(|l| l.starts_with("sphere-grid")), "{text}");
+    assert!(
+        !text.contains("cornell"),
+        "files replace the built-in list: {text}"
+    );
+    let (ok, text) = common::fovea(&["scenes", "no-such-file.glb"]);
+    assert!(!ok && text.contains("no-such-file.glb"), "{text}");
+}
