@@ -5,42 +5,16 @@
 mod common;
 
 use fovea::render::{regular_frame, Integrator, Renderer, Traversal};
+use fovea::scene::gltf_samples::checker_alpha;
+use fovea::scene::shapes::quad;
 use fovea::scene::{
     AlphaMode, Camera, Coverage, Environment, Instance, Material, Mesh, MetallicRoughness, Scene,
-    Sphere, TexelEncoding, Texture, TextureRef, TextureSampler, VertexShading,
+    Sphere, Texture, TextureRef, VertexShading,
 };
 use fovea::shader_layout::{GpuProbeHit, GpuProbeRay};
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec3};
 
 const TRAVERSALS: [Traversal; 2] = [Traversal::Software, Traversal::RayQuery];
-
-/// A 2 × 2 quad in the z = 0 plane, its front (counter-clockwise) facing +z, uv (0, 0) at its
-/// top left (-1, 1).
-fn quad() -> Mesh {
-    Mesh {
-        name: "quad".into(),
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-        shading: VertexShading {
-            normals: vec![],
-            uv: [
-                vec![
-                    Vec2::new(0.0, 1.0),
-                    Vec2::new(1.0, 1.0),
-                    Vec2::new(1.0, 0.0),
-                    Vec2::new(0.0, 0.0),
-                ],
-                vec![],
-            ],
-            tangents: vec![],
-        },
-    }
-}
 
 fn white(coverage: Coverage) -> Material {
     Material::MetallicRoughness(MetallicRoughness {
@@ -63,29 +37,7 @@ fn with_texture(material: Material) -> Material {
 
 /// 4 × 4 white texels, alpha a checkerboard (opaque where x + y is even), read exactly.
 fn checker() -> Texture {
-    let rgba8 = (0..16)
-        .flat_map(|i| {
-            [
-                255,
-                255,
-                255,
-                if (i % 4 + i / 4) % 2 == 0 { 255 } else { 0 },
-            ]
-        })
-        .collect();
-    Texture {
-        name: "checker alpha".into(),
-        width: 4,
-        height: 4,
-        rgba8,
-        encoding: TexelEncoding::Srgb,
-        sampler: TextureSampler {
-            mag_linear: false,
-            min_linear: false,
-            mipmaps: false,
-            ..TextureSampler::DEFAULT
-        },
-    }
+    checker_alpha(4)
 }
 
 fn scene(instances: Vec<Instance>, materials: Vec<Material>) -> Scene {

@@ -770,33 +770,13 @@ fn a_normal_map_without_tangents_gets_mikktspace_ones() {
 /// texture transform), alpha-masked and single-sided.
 fn textured_round_trip_scene() -> Scene {
     use fovea::scene::{
-        AlphaMode, MaterialTextures, TexelEncoding, Texture, TextureRef, TextureSampler,
-        VertexShading, Wrap,
+        AlphaMode, MaterialTextures, TexelEncoding, Texture, TextureRef, TextureSampler, Wrap,
     };
     use glam::{Vec2, Vec4};
-    let quad = Mesh {
-        name: "quad".into(),
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-        shading: VertexShading {
-            normals: vec![Vec3::Z; 4],
-            uv: [
-                vec![
-                    Vec2::new(0.0, 1.0),
-                    Vec2::new(1.0, 1.0),
-                    Vec2::new(1.0, 0.0),
-                    Vec2::new(0.0, 0.0),
-                ],
-                vec![Vec2::new(0.5, 0.25); 4],
-            ],
-            tangents: vec![Vec4::new(1.0, 0.0, 0.0, -1.0); 4],
-        },
-    };
+    // The shared quad (normals, uv, tangents), with a second uv set and flipped bitangents.
+    let mut quad = fovea::scene::shapes::quad();
+    quad.shading.uv[1] = vec![Vec2::new(0.5, 0.25); 4];
+    quad.shading.tangents = vec![Vec4::new(1.0, 0.0, 0.0, -1.0); 4];
     let texture = |name: &str, encoding, sampler| Texture {
         name: name.into(),
         width: 3,

@@ -21,29 +21,7 @@ const SIZE: usize = 32;
 /// A 2 × 2 quad in the z = 0 plane facing +z, its texture's top-left texel at the image's
 /// top left (glTF's uv (0, 0) is the image's first texel).
 fn textured_quad() -> Mesh {
-    Mesh {
-        name: "quad".into(),
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-        shading: VertexShading {
-            normals: vec![],
-            uv: [
-                vec![
-                    Vec2::new(0.0, 1.0),
-                    Vec2::new(1.0, 1.0),
-                    Vec2::new(1.0, 0.0),
-                    Vec2::new(0.0, 0.0),
-                ],
-                vec![],
-            ],
-            tangents: vec![],
-        },
-    }
+    fovea::scene::shapes::quad()
 }
 
 /// 2 × 2 texels, read exactly: nearest filtering, no mipmaps.

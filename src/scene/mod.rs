@@ -14,6 +14,7 @@ pub mod gltf_samples;
 pub mod gpu_layout;
 mod gpu_materials;
 pub mod mipmaps;
+pub mod shapes;
 pub mod tangents;
 pub mod texture_size;
 pub mod types;
