@@ -14,8 +14,38 @@ pub mod xr;
 use anyhow::{bail, Result};
 use clap::Args;
 use fovea::gpu::{GpuContext, GpuOptions, RayQueries};
+use fovea::render::display::{DisplayTransform, Tonemap};
 use fovea::render::TraversalChoice;
 use std::sync::Arc;
+
+/// What a display shows of the scene-referred radiance (fovea::render::display).
+#[derive(Args, Clone, Copy, Debug)]
+pub struct DisplayArgs {
+    /// Exposure in stops for what is shown (PNG; the EXR beside it stays scene-referred):
+    /// radiance × 2^EV before tone mapping.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = exposure)]
+    pub exposure: f32,
+    /// Tone mapper for what is shown: `clamp` (clip at 1; the built-in scenes' default) or
+    /// `pbr-neutral` (Khronos PBR Neutral; the default for .gltf/.glb files).
+    #[arg(long, value_enum)]
+    pub tonemap: Option<Tonemap>,
+}
+
+impl DisplayArgs {
+    /// The transform for `scene` (its default tone mapper follows its kind).
+    pub fn transform(&self, scene: &str) -> DisplayTransform {
+        DisplayTransform::for_scene(scene, self.exposure, self.tonemap)
+    }
+}
+
+fn exposure(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(ev) if ev.is_finite() && ev.abs() <= 30.0 => Ok(ev),
+        _ => Err(format!(
+            "'{text}' is not an exposure in stops from -30 to 30"
+        )),
+    }
+}
 
 #[derive(Args)]
 pub struct GpuArgs {

@@ -5,6 +5,7 @@ mod brdf_probe;
 #[cfg(any(test, feature = "test-hooks"))]
 mod compose;
 mod counters;
+pub mod display;
 mod eye_params;
 mod frame;
 mod graph;

@@ -1,5 +1,7 @@
-//! Writing frames as files a user can open: 8-bit sRGB PNG (clamped) and linear float EXR.
+//! Writing frames as files a user can open: 8-bit sRGB PNG (through the display transform)
+//! and linear, scene-referred float EXR.
 
+use super::display::DisplayTransform;
 use super::{Frame, RenderError};
 use std::path::{Path, PathBuf};
 
@@ -33,14 +35,18 @@ pub fn linear_to_srgb8(linear: &[f32]) -> Vec<u8> {
         .collect()
 }
 
-pub fn write_png(frame: &Frame, path: &Path) -> Result<(), RenderError> {
+pub fn write_png(
+    frame: &Frame,
+    path: &Path,
+    display: &DisplayTransform,
+) -> Result<(), RenderError> {
     let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), frame.width, frame.height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
     let mut writer = encoder.write_header().map_err(|e| output_error(path, e))?;
-    let bytes = linear_to_srgb8(&frame.rgb);
+    let bytes = display.srgb8(&frame.rgb);
     writer
         .write_image_data(&bytes)
         .map_err(|e| output_error(path, e))?;
@@ -68,9 +74,13 @@ pub fn write_rgb_exr(path: &Path, width: u32, height: u32, rgb: &[f32]) -> exr::
         .to_file(path)
 }
 
-/// Writes `path` (.png or .exr). A PNG also gets a linear .exr beside it, so no precision is
-/// lost. Returns every file written.
-pub fn write_frame(frame: &Frame, path: &Path) -> Result<Vec<PathBuf>, RenderError> {
+/// Writes `path` (.png or .exr). A PNG shows the frame through `display` and also gets a
+/// linear .exr beside it, so no precision is lost. Returns every file written.
+pub fn write_frame(
+    frame: &Frame,
+    path: &Path,
+    display: &DisplayTransform,
+) -> Result<Vec<PathBuf>, RenderError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -81,7 +91,7 @@ pub fn write_frame(frame: &Frame, path: &Path) -> Result<Vec<PathBuf>, RenderErr
             Ok(vec![path.to_path_buf()])
         }
         Some("png") => {
-            write_png(frame, path)?;
+            write_png(frame, path, display)?;
             let exr = path.with_extension("exr");
             write_exr(frame, &exr)?;
             Ok(vec![path.to_path_buf(), exr])

@@ -26,13 +26,17 @@ pub use error::SceneError;
 pub use features::SceneFeatures;
 pub use types::*;
 
+/// Whether a scene named on the command line is a .gltf/.glb file (else a built-in name).
+pub fn is_scene_file(name_or_path: &str) -> bool {
+    std::path::Path::new(name_or_path)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
 /// A built-in scene by name, or a .gltf/.glb file by path.
 pub fn load(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
     let path = std::path::Path::new(name_or_path);
-    let is_file = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
-    if is_file {
+    if is_scene_file(name_or_path) {
         let mut scene = gltf_load::load_gltf(path, aspect)?;
         if let Some(max_side) = texture_size::max_texture_size() {
             let changed = texture_size::downscale_textures(&mut scene, max_side);

@@ -7,6 +7,7 @@ use super::options::{DebugMode, Refine};
 use crate::foveation::FoveationConfig;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
+use crate::render::display::DisplayTransform;
 use crate::render::FrameOptions;
 use crate::render::{
     output, DebugView, EyeView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer,
@@ -265,6 +266,7 @@ impl Session {
             gazes: Vec::new(),
             stats: FrameStats::default(),
         };
-        Ok(output::write_frame(&frame, path)?)
+        // The window shows the frame clipped (the blit's conversion), so the screenshot too.
+        Ok(output::write_frame(&frame, path, &DisplayTransform::CLAMP)?)
     }
 }

@@ -1,7 +1,7 @@
 //! `fovea render`'s options: what to render, how, and where to write it, as clap parses
 //! them; the layer config and frame settings they ask for.
 
-use crate::commands::GpuArgs;
+use crate::commands::{DisplayArgs, GpuArgs};
 use anyhow::Result;
 use clap::Args;
 use fovea::foveation::{FoveationConfig, GazeChoice};
@@ -71,6 +71,8 @@ pub struct RenderArgs {
     /// frames).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub display: DisplayArgs,
     /// Instead of one image, time every built-in scene: regular, and with --foveation other
     /// than off also forward and corner gaze (and the trace's gaze with --gaze-trace).
     #[arg(long)]

@@ -48,7 +48,7 @@ pub fn run(
         frame.rgb = difference_from_regular(&mut renderer, &request, &frame)?;
     }
     let out = args.out.clone().unwrap_or_else(|| "fovea.png".into());
-    let written = output::write_frame(&frame, &out)?;
+    let written = output::write_frame(&frame, &out, &args.display.transform(&args.scene))?;
     for path in written {
         println!("wrote {}", path.display());
     }

@@ -38,6 +38,7 @@ pub fn run(
         .with_context(|| format!("cannot create the output directory {}", dir.display()))?;
     let aspect = settings.width as f32 / settings.height as f32;
     let scene = scene::load(&args.scene, aspect)?;
+    let display = args.display.transform(&args.scene);
     let mut renderer = Renderer::new(ctx, &scene)?;
     let temporal = args.sequence.temporal != Some(OnOff::Off);
     renderer.set_temporal(temporal.then_some(TemporalSettings {
@@ -74,7 +75,7 @@ pub fn run(
             .map(Option::unwrap)
             .with_context(|| format!("rendering frame {k} of {}", path.display()))?;
         let file = dir.join(format!("frame_{k:04}.png"));
-        output::write_frame(&frame, &file)?;
+        output::write_frame(&frame, &file, &display)?;
         let s = &frame.stats;
         overflows += s.stack_overflows;
         // What history and denoising cost of the frame's GPU time.
