@@ -5,6 +5,10 @@
 
 use fovea::foveation::{EyeFov, ImageGeometry};
 use fovea::metrics::jod::{Fvvdp, JodInput, VideoJod, JOD_MAX};
+use fovea::render::display::{DisplayTransform, Tonemap};
+
+/// The display the metric saw before tone mapping existed: clipped at 1.
+const CLAMP: DisplayTransform = DisplayTransform::CLAMP;
 
 const W: u32 = 96;
 const H: u32 = 108;
@@ -62,7 +66,7 @@ fn an_image_against_itself_scores_ten_and_noise_lowers_the_score() {
     let reference = picture();
     let image = geometry();
     let same = metric
-        .image(&reference, &reference, &image, centre())
+        .image(&reference, &reference, &image, centre(), &CLAMP)
         .unwrap();
     assert!((same - JOD_MAX).abs() <= 0.01, "self JOD {same}");
 
@@ -71,7 +75,9 @@ fn an_image_against_itself_scores_ten_and_noise_lowers_the_score() {
         .iter()
         .map(|&s| {
             let test = noisy(&reference, s, 7);
-            metric.image(&test, &reference, &image, centre()).unwrap()
+            metric
+                .image(&test, &reference, &image, centre(), &CLAMP)
+                .unwrap()
         })
         .collect();
     for (pair, s) in scores.windows(2).zip(sigmas.windows(2)) {
@@ -99,10 +105,10 @@ fn the_gaze_matters_and_a_video_sees_flicker() {
         }
     }
     let at = metric
-        .image(&test, &reference, &image, [10.0, 54.0])
+        .image(&test, &reference, &image, [10.0, 54.0], &CLAMP)
         .unwrap();
     let away = metric
-        .image(&test, &reference, &image, [90.0, 54.0])
+        .image(&test, &reference, &image, [90.0, 54.0], &CLAMP)
         .unwrap();
     assert!(at < away, "looking at the noise {at}, away {away}");
 
@@ -124,6 +130,7 @@ fn the_gaze_matters_and_a_video_sees_flicker() {
                 image: &image,
                 fixation: &vec![centre(); frames],
                 fps: 90.0,
+                display: &CLAMP,
             })
             .unwrap()
     };
@@ -134,7 +141,7 @@ fn the_gaze_matters_and_a_video_sees_flicker() {
     );
 
     // A video written frame by frame as it is rendered scores as the same frames at once.
-    let mut streamed = VideoJod::new(image).unwrap();
+    let mut streamed = VideoJod::new(image, CLAMP).unwrap();
     for (test, reference) in flicker.iter().zip(&refs) {
         streamed.push(test, reference, centre()).unwrap();
     }
@@ -151,16 +158,49 @@ fn bad_input_is_an_error_not_a_score() {
     let mut metric = Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
     let image = geometry();
     let e = metric
-        .image(&[0.5; 12], &picture(), &image, centre())
+        .image(&[0.5; 12], &picture(), &image, centre(), &CLAMP)
         .unwrap_err();
     assert!(e.to_string().contains("needs"), "{e}");
     let e = metric
-        .image(&picture(), &picture(), &image, [f64::NAN, 1.0])
+        .image(&picture(), &picture(), &image, [f64::NAN, 1.0], &CLAMP)
         .unwrap_err();
     assert!(e.to_string().contains("fixation"), "{e}");
     // The metric still answers after rejected input.
     let same = metric
-        .image(&picture(), &picture(), &image, centre())
+        .image(&picture(), &picture(), &image, centre(), &CLAMP)
         .unwrap();
     assert!((same - JOD_MAX).abs() <= 0.01);
+}
+
+#[test]
+fn the_metric_judges_what_the_display_shows() {
+    // Two images that differ only above the display's white: clipped, they show the same;
+    // through PBR Neutral, the brighter one's highlights show brighter.
+    let mut metric = Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
+    let image = geometry();
+    let reference: Vec<f32> = picture().iter().map(|v| 2.0 + 2.0 * v).collect();
+    let test: Vec<f32> = reference.iter().map(|v| 2.0 * v).collect();
+    let clipped = metric
+        .image(&test, &reference, &image, centre(), &CLAMP)
+        .unwrap();
+    assert!((clipped - JOD_MAX).abs() <= 0.01, "clipped JOD {clipped}");
+    let neutral = DisplayTransform {
+        tonemap: Tonemap::PbrNeutral,
+        ..CLAMP
+    };
+    let mapped = metric
+        .image(&test, &reference, &image, centre(), &neutral)
+        .unwrap();
+    // PBR Neutral compresses 2..8 into the last few percent below white: a small difference,
+    // but one an identical display (10 within 0.01) never shows.
+    assert!(mapped < clipped - 0.02, "tone mapped JOD {mapped}, clipped {clipped}");
+    // An exposure three stops down brings both under white: the difference shows clipped too.
+    let down = DisplayTransform {
+        exposure: -3.0,
+        ..CLAMP
+    };
+    let exposed = metric
+        .image(&test, &reference, &image, centre(), &down)
+        .unwrap();
+    assert!(exposed < mapped, "exposed JOD {exposed}, tone mapped {mapped}");
 }

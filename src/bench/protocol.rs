@@ -4,6 +4,7 @@
 
 use super::motion::script::MotionScript;
 use crate::foveation::FoveationConfig;
+use crate::render::display::DisplayChoice;
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
 
@@ -94,6 +95,10 @@ pub struct BenchPlan {
     /// protocol. Absent from plan.json for still runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionScript>,
+    /// `--exposure` and `--tonemap`: what FovVideoVDP is shown of each scene. Absent from
+    /// plan.json when neither was given (each scene's default tone mapper).
+    #[serde(default, skip_serializing_if = "DisplayChoice::is_default")]
+    pub display: DisplayChoice,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -142,6 +147,7 @@ impl BenchPlan {
             gaze_trace: None,
             traversal: Traversal::Software,
             motion: None,
+            display: DisplayChoice::default(),
         }
     }
 

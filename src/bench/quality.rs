@@ -314,7 +314,13 @@ fn judge_eye(
     let whole = metrics::image_error(&truth, &test, width, height, Some(&visible))?;
     let gaze = frame.gazes[e].0;
     let jod = match metric {
-        Some(m) => Some(m.image(&test, &truth, &image, gaze)?),
+        Some(m) => Some(m.image(
+            &test,
+            &truth,
+            &image,
+            gaze,
+            &plan.display.transform(at.scene),
+        )?),
         None => None,
     };
     let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {

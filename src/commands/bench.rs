@@ -1,7 +1,7 @@
 //! `fovea bench`: the thesis' evaluation, unattended. Builds the plan from a preset and the
 //! flags given (or from the directory being resumed), runs it, and prints where the results are.
 
-use super::{check_validation, gpu_context, GpuArgs};
+use super::{check_validation, gpu_context, DisplayArgs, GpuArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use fovea::bench::motion::{MotionChoice, Sequence};
@@ -112,6 +112,8 @@ pub struct BenchArgs {
     pub abort_after_frames: Option<u64>,
     #[command(flatten)]
     pub gpu: GpuArgs,
+    #[command(flatten)]
+    pub display: DisplayArgs,
 }
 
 impl BenchArgs {
@@ -129,6 +131,7 @@ impl BenchArgs {
              regular_repeats => repeats_regular, width => width, height => height, fov => fov,
              spp => spp, integrator => integrator, max_bounces => max_bounces, seed => seed,
              reference_spp => reference_spp, sweep_spp => sweep_spp, sweep_frames => sweep_frames);
+        plan.display = self.display.choice();
         if let Some(f) = &self.foveation {
             plan.foveation = FoveationConfig::from_arg(f)?.ok_or_else(|| {
                 anyhow::anyhow!(

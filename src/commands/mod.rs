@@ -14,7 +14,7 @@ pub mod xr;
 use anyhow::{bail, Result};
 use clap::Args;
 use fovea::gpu::{GpuContext, GpuOptions, RayQueries};
-use fovea::render::display::{DisplayTransform, Tonemap};
+use fovea::render::display::{DisplayChoice, DisplayTransform, Tonemap};
 use fovea::render::TraversalChoice;
 use std::sync::Arc;
 
@@ -32,9 +32,17 @@ pub struct DisplayArgs {
 }
 
 impl DisplayArgs {
+    /// What was asked, for every scene of the command.
+    pub fn choice(&self) -> DisplayChoice {
+        DisplayChoice {
+            exposure: self.exposure,
+            tonemap: self.tonemap,
+        }
+    }
+
     /// The transform for `scene` (its default tone mapper follows its kind).
     pub fn transform(&self, scene: &str) -> DisplayTransform {
-        DisplayTransform::for_scene(scene, self.exposure, self.tonemap)
+        self.choice().transform(scene)
     }
 }
 

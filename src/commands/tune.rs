@@ -1,7 +1,7 @@
 //! `fovea tune`: picks the foveation layers with the best perceptual quality (FovVideoVDP)
 //! within a GPU time budget, and writes them as a foveation TOML beside the Pareto front.
 
-use super::{check_validation, gpu_context, GpuArgs};
+use super::{check_validation, gpu_context, DisplayArgs, GpuArgs};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use fovea::foveation::FoveationConfig;
@@ -90,6 +90,8 @@ pub struct TuneArgs {
     pub reference_cache: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
+    #[command(flatten)]
+    pub display: DisplayArgs,
 }
 
 pub fn run(args: &TuneArgs) -> Result<()> {
@@ -123,6 +125,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
         include: (args.include.iter())
             .map(|p| FoveationConfig::load(p))
             .collect::<Result<_, _>>()?,
+        display: args.display.choice(),
     };
     let files = TuneFiles::new(&args.out);
     let cache = args.reference_cache.clone().unwrap_or_else(|| {

@@ -11,6 +11,7 @@
 //! view, foveated around the gaze pixel.
 
 use crate::foveation::ImageGeometry;
+use crate::render::display::DisplayTransform;
 use crate::render::output::linear_to_srgb;
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -106,6 +107,8 @@ pub struct JodInput<'a> {
     pub fixation: &'a [[f64; 2]],
     /// Frames per second of a video (ignored for one frame).
     pub fps: f64,
+    /// What the display shows of the frames' radiance: FovVideoVDP judges that.
+    pub display: &'a DisplayTransform,
 }
 
 /// A running FovVideoVDP: start once, score many.
@@ -156,13 +159,15 @@ impl Fvvdp {
         Ok(metric)
     }
 
-    /// The JOD of one image against its reference, foveated at `fixation`.
+    /// The JOD of one image against its reference, foveated at `fixation`, as `display`
+    /// shows them.
     pub fn image(
         &mut self,
         test: &[f32],
         reference: &[f32],
         image: &ImageGeometry,
         fixation: [f64; 2],
+        display: &DisplayTransform,
     ) -> Result<f64, JodError> {
         self.score(&JodInput {
             test: &[test],
@@ -170,6 +175,7 @@ impl Fvvdp {
             image,
             fixation: &[fixation],
             fps: 0.0,
+            display,
         })
     }
 
@@ -204,8 +210,8 @@ impl Fvvdp {
         }
         let test = self.dir.join("test.f32");
         let reference = self.dir.join("reference.f32");
-        write_display_encoded(&test, input.test, false)?;
-        write_display_encoded(&reference, input.reference, false)?;
+        write_display_encoded(&test, input.test, false, input.display)?;
+        write_display_encoded(&reference, input.reference, false, input.display)?;
         self.request(&test, &reference, input.image, input.fixation, input.fps)
     }
 
@@ -288,12 +294,18 @@ fn private_dir(prefix: &str) -> Result<PathBuf, JodError> {
     Ok(dir)
 }
 
-/// Frames as the display shows them (sRGB-encoded, clamped), little-endian f32, one after
-/// the other; appended to the file, or replacing it.
-fn write_display_encoded(path: &Path, frames: &[&[f32]], append: bool) -> Result<(), JodError> {
+/// Frames as `display` shows them (exposed, tone mapped, sRGB-encoded), little-endian f32,
+/// one after the other; appended to the file, or replacing it.
+fn write_display_encoded(
+    path: &Path,
+    frames: &[&[f32]],
+    append: bool,
+    display: &DisplayTransform,
+) -> Result<(), JodError> {
     let bytes: Vec<u8> = (frames.iter().copied())
-        .flatten()
-        .flat_map(|&v| linear_to_srgb(v).to_le_bytes())
+        .flat_map(|f| f.chunks_exact(3))
+        .flat_map(|p| display.apply([p[0], p[1], p[2]]))
+        .flat_map(|v| linear_to_srgb(v).to_le_bytes())
         .collect();
     let file_error = |source| JodError::File {
         path: path.into(),
@@ -316,18 +328,21 @@ pub struct VideoJod {
     dir: PathBuf,
     image: ImageGeometry,
     fixation: Vec<[f64; 2]>,
+    /// What the display shows of the frames.
+    display: DisplayTransform,
 }
 
 impl VideoJod {
-    pub fn new(image: ImageGeometry) -> Result<Self, JodError> {
+    pub fn new(image: ImageGeometry, display: DisplayTransform) -> Result<Self, JodError> {
         let dir = private_dir("fovea-jod-video")?;
         for f in ["test.f32", "reference.f32"] {
-            write_display_encoded(&dir.join(f), &[], false)?;
+            write_display_encoded(&dir.join(f), &[], false, &display)?;
         }
         Ok(Self {
             dir,
             image,
             fixation: Vec::new(),
+            display,
         })
     }
 
@@ -353,8 +368,13 @@ impl VideoJod {
                 "a fixation is not a finite pixel position".into(),
             ));
         }
-        write_display_encoded(&self.dir.join("test.f32"), &[test], true)?;
-        write_display_encoded(&self.dir.join("reference.f32"), &[reference], true)?;
+        write_display_encoded(&self.dir.join("test.f32"), &[test], true, &self.display)?;
+        write_display_encoded(
+            &self.dir.join("reference.f32"),
+            &[reference],
+            true,
+            &self.display,
+        )?;
         self.fixation.push(fixation);
         Ok(())
     }

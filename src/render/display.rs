@@ -9,12 +9,37 @@
 use super::output::linear_to_srgb;
 
 /// How radiance past the display's white is brought into range.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum Tonemap {
     /// Clip each channel to [0, 1] (fovea's behaviour before tone mapping existed).
     Clamp,
     /// Khronos PBR Neutral: exact below 0.76, highlights compressed and desaturated.
     PbrNeutral,
+}
+
+/// What the command line asked of the display (`--exposure`, `--tonemap`): each scene's
+/// transform follows from it ([`DisplayChoice::transform`]). Kept in bench and tune plans, so
+/// a resumed run scores as the first part did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DisplayChoice {
+    pub exposure: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tonemap: Option<Tonemap>,
+}
+
+impl DisplayChoice {
+    /// The transform for a scene named on the command line.
+    pub fn transform(&self, scene: &str) -> DisplayTransform {
+        DisplayTransform::for_scene(scene, self.exposure, self.tonemap)
+    }
+
+    /// No exposure and each scene's default tone mapper (what plans without a choice mean).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
 }
 
 /// Exposure and tone mapper, as a display applies them.

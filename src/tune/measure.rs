@@ -158,6 +158,7 @@ impl SceneJudge {
         let mut jod = Vec::new();
         let mut paths_per_pixel = f64::NAN;
         let mut timed = TimedFrames::default();
+        let display = plan.display.transform(&name);
         let eyes = self.eyes.clone();
         for (g, eye) in eyes.iter().enumerate() {
             let request = FrameRequest {
@@ -179,7 +180,7 @@ impl SceneJudge {
             }
             let test = hidden_black(frame.rgb, &self.visible);
             let gaze = frame.gazes[0].0;
-            jod.push(metric.image(&test, &self.reference, &self.image, gaze)?);
+            jod.push(metric.image(&test, &self.reference, &self.image, gaze, &display)?);
             self.timed_frames(plan, &request, pace, &mut timed)?;
         }
         Ok(SceneScore {

@@ -3,6 +3,7 @@
 
 use super::space::Space;
 use crate::foveation::{Gaze, ImageGeometry};
+use crate::render::display::DisplayChoice;
 use crate::render::{FovChoice, Integrator, Traversal};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -96,6 +97,9 @@ pub struct TunePlan {
     /// compare in a run with no search (`--candidates` = baselines + these).
     #[serde(default)]
     pub include: Vec<crate::foveation::FoveationConfig>,
+    /// `--exposure` and `--tonemap`: what FovVideoVDP is shown of each scene.
+    #[serde(default, skip_serializing_if = "DisplayChoice::is_default")]
+    pub display: DisplayChoice,
 }
 
 impl TunePlan {

@@ -118,6 +118,7 @@ mod tests {
             traversal: Traversal::Software,
             space: Space::standard(),
             include: vec![FoveationConfig::thesis().with_spp(8)],
+            display: Default::default(),
         }
     }
 

@@ -253,9 +253,10 @@ impl MotionRun<'_> {
         scene.renderer.reset_history();
         let mut before: Option<(Vec<f32>, Vec<f32>)> = None;
         // Each eye's sequence as a video for FovVideoVDP (when its venv is there).
+        let display = plan.display.transform(scene.name);
         let mut videos: Vec<VideoJod> = match (&self.metric, measured) {
             (Some(_), false) => (scene.eyes[0].iter())
-                .map(|e| VideoJod::new(e.image(plan.width, plan.height)))
+                .map(|e| VideoJod::new(e.image(plan.width, plan.height), display))
                 .collect::<Result<_, _>>()?,
             _ => Vec::new(),
         };
