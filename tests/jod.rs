@@ -193,7 +193,10 @@ fn the_metric_judges_what_the_display_shows() {
         .unwrap();
     // PBR Neutral compresses 2..8 into the last few percent below white: a small difference,
     // but one an identical display (10 within 0.01) never shows.
-    assert!(mapped < clipped - 0.02, "tone mapped JOD {mapped}, clipped {clipped}");
+    assert!(
+        mapped < clipped - 0.02,
+        "tone mapped JOD {mapped}, clipped {clipped}"
+    );
     // An exposure three stops down brings both under white: the difference shows clipped too.
     let down = DisplayTransform {
         exposure: -3.0,
@@ -202,5 +205,8 @@ fn the_metric_judges_what_the_display_shows() {
     let exposed = metric
         .image(&test, &reference, &image, centre(), &down)
         .unwrap();
-    assert!(exposed < mapped, "exposed JOD {exposed}, tone mapped {mapped}");
+    assert!(
+        exposed < mapped,
+        "exposed JOD {exposed}, tone mapped {mapped}"
+    );
 }
