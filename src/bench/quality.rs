@@ -304,23 +304,20 @@ fn judge_eye(
     let visible = visible_pixels(&image, plan.foveation.occlusion_deg);
     let test = hidden_black(eye_image(&frame.rgb, n, width, height, e as u32), &visible);
     let truth = hidden_black(eye_image(reference, n, width, height, e as u32), &visible);
-    let flip = metrics::flip(
+    // FLIP and FovVideoVDP judge what the display shows (the scene's display transform).
+    let display = plan.display.transform(at.scene);
+    let flip = metrics::flip_shown(
         &truth,
         &test,
         width,
         height,
         metrics::pixels_per_degree(&image),
+        &display,
     )?;
     let whole = metrics::image_error(&truth, &test, width, height, Some(&visible))?;
     let gaze = frame.gazes[e].0;
     let jod = match metric {
-        Some(m) => Some(m.image(
-            &test,
-            &truth,
-            &image,
-            gaze,
-            &plan.display.transform(at.scene),
-        )?),
+        Some(m) => Some(m.image(&test, &truth, &image, gaze, &display)?),
         None => None,
     };
     let row = |region: &str, error: metrics::ImageError, flip: f64| QualityRow {

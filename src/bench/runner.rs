@@ -429,7 +429,7 @@ impl StillRun<'_> {
                 )?);
             }
         }
-        images::write_strip(strip, plan, reference, &shown)
+        images::write_strip(strip, plan, scene.name, reference, &shown)
     }
 
     /// Closes the progress bar, the trace and the logs.

@@ -7,6 +7,8 @@
 
 use super::{check_per_pixel, check_rgb, pixel_count, MetricsError};
 use crate::foveation::view::{angle_between, ImageGeometry};
+use crate::render::display::DisplayTransform;
+#[cfg(test)]
 use crate::render::output::linear_to_srgb8;
 
 /// A FLIP error map and its mean.
@@ -19,7 +21,7 @@ pub struct FlipResult {
 }
 
 /// LDR-FLIP of `test` against `reference`, linear RGB `width`×`height` images, both first
-/// encoded to 8-bit sRGB as our PNGs are (so a NaN shows as black, values above 1 as
+/// encoded to 8-bit sRGB as our PNGs are (clipped: a NaN shows as black, values above 1 as
 /// white). `pixels_per_degree` is the observer's angular resolution, which sets the size of
 /// FLIP's contrast-sensitivity and feature filters; see [`pixels_per_degree`].
 ///
@@ -30,6 +32,20 @@ pub fn flip(
     width: u32,
     height: u32,
     pixels_per_degree: f64,
+) -> Result<FlipResult, MetricsError> {
+    let clamp = DisplayTransform::CLAMP;
+    flip_shown(reference, test, width, height, pixels_per_degree, &clamp)
+}
+
+/// [`flip`] of the images as `display` shows them (exposed and tone mapped before the
+/// sRGB encoding), as a PNG of the scene is written.
+pub fn flip_shown(
+    reference: &[f32],
+    test: &[f32],
+    width: u32,
+    height: u32,
+    pixels_per_degree: f64,
+    display: &DisplayTransform,
 ) -> Result<FlipResult, MetricsError> {
     check_rgb("reference", reference, width, height)?;
     check_rgb("test", test, width, height)?;
@@ -53,8 +69,8 @@ pub fn flip(
             map: Vec::new(),
         });
     }
-    let r = nv_flip::FlipImageRgb8::with_data(width, height, &linear_to_srgb8(reference));
-    let t = nv_flip::FlipImageRgb8::with_data(width, height, &linear_to_srgb8(test));
+    let r = nv_flip::FlipImageRgb8::with_data(width, height, &display.srgb8(reference));
+    let t = nv_flip::FlipImageRgb8::with_data(width, height, &display.srgb8(test));
     // Sizes were checked above: nv_flip::flip panics on a mismatch.
     let map = nv_flip::flip(r, t, ppd).to_vec();
     // FlipPool's mean sums in f32, which drifts on megapixel images; sum in f64 instead.
@@ -140,6 +156,24 @@ mod tests {
             ((s + 0.055) / 1.055).powf(2.4)
         };
         l as f32
+    }
+
+    #[test]
+    fn flip_sees_what_the_display_shows() {
+        // Two images that differ only above white: clipped alike, tone mapped apart.
+        let (w, h) = (32u32, 32u32);
+        let reference: Vec<f32> = (0..w * h * 3).map(|i| 2.0 + (i % 7) as f32 * 0.3).collect();
+        let test: Vec<f32> = reference.iter().map(|v| 0.5 * v + 1.0).collect();
+        let clipped = flip(&reference, &test, w, h, 30.0).unwrap().mean;
+        assert_eq!(clipped, 0.0);
+        let neutral = crate::render::display::DisplayTransform {
+            tonemap: crate::render::display::Tonemap::PbrNeutral,
+            ..DisplayTransform::CLAMP
+        };
+        let mapped = flip_shown(&reference, &test, w, h, 30.0, &neutral)
+            .unwrap()
+            .mean;
+        assert!(mapped > 0.0, "{mapped}");
     }
 
     #[test]

@@ -17,7 +17,8 @@ pub use bands::{band_errors, band_masks, eccentricity_deg, Band, BandError, BAND
 pub use error::{image_error, ImageError};
 pub use flicker::flicker;
 pub use flip::{
-    flip, flip_masked_mean, magma_rgb8, pixels_per_degree, pixels_per_degree_at, FlipResult,
+    flip, flip_masked_mean, flip_shown, magma_rgb8, pixels_per_degree, pixels_per_degree_at,
+    FlipResult,
 };
 pub use visible::{hidden_black, visible_pixels};
 
