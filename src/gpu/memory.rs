@@ -10,9 +10,33 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
+/// An image made from `info`, bound to device-local memory of its own, counted against the
+/// context's memory use (the bytes returned, which the owner releases with the allocation).
+/// On any failure nothing is left behind: the image and the memory are freed here.
+pub(super) fn bound_image(
+    ctx: &Arc<GpuContext>,
+    name: &str,
+    info: &vk::ImageCreateInfo,
+) -> Result<(vk::Image, Allocation, u64), GpuError> {
+    let device = &ctx.device;
+    // SAFETY: valid device and create info.
+    let image = unsafe { device.create_image(info, None) }.vk("vkCreateImage")?;
+    let image = Pending::new(device, image);
+    let (allocation, counted) = image_memory(ctx, name, image.get())?;
+    // SAFETY: the allocation satisfies the image's requirements.
+    let bound =
+        unsafe { device.bind_image_memory(image.get(), allocation.memory(), allocation.offset()) };
+    if let Err(e) = bound {
+        let _ = ctx.allocator().free(allocation);
+        ctx.memory.release(counted, false);
+        return Err(e).vk("vkBindImageMemory"); // the pending image is destroyed on return
+    }
+    Ok((image.keep(), allocation, counted))
+}
+
 /// Device-local memory for `image`, counted against the context's memory use (as the bytes
 /// returned, which the owner releases with the allocation). The caller binds it.
-pub(super) fn image_memory(
+fn image_memory(
     ctx: &Arc<GpuContext>,
     name: &str,
     image: vk::Image,
@@ -338,16 +362,8 @@ impl StorageImage {
             )
             .initial_layout(vk::ImageLayout::UNDEFINED);
         let device = &ctx.device;
-        // SAFETY: valid device and create info.
-        let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
-        let image = Pending::new(device, image);
-        let (allocation, counted) = image_memory(ctx, name, image.get())?;
-        // SAFETY: the allocation satisfies the image's requirements.
-        let bound = unsafe {
-            device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
-        };
-        let image = image.keep();
-        // Built before the bind is checked so that drop frees the memory on failure too.
+        let (image, allocation, counted) = bound_image(ctx, name, &info)?;
+        // Owned from here: drop frees the image and its memory if the view fails.
         let mut this = Self {
             ctx: ctx.clone(),
             image,
@@ -358,7 +374,6 @@ impl StorageImage {
             height,
             layers,
         };
-        bound.vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
             .view_type(view_type)

@@ -4,8 +4,7 @@
 
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::memory::{image_memory, Buffer};
-use super::owned::Pending;
+use super::memory::{bound_image, Buffer};
 use super::sync::{ImageTransition, Scope};
 use ash::vk;
 use gpu_allocator::vulkan::Allocation;
@@ -142,17 +141,8 @@ impl SampledImage {
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST)
             .initial_layout(vk::ImageLayout::UNDEFINED);
-        let device = &ctx.device;
-        // SAFETY: valid device and create info.
-        let image = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
-        let image = Pending::new(device, image);
-        let (allocation, counted) = image_memory(ctx, &t.name, image.get())?;
-        // SAFETY: the allocation satisfies the image's requirements.
-        let bound = unsafe {
-            device.bind_image_memory(image.get(), allocation.memory(), allocation.offset())
-        };
-        let image = image.keep();
-        // Built before the bind is checked so that drop frees the memory on failure too.
+        let (image, allocation, counted) = bound_image(ctx, &t.name, &info)?;
+        // Owned from here: drop frees the image and its memory if the view or sampler fails.
         let mut this = Self {
             ctx: ctx.clone(),
             image,
@@ -161,7 +151,6 @@ impl SampledImage {
             allocation: Some(allocation),
             counted,
         };
-        bound.vk("vkBindImageMemory")?;
         this.view = view(ctx, image, format, t.levels.len() as u32)?;
         this.sampler = sampler(ctx, &t.sampler, t.levels.len() as u32)?;
         Ok(this)

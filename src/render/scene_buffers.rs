@@ -60,13 +60,13 @@ impl SceneBuffers {
         let gpu = GpuScene::build(scene)?;
         scene_textures::check_sizes(&scene.textures, ctx.info.max_image_dimension_2d)
             .map_err(RenderError::Settings)?;
-        let mut plan = memory_plan(&gpu);
-        let texture_plan = scene_textures::allocations(&scene.textures);
+        let arrays = arrays_plan(&gpu);
+        let textures = scene_textures::allocations(&scene.textures);
         let memory = SceneMemory {
-            buffers: device_bytes(&plan) - device_bytes(&FrameCounters::allocations()),
-            textures: device_bytes(&texture_plan),
+            buffers: device_bytes(&arrays),
+            textures: device_bytes(&textures),
         };
-        plan.extend(texture_plan);
+        let plan = [arrays, FrameCounters::allocations(), textures].concat();
         ctx.check_memory(
             &format!("scene '{}'", scene.name),
             &plan,
@@ -133,9 +133,9 @@ impl SceneBuffers {
     }
 }
 
-/// Every allocation [`SceneBuffers::upload`] and the renderer make for a scene, for the
-/// memory check before them.
-fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
+/// The allocations [`SceneBuffers::upload`] makes for a scene's arrays (its textures and the
+/// renderer's counters are planned beside them), for the memory check before them.
+fn arrays_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
     use std::mem::size_of_val;
     // Buffer::new gives an empty array one 16-byte element.
     let bytes = |b: usize| (b as u64).max(16);
@@ -161,6 +161,5 @@ fn memory_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
         .collect();
     // Each buffer is uploaded through its own staging buffer, freed before the next.
     plan.push(PlannedAllocation::host("upload staging", largest, false));
-    plan.extend(FrameCounters::allocations());
     plan
 }

@@ -84,29 +84,8 @@ mod tests {
     fn a_quad_mapped_along_x_gets_tangents_along_x_and_bitangents_up_the_image() {
         // u grows with x, glTF's v with -y (the image's top is at +y): the tangent is +x and
         // the bitangent w · (n × t), up the image, is +y.
-        let quad = Mesh {
-            name: "quad".into(),
-            positions: vec![
-                Vec3::new(0.0, 0.0, 0.0),
-                Vec3::new(1.0, 0.0, 0.0),
-                Vec3::new(1.0, 1.0, 0.0),
-                Vec3::new(0.0, 1.0, 0.0),
-            ],
-            indices: vec![[0, 1, 2], [0, 2, 3]],
-            shading: VertexShading {
-                normals: vec![Vec3::Z; 4],
-                uv: [
-                    vec![
-                        Vec2::new(0.0, 1.0),
-                        Vec2::new(1.0, 1.0),
-                        Vec2::new(1.0, 0.0),
-                        Vec2::new(0.0, 0.0),
-                    ],
-                    vec![],
-                ],
-                tangents: vec![],
-            },
-        };
+        let mut quad = crate::scene::shapes::quad();
+        quad.shading.tangents.clear(); // generated, not given
         let m = with_generated_tangents(&quad).unwrap();
         assert_eq!(m.positions.len(), 6);
         for t in &m.shading.tangents {
