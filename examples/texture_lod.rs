@@ -83,6 +83,8 @@ fn floor() -> Scene {
             1.0,
         ),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 

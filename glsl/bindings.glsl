@@ -126,6 +126,11 @@ GpuMaterial load_material(uint index) {
     return m;
 }
 
+// Emitter `index`'s alias-table bucket: x its alias, y its keep probability's bits.
+uvec2 load_emitter_bucket(uint index) {
+    return texelFetch(emitter_texels, int(index * TEXELS_PER_EMITTER) + 4).zw;
+}
+
 GpuEmitter load_emitter(uint index) {
     int t = int(index * TEXELS_PER_EMITTER);
     GpuEmitter e;
@@ -136,8 +141,13 @@ GpuEmitter load_emitter(uint index) {
     uvec4 ids = texelFetch(emitter_texels, t + 4);
     e.kind = ids.x;
     e.object = ids.y;
-    e.pad0 = ids.z;
-    e.pad1 = ids.w;
+    e.alias = ids.z;
+    e.keep = uintBitsToFloat(ids.w);
+    vec4 more = fetch_vec4(emitter_texels, t + 5);
+    e.pmf = more.x;
+    e.range = more.y;
+    e.spot_scale = more.z;
+    e.spot_offset = more.w;
     return e;
 }
 layout(std430, set = 0, binding = BINDING_SCENE_INFO) readonly buffer SceneInfoBuf { GpuSceneInfo scene_info; };

@@ -228,6 +228,48 @@ float material_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
     return is_metallic_roughness(m) ? gltf_pdf(m, wo, wi, n) : brdf_pdf(m, wo, wi, n);
 }
 
+// The light x = s.p receives toward wo by one next-event sample (before the path's
+// throughput): an emitter chosen by power, then a point on it (MIS-weighted against BRDF
+// sampling) or a punctual light's direction (a delta: weight 1). `origin` is x lifted off the
+// surface for the shadow ray.
+vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint rays, inout bool overflow) {
+    vec3 n = s.ns;
+    float u_bucket = rng_next(rng);
+    float u_keep = rng_next(rng);
+    GpuEmitter e = load_emitter(choose_emitter(u_bucket, u_keep));
+    vec3 u = vec3(rng_next2(rng), rng_next(rng));
+    vec3 wi;
+    vec3 arriving; // irradiance (punctual) or MIS-weighted radiance over the solid-angle pdf
+    vec3 shadow_seg;
+    if (is_punctual(e.kind)) {
+        PunctualArrival a = punctual_arrival(e, s.p);
+        wi = a.wi;
+        arriving = a.irradiance / e.pmf;
+        shadow_seg = e.p0.xyz - origin;
+    } else {
+        LightSample ls = sample_emitter(e, u);
+        vec3 to_light = ls.p - s.p;
+        float dist2 = dot(to_light, to_light);
+        wi = to_light * inversesqrt(max(dist2, 1e-30));
+        float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
+        if (!(cos_l > 0.0 && dist2 > 0.0)) return vec3(0.0);
+        float light_pdf = ls.area_pdf * dist2 / cos_l;
+        float bpdf = material_pdf(s.m, wo, wi, n);
+        arriving = e.emission.xyz * (power_heuristic(light_pdf, bpdf) / light_pdf);
+        // The shadow ray stops just short of the light's surface.
+        shadow_seg = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p) - origin;
+    }
+    float cos_x = dot(wi, n);
+    // A light below the geometric surface is hidden by it, whatever the shading normal.
+    if (HAS_SHADING && dot(wi, s.ng) <= 0.0) cos_x = 0.0;
+    if (!(cos_x > 0.0) || all(equal(arriving, vec3(0.0)))) return vec3(0.0);
+    rays++;
+    // A directional light's shadow ray runs to infinity (t_max INF along the unit wi).
+    bool directional = e.kind == KIND_DIRECTIONAL_LIGHT;
+    if (!unoccluded(origin, directional ? wi : shadow_seg, directional ? INF : 1.0, overflow)) return vec3(0.0);
+    return material_eval(s.m, wo, wi, n) * cos_x * arriving;
+}
+
 void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
     Hit h;
     SurfaceHit s;
@@ -253,30 +295,7 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
 
     // Next-event estimation for the non-delta lobes.
     if (HAS_EMITTERS && scene_info.emitter_count > 0u && (!mirror || p_s < 1.0)) {
-        uint count = scene_info.emitter_count;
-        uint index = min(uint(rng_next(rng) * float(count)), count - 1u);
-        vec3 u = vec3(rng_next2(rng), rng_next(rng));
-        LightSample ls = sample_emitter(index, u);
-        vec3 to_light = ls.p - s.p;
-        float dist2 = dot(to_light, to_light);
-        vec3 wi = to_light * inversesqrt(max(dist2, 1e-30));
-        float cos_x = dot(wi, n);
-        // A light below the geometric surface is hidden by it, whatever the shading normal.
-        if (HAS_SHADING && dot(wi, s.ng) <= 0.0) cos_x = 0.0;
-        GpuEmitter e = load_emitter(index);
-        float cos_l = e.kind == KIND_TRIANGLE ? -dot(ls.n, wi) : abs(dot(ls.n, wi));
-        if (cos_x > 0.0 && cos_l > 0.0 && dist2 > 0.0) {
-            float light_pdf = ls.area_pdf * dist2 / cos_l;
-            vec3 f = material_eval(s.m, wo, wi, n);
-            float bpdf = material_pdf(s.m, wo, wi, n);
-            // Shadow ray to just short of the light's surface.
-            vec3 target = offset_ray_origin(ls.p, -wi * sign(cos_l), ls.p);
-            vec3 seg = target - origin;
-            rays++;
-            if (unoccluded(origin, seg, 1.0, overflow)) {
-                p.L += p.throughput * f * cos_x * e.emission.xyz * (power_heuristic(light_pdf, bpdf) / light_pdf);
-            }
-        }
+        p.L += p.throughput * next_event(s, wo, origin, rng, rays, overflow);
     }
 
     // Sample the brdf: glTF's mixture, or (thesis) a lobe chosen with p_S, then importance-sampled.

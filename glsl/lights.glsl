@@ -1,5 +1,7 @@
-// Next-event estimation: uniform choice among emitters, then a uniform point on its surface.
-// Densities are converted to solid angle (area pdf * d^2 / cos theta_light) for MIS.
+// Next-event estimation: an emitter chosen in proportion to its estimated power (an alias
+// table, GpuEmitter), then a uniform point on its surface, or a punctual light's one
+// direction. Area densities are converted to solid angle (area pdf * d^2 / cos theta_light)
+// for MIS; punctual lights are deltas that no BRDF sample finds, so they take no MIS weight.
 #ifndef FOVEA_LIGHTS_GLSL
 #define FOVEA_LIGHTS_GLSL
 #include "bvh.glsl"
@@ -7,13 +9,61 @@
 struct LightSample {
     vec3 p;
     vec3 n;
-    float area_pdf; // including the 1/emitter_count choice
+    float area_pdf; // including the emitter's choice (GpuEmitter.pmf)
 };
 
-LightSample sample_emitter(uint index, vec3 u) {
-    GpuEmitter e = load_emitter(index);
+// The emitter next-event estimation uses: bucket floor(u_bucket * count), then that bucket's
+// own emitter with probability keep, else its alias.
+uint choose_emitter(float u_bucket, float u_keep) {
+    uint count = scene_info.emitter_count;
+    uint bucket = min(uint(u_bucket * float(count)), count - 1u);
+    uvec2 b = load_emitter_bucket(bucket);
+    return u_keep < uintBitsToFloat(b.y) ? bucket : b.x;
+}
+
+bool is_punctual(uint kind) {
+    return kind >= KIND_POINT_LIGHT;
+}
+
+// Light reaching x from a punctual light: the unit direction toward it, the distance (INF for
+// a directional light) and the irradiance on a surface facing it (the extension's falloffs:
+// inverse square with the range window clamp(1 - (d/range)^4, 0, 1), and the spot's
+// saturate(cos * scale + offset)^2).
+struct PunctualArrival {
+    vec3 wi;
+    float dist;
+    vec3 irradiance;
+};
+
+PunctualArrival punctual_arrival(GpuEmitter e, vec3 x) {
+    PunctualArrival a;
+    if (e.kind == KIND_DIRECTIONAL_LIGHT) {
+        a.wi = -e.p1.xyz;
+        a.dist = INF;
+        a.irradiance = e.emission.xyz;
+        return a;
+    }
+    vec3 to_light = e.p0.xyz - x;
+    float dist2 = max(dot(to_light, to_light), 1e-30);
+    a.dist = sqrt(dist2);
+    a.wi = to_light / a.dist;
+    float falloff = 1.0 / dist2;
+    if (e.range > 0.0) {
+        float r = a.dist / e.range;
+        r *= r;
+        falloff *= clamp(1.0 - r * r, 0.0, 1.0);
+    }
+    if (e.kind == KIND_SPOT_LIGHT) {
+        float cone = clamp(dot(e.p1.xyz, -a.wi) * e.spot_scale + e.spot_offset, 0.0, 1.0);
+        falloff *= cone * cone;
+    }
+    a.irradiance = e.emission.xyz * falloff;
+    return a;
+}
+
+LightSample sample_emitter(GpuEmitter e, vec3 u) {
     LightSample s;
-    s.area_pdf = 1.0 / (float(scene_info.emitter_count) * e.emission.w);
+    s.area_pdf = e.pmf / e.emission.w;
     if (e.kind == KIND_TRIANGLE) {
         float su = sqrt(u.x);
         float b0 = 1.0 - su, b1 = u.y * su;
@@ -55,7 +105,7 @@ float emitter_pdf_solid_angle(uint index, vec3 x, vec3 p, vec3 n) {
     float dist2 = dot(d, d);
     float cos_l = abs(dot(n, normalize(d)));
     if (cos_l <= 0.0) return 0.0;
-    return dist2 / (cos_l * float(scene_info.emitter_count) * e.emission.w);
+    return dist2 * e.pmf / (cos_l * e.emission.w);
 }
 
 #endif

@@ -70,7 +70,7 @@
 #define TEXELS_PER_TRIANGLE 3
 #define TEXELS_PER_OBJECT 10
 #define TEXELS_PER_MATERIAL 17
-#define TEXELS_PER_EMITTER 5
+#define TEXELS_PER_EMITTER 6
 #define TEXELS_PER_TRIANGLE_SHADING 5
 
 // ---- specialization constants: what a scene does not need is compiled away ------------------
@@ -96,6 +96,9 @@
 #define KIND_BOX 1
 #define KIND_SPHERE 2
 #define KIND_TRIANGLE 3 // emitters only: one world-space triangle of an emissive instance
+#define KIND_POINT_LIGHT 4       // emitters only: KHR_lights_punctual's point light
+#define KIND_SPOT_LIGHT 5        // emitters only: its spot light
+#define KIND_DIRECTIONAL_LIGHT 6 // emitters only: its directional light
 
 #define NO_EMITTER 0xffffffffu  // an object without emitters, a hit on no emitter
 #define NO_OBJECT 0xffffffffu   // a ray that hit nothing (Hit.object, GpuProbeHit.object, SURFACE)
@@ -236,16 +239,25 @@ struct GpuMaterial {
     GpuTextureSlot normal_texture; // tangent-space normal (linear texels)
 };
 
-// A light for next-event estimation: a world-space triangle, a box or a sphere.
+// A light for next-event estimation: a world-space triangle, a box or a sphere (area
+// lights), or a punctual light (KHR_lights_punctual). Next-event estimation picks one in
+// proportion to its estimated power (scene/light_selection.rs) through an alias table kept
+// in the emitters themselves: bucket i (chosen uniformly) is emitter i with probability
+// `keep`, else emitter `alias`.
 struct GpuEmitter {
-    vec4 p0; // triangle: v0; box: min; sphere: centre xyz, radius w
-    vec4 p1; // triangle: v1; box: max
+    vec4 p0; // triangle: v0; box: min; sphere: centre xyz, radius w; point, spot: position
+    vec4 p1; // triangle: v1; box: max; spot, directional: the unit direction light travels
     vec4 p2; // triangle: v2
-    vec4 emission; // xyz = radiance, w = surface area
+    vec4 emission; // xyz = radiance (area lights) or radiant intensity (point, spot: candela
+                   // as fovea's radiance x m^2) or irradiance (directional: lux); w = area
     uint kind;
     uint object;
-    uint pad0;
-    uint pad1;
+    uint alias; // the alias table's other emitter for bucket i
+    float keep; // the probability that bucket i gives emitter i itself
+    float pmf; // the probability that next-event estimation picks this emitter
+    float range; // point, spot: KHR_lights_punctual's range (0: unlimited)
+    float spot_scale; // spot: the extension's angular falloff, saturate(cos * scale + offset)^2
+    float spot_offset;
 };
 
 struct GpuSceneInfo {

@@ -111,8 +111,12 @@ pub struct GpuEmitter {
     pub emission: [f32; 4],
     pub kind: u32,
     pub object: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub alias: u32,
+    pub keep: f32,
+    pub pmf: f32,
+    pub range: f32,
+    pub spot_scale: f32,
+    pub spot_offset: f32,
 }
 
 #[repr(C)]

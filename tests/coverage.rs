@@ -51,6 +51,8 @@ fn scene(instances: Vec<Instance>, materials: Vec<Material>) -> Scene {
         textures: vec![checker()],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -262,6 +264,8 @@ fn shadow_scene(card: Mesh, card_material: Material, textures: Vec<Texture>) -> 
         textures,
         camera: Camera::look_at(Vec3::new(0.0, 6.0, 2.5), Vec3::ZERO, Vec3::Y, 34.0, 1.0),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 

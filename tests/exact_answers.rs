@@ -19,6 +19,8 @@ fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
         textures: Vec::new(),
         camera,
         environment,
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 

@@ -259,6 +259,8 @@ fn round_trip_scene() -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.5, 1.5, 6.0), Vec3::ZERO, Vec3::Y, 50.0, ASPECT),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -833,6 +835,8 @@ fn textured_round_trip_scene() -> Scene {
         ],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 50.0, ASPECT),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 

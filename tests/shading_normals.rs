@@ -27,6 +27,8 @@ fn one_object(name: &str, mesh: Option<Mesh>, environment: Environment) -> Scene
         textures: Vec::new(),
         camera,
         environment,
+        lights: Vec::new(),
+        environment_map: None,
     };
     match mesh {
         Some(mesh) => {

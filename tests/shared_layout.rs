@@ -137,8 +137,12 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             emission,
             kind,
             object,
-            pad0,
-            pad1
+            alias,
+            keep,
+            pmf,
+            range,
+            spot_scale,
+            spot_offset
         }
     );
     check!(

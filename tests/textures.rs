@@ -65,6 +65,8 @@ fn scene(material: MetallicRoughness, texture: Texture) -> Scene {
         textures: vec![texture],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 26.0, 1.0),
         environment: Environment::uniform(Vec3::ONE),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -355,6 +357,8 @@ fn checker_floor(repeats: f32, mipmaps: bool) -> Scene {
             1.0,
         ),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -560,6 +564,8 @@ fn a_normal_map_tilts_shading_as_geometry_would() {
             horizon: Vec3::ZERO,
             ground: Vec3::ZERO,
         },
+        lights: Vec::new(),
+        environment_map: None,
     };
     let ctx = common::context();
     let mean = |scene: &Scene| {

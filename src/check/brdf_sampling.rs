@@ -46,6 +46,8 @@ pub fn probe_renderer(
         textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     };
     Renderer::new(ctx, &scene)
 }

@@ -94,6 +94,8 @@ pub(super) fn furnace_scene(material: Material, triangles: bool) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::uniform(Vec3::ONE),
+        lights: Vec::new(),
+        environment_map: None,
     };
     if triangles {
         scene.meshes = vec![icosphere(3), degenerate_triangles()];

@@ -78,6 +78,8 @@ pub fn plane_scene(lighting: Lighting) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(Vec3::new(0.0, 2.0, 0.5), Vec3::ZERO, Vec3::Y, 30.0, 1.0),
         environment: Environment::uniform(Vec3::splat(LIGHT_RADIANCE)),
+        lights: Vec::new(),
+        environment_map: None,
     };
     if lighting == Lighting::EnclosingEmitter {
         scene.environment = Environment::black();

@@ -198,5 +198,7 @@ fn single_mesh_scene(placed: &Placed) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(Vec3::splat(5.0), Vec3::ZERO, Vec3::Y, 40.0, 1.0),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }

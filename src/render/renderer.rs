@@ -213,6 +213,14 @@ impl Renderer {
     pub(super) fn prepare(&mut self, request: &FrameRequest) -> Result<(), RenderError> {
         let s = &request.settings;
         s.validate().map_err(RenderError::Settings)?;
+        if s.integrator == super::Integrator::Seed && self.scene.features.punctual_lights {
+            return Err(RenderError::Settings(
+                "the seed integrator (the thesis' estimator) finds light only where its paths \
+                 hit an emitter, and nothing hits a punctual light (KHR_lights_punctual): \
+                 render this scene with --integrator pt"
+                    .to_owned(),
+            ));
+        }
         request
             .foveation
             .validate()

@@ -74,6 +74,8 @@ pub fn control(aspect: f32) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(eye, eye + Vec3::NEG_Z, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -132,6 +134,8 @@ fn bunny_scene(name: &str, mesh: Mesh, aspect: f32) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, BUNNY_FOV_Y_DEG, aspect),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -209,6 +213,8 @@ pub fn cubes_441(aspect: f32) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::sky(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -295,6 +301,8 @@ pub fn mirror_room(aspect: f32) -> Scene {
         textures: Vec::new(),
         camera: Camera::look_at(eye, target, Vec3::Y, FOV_Y_DEG, aspect),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 
@@ -414,6 +422,8 @@ pub fn cornell(aspect: f32) -> Scene {
             aspect,
         ),
         environment: Environment::black(),
+        lights: Vec::new(),
+        environment_map: None,
     }
 }
 

@@ -405,6 +405,8 @@ mod tests {
             textures: Vec::new(),
             camera: Camera::look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0),
             environment: Environment::black(),
+            lights: Vec::new(),
+            environment_map: None,
         }
     }
 

@@ -22,6 +22,8 @@ pub struct SceneFeatures {
     pub cutouts: bool,
     /// Any mesh instance that is single-sided (glTF's default).
     pub single_sided: bool,
+    /// Any punctual light that emits (found only by next-event estimation).
+    pub punctual_lights: bool,
 }
 
 impl SceneFeatures {
@@ -61,11 +63,12 @@ impl SceneFeatures {
             boxes: !scene.boxes.is_empty(),
             spheres: !scene.spheres.is_empty(),
             specular,
-            emitters,
+            emitters: emitters || scene.lights.iter().any(|l| l.intensity.max_element() > 0.0),
             metallic_roughness,
             textures,
             cutouts: coverages.iter().any(|c| c.cuts_out()),
             single_sided: coverages.iter().any(|c| !c.double_sided),
+            punctual_lights: scene.lights.iter().any(|l| l.intensity.max_element() > 0.0),
         }
     }
 
@@ -82,6 +85,7 @@ impl SceneFeatures {
             (self.textures, "textures"),
             (self.cutouts, "alpha"),
             (self.single_sided, "single-sided"),
+            (self.punctual_lights, "punctual-lights"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

@@ -248,6 +248,8 @@ impl SampleBuilder {
                 textures: Vec::new(),
                 camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 45.0, 1.0),
                 environment: Environment::black(),
+                lights: Vec::new(),
+                environment_map: None,
             },
         }
     }

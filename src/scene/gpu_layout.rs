@@ -3,6 +3,7 @@
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
 use super::gpu_materials::{gpu_material, surface_flags};
+use super::light_selection::add_lights_and_select_by_power;
 use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
 use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
@@ -277,7 +278,8 @@ impl GpuScene {
             (node_words(&tlas), ordered)
         };
         let mut objects = objects;
-        let emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
+        let mut emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
+        add_lights_and_select_by_power(&mut emitters, &scene.lights);
 
         let env = &scene.environment;
         let info = GpuSceneInfo {
@@ -563,6 +565,8 @@ mod tests {
             textures: Vec::new(),
             camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0, 1.0),
             environment: Environment::black(),
+            lights: Vec::new(),
+            environment_map: None,
         }
     }
 

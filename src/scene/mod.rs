@@ -1,9 +1,12 @@
 //! Scenes: the description (`types`), the built-in scenes, glTF loading, BVH construction and
 //! the GPU layout, and the feature flags that let shaders skip what a scene does not need.
 
+mod alias_table;
 pub mod builtin;
 mod camera_path;
 pub mod cpu_raycast;
+pub mod env_map;
+pub mod env_sampling;
 mod error;
 mod features;
 pub mod fingerprint;
@@ -13,6 +16,8 @@ pub mod gltf_load;
 pub mod gltf_samples;
 pub mod gpu_layout;
 mod gpu_materials;
+mod light_selection;
+pub mod lights;
 pub mod mipmaps;
 pub mod shapes;
 pub mod tangents;
@@ -22,8 +27,11 @@ pub mod validate;
 
 pub use camera_path::{CameraPath, CameraPathError, CameraPose};
 pub use cpu_raycast::CpuRaycaster;
+pub use env_map::{EnvironmentLight, EnvironmentMap};
+pub use env_sampling::EnvSampling;
 pub use error::SceneError;
 pub use features::SceneFeatures;
+pub use lights::{LightKind, PunctualLight};
 pub use types::*;
 
 /// Whether a scene named on the command line is a .gltf/.glb file (else a built-in name).

@@ -444,6 +444,10 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     pub camera: Camera,
     pub environment: Environment,
+    /// glTF's punctual lights (`KHR_lights_punctual`), in world space.
+    pub lights: Vec<super::PunctualLight>,
+    /// An HDR environment that replaces `environment` (the gradient sky) where given.
+    pub environment_map: Option<super::EnvironmentLight>,
 }
 
 impl Scene {

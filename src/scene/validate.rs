@@ -74,6 +74,18 @@ pub fn validate(scene: &Scene) -> Result<(), SceneError> {
             c.position, c.forward, c.up
         )));
     }
+    for (i, light) in scene.lights.iter().enumerate() {
+        if let Some(problem) = light.problem() {
+            return Err(invalid(format!("light {i}: {problem}")));
+        }
+        if light.intensity.max_element() > MAX_EMISSION {
+            return Err(invalid(format!(
+                "light {i}: intensity {} is above {MAX_EMISSION:e} (it would overflow 32-bit \
+                 floats); scale the lights and the exposure down together",
+                light.intensity
+            )));
+        }
+    }
     let e = &scene.environment;
     for (what, v) in [
         ("zenith", e.zenith),

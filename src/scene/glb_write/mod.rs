@@ -4,7 +4,8 @@
 //! accessor (f32 VEC3 with min/max) and one u32 index accessor; per (mesh, material) pair one
 //! glTF mesh (glTF puts materials on primitives, so a mesh placed with two materials becomes two
 //! glTF meshes sharing the same accessors); per [`Instance`] one node with its column-major
-//! matrix; one node with a perspective camera. All scene materials are written, in order.
+//! matrix; one node with a perspective camera; one node per punctual light
+//! (`KHR_lights_punctual`). All scene materials are written, in order.
 //!
 //! Not representable, hence not written: analytic boxes and spheres (a warning says how many),
 //! the environment, and asymmetric camera frusta (the camera is written symmetric with the same
@@ -31,6 +32,7 @@ use super::{Camera, Scene, SceneError};
 use materials::material_json;
 use textures::write_textures;
 
+mod lights;
 mod materials;
 mod textures;
 
@@ -162,6 +164,8 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     let (camera_node, camera) =
         camera_json(&scene.camera).map_err(|p| invalid(format!("camera: {p}")))?;
     nodes.push(camera_node);
+    let (lights, light_nodes) = lights::lights_json(&scene.lights);
+    nodes.extend(light_nodes);
     let node_ids: Vec<usize> = (0..nodes.len()).collect();
 
     let mut root = json!({
@@ -189,6 +193,11 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     if !views.is_empty() {
         object.insert("bufferViews".into(), Value::Array(views));
         object.insert("buffers".into(), json!([{ "byteLength": bin.len() }]));
+    }
+    if !lights.is_empty() {
+        let lights = json!({ "KHR_lights_punctual": { "lights": lights } });
+        object.insert("extensions".into(), lights);
+        extensions.insert("KHR_lights_punctual");
     }
     if !extensions.is_empty() {
         object.insert("extensionsUsed".into(), json!(extensions));

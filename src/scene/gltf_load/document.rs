@@ -9,6 +9,7 @@ use crate::scene::SceneError;
 
 /// Extensions whose content this loader reads.
 const READ_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_mesh_quantization",
     "KHR_texture_transform",

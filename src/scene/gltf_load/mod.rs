@@ -1,12 +1,13 @@
 //! glTF 2.0 loading: `.gltf` (external `.bin` files or `data:` URIs) and `.glb`.
 //!
-//! What is read: triangle geometry (lists, strips and fans) with its shading normals and two
-//! sets of texture coordinates, the node hierarchy of the default
-//! scene with its transforms, metallic-roughness material *factors* (as glTF's own BRDF,
-//! [`crate::scene::MetallicRoughness`]), emission (with
-//! `KHR_materials_emissive_strength`) and the first perspective camera. Everything else
-//! (textures, skins, morph targets, animations, other extensions, points and lines,
-//! orthographic cameras, transparency) is ignored with one warning per kind, not per occurrence.
+//! What is read: triangle geometry (lists, strips and fans) with its shading normals, tangents
+//! and two sets of texture coordinates, the node hierarchy of the default scene with its
+//! transforms, metallic-roughness materials (as glTF's own BRDF,
+//! [`crate::scene::MetallicRoughness`]) with their textures (`KHR_texture_transform`), alpha
+//! modes, double-sidedness and emission (`KHR_materials_emissive_strength`), punctual lights
+//! (`KHR_lights_punctual`) and the first perspective camera. Everything else (skins, morph
+//! targets, animations, other extensions, points and lines, orthographic cameras) is ignored
+//! with one warning per kind, not per occurrence.
 //!
 //! # Robustness
 //!
@@ -23,6 +24,7 @@
 mod accessors;
 mod document;
 mod framing;
+mod lights;
 mod limits;
 mod materials;
 mod origin;
@@ -203,6 +205,8 @@ fn scene_from_bytes(
         textures: walked.textures,
         camera,
         environment: Environment::sky(),
+        lights: walked.lights,
+        environment_map: None,
     })
 }
 

@@ -7,13 +7,14 @@ use glam::{Mat4, Quat, Vec3, Vec4};
 use gltf::json;
 use gltf::json::validation::Checked;
 
+use super::lights::world_light;
 use super::limits::MAX_COORDINATE;
 use super::materials::{convert_material, default_material};
 use super::origin::{Origin, Warnings};
 use super::primitive::{build_primitive, is_triangles};
 use super::textures::TextureLoader;
 use crate::scene::tangents::with_generated_tangents;
-use crate::scene::{Camera, Instance, Material, Mesh, SceneError, Texture};
+use crate::scene::{Camera, Instance, Material, Mesh, PunctualLight, SceneError, Texture};
 
 /// The result of walking the node tree.
 pub(super) struct Walked {
@@ -22,6 +23,8 @@ pub(super) struct Walked {
     pub(super) materials: Vec<Material>,
     pub(super) textures: Vec<Texture>,
     pub(super) camera: Option<NodeCamera>,
+    /// `KHR_lights_punctual` lights of the nodes (those with zero intensity dropped).
+    pub(super) lights: Vec<PunctualLight>,
     /// Distinct primitives skipped because they are points or lines.
     pub(super) skipped_primitives: usize,
 }
@@ -74,6 +77,7 @@ pub(super) fn walk(
             materials: Vec::new(),
             textures: Vec::new(),
             camera: None,
+            lights: Vec::new(),
             skipped_primitives: 0,
         },
         mesh_ids: HashMap::new(),
@@ -168,6 +172,21 @@ impl Walker<'_, '_> {
         }
         if let Some(camera) = node.camera() {
             self.camera(&camera, world, label)?;
+        }
+        if let Some(light) = node.light() {
+            let name = light
+                .name()
+                .map(|n| format!(" ('{n}')"))
+                .unwrap_or_default();
+            let light = world_light(&light, world).map_err(|p| {
+                origin.invalid(format!("{label}, light #{}{name}: {p}", light.index()))
+            })?;
+            if light.intensity.max_element() > 0.0 {
+                self.walked.lights.push(light);
+            } else {
+                self.warnings
+                    .add("punctual lights of zero intensity (they emit nothing)");
+            }
         }
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
