@@ -18,6 +18,7 @@ layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHN
 layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = true;
 layout(constant_id = SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = true;
 layout(constant_id = SPEC_HAS_SINGLE_SIDED) const bool HAS_SINGLE_SIDED = true;
+layout(constant_id = SPEC_HAS_ENV_MAP) const bool HAS_ENV_MAP = true;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector
@@ -30,6 +31,7 @@ layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer shading_texels
 layout(set = 0, binding = BINDING_OBJECTS) uniform utextureBuffer object_texels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer material_texels;
 layout(set = 0, binding = BINDING_EMITTERS) uniform utextureBuffer emitter_texels;
+layout(set = 0, binding = BINDING_ENVIRONMENT) uniform utextureBuffer environment_texels;
 
 vec4 fetch_vec4(utextureBuffer b, int texel) {
     return uintBitsToFloat(texelFetch(b, texel));

@@ -3,13 +3,22 @@
 #ifndef FOVEA_INTEGRATORS_GLSL
 #define FOVEA_INTEGRATORS_GLSL
 #include "brdf.glsl"
+#include "environment.glsl"
 #include "gltf_brdf.glsl"
 #include "lights.glsl"
 #include "shading.glsl"
 #include "textures.glsl"
 
-// The sky gradient: ground below the horizon, horizon -> zenith above it.
+// The power heuristic (beta 2) of MIS: the weight of a sample of density a against b.
+float power_heuristic(float a, float b) {
+    float a2 = a * a;
+    return a2 / (a2 + b * b);
+}
+
+// The sky: the HDR environment where the scene has one, else the gradient (ground below the
+// horizon, horizon -> zenith above it).
 vec3 environment(vec3 d) {
+    if (HAS_ENV_MAP) return env_radiance(d);
     float y = d.y / max(length(d), 1e-30);
     if (y >= 0.0) return mix(scene_info.sky_horizon.xyz, scene_info.sky_zenith.xyz, y);
     return mix(scene_info.sky_horizon.xyz, scene_info.sky_ground.xyz, min(1.0, -8.0 * y));
@@ -144,7 +153,14 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
     rays++;
     overflow = overflow || h.overflow;
     if (h.t == INF) {
-        p.L += p.throughput * environment(p.d);
+        // An environment map is also a light for next-event estimation (pt): a BRDF sample
+        // that finds it takes its MIS weight. Camera rays and mirror bounces (prev_delta,
+        // and every seed path) take it whole.
+        float w = 1.0;
+        if (HAS_ENV_MAP && !p.prev_delta) {
+            w = power_heuristic(p.prev_pdf, scene_info.env_pmf * env_pdf(p.d));
+        }
+        p.L += p.throughput * environment(p.d) * w;
         p.done = true;
         return false;
     }
@@ -201,10 +217,6 @@ void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow
 }
 
 // ---- pt: importance sampling, next-event estimation with MIS, Russian roulette ---------------
-float power_heuristic(float a, float b) {
-    float a2 = a * a;
-    return a2 / (a2 + b * b);
-}
 
 // Density of brdf sampling for the non-delta lobes (diffuse chosen with 1 - p_S).
 float brdf_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
@@ -241,7 +253,14 @@ vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint ra
     vec3 wi;
     vec3 arriving; // irradiance (punctual) or MIS-weighted radiance over the solid-angle pdf
     vec3 shadow_seg;
-    if (is_punctual(e.kind)) {
+    if (HAS_ENV_MAP && e.kind == KIND_ENVIRONMENT) {
+        float env_density;
+        wi = env_sample(u, rng_next(rng), env_density);
+        float light_pdf = e.pmf * env_density;
+        if (!(light_pdf > 0.0)) return vec3(0.0);
+        float bpdf = material_pdf(s.m, wo, wi, n);
+        arriving = env_radiance(wi) * (power_heuristic(light_pdf, bpdf) / light_pdf);
+    } else if (is_punctual(e.kind)) {
         PunctualArrival a = punctual_arrival(e, s.p);
         wi = a.wi;
         arriving = a.irradiance / e.pmf;
@@ -264,8 +283,9 @@ vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint ra
     if (HAS_SHADING && dot(wi, s.ng) <= 0.0) cos_x = 0.0;
     if (!(cos_x > 0.0) || all(equal(arriving, vec3(0.0)))) return vec3(0.0);
     rays++;
-    // A directional light's shadow ray runs to infinity (t_max INF along the unit wi).
-    bool directional = e.kind == KIND_DIRECTIONAL_LIGHT;
+    // A directional light's and the environment's shadow rays run to infinity (t_max INF
+    // along the unit wi).
+    bool directional = e.kind == KIND_DIRECTIONAL_LIGHT || e.kind == KIND_ENVIRONMENT;
     if (!unoccluded(origin, directional ? wi : shadow_seg, directional ? INF : 1.0, overflow)) return vec3(0.0);
     return material_eval(s.m, wo, wi, n) * cos_x * arriving;
 }

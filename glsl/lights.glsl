@@ -22,7 +22,7 @@ uint choose_emitter(float u_bucket, float u_keep) {
 }
 
 bool is_punctual(uint kind) {
-    return kind >= KIND_POINT_LIGHT;
+    return kind >= KIND_POINT_LIGHT && kind <= KIND_DIRECTIONAL_LIGHT;
 }
 
 // Light reaching x from a punctual light: the unit direction toward it, the distance (INF for

@@ -57,10 +57,15 @@
 #define BINDING_TEXTURES 27 // sampler2D[MAX_TEXTURES] (combined image samplers, partially bound):
                             // the scene's textures in Scene::textures' order, mip chains in
                             // RGBA8 (sRGB or UNORM as their use), each with its glTF sampler
-#define BINDING_COUNT 28
+#define BINDING_ENVIRONMENT 28 // the HDR environment (a uniform texel buffer, environment.glsl):
+                               // per texel of GpuSceneInfo.env_width x env_height, rows from
+                               // the top, two RGBA32UI texels: (r, g, b, pmf) as float bits,
+                               // then (alias, keep bits, 0, 0) (scene/env_sampling.rs); one
+                               // empty element (never read, SPEC_HAS_ENV_MAP off) without one
+#define BINDING_COUNT 29
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 28
+#define BINDING_TLAS 29
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -87,6 +92,7 @@
 #define SPEC_HAS_TEXTURES 10 // some material samples a texture (BINDING_TEXTURES)
 #define SPEC_HAS_CUTOUTS 11 // some mesh instance is OBJECT_ALPHA_MASK or OBJECT_ALPHA_BLEND
 #define SPEC_HAS_SINGLE_SIDED 12 // some mesh instance is OBJECT_SINGLE_SIDED
+#define SPEC_HAS_ENV_MAP 13 // the sky is an HDR environment (BINDING_ENVIRONMENT), a light
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -99,6 +105,7 @@
 #define KIND_POINT_LIGHT 4       // emitters only: KHR_lights_punctual's point light
 #define KIND_SPOT_LIGHT 5        // emitters only: its spot light
 #define KIND_DIRECTIONAL_LIGHT 6 // emitters only: its directional light
+#define KIND_ENVIRONMENT 7 // emitters only: the HDR environment (BINDING_ENVIRONMENT)
 
 #define NO_EMITTER 0xffffffffu  // an object without emitters, a hit on no emitter
 #define NO_OBJECT 0xffffffffu   // a ray that hit nothing (Hit.object, GpuProbeHit.object, SURFACE)
@@ -268,6 +275,14 @@ struct GpuSceneInfo {
     uint object_count;
     uint tlas_node_count;
     uint tlas_root; // node index of the TLAS's root in NODES (after every BLAS)
+    uint env_width; // BINDING_ENVIRONMENT's texels per row (0: no environment map)
+    uint env_height;
+    float env_rotate_cos; // the environment's turn about +Y (a direction d reads the map at
+    float env_rotate_sin; // d turned back by it)
+    float env_pmf; // the probability that next-event estimation picks the environment
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 // Push constants: every pass's struct is at most 128 bytes (the guaranteed push-constant

@@ -19,6 +19,8 @@ struct Cli {
     /// instead of refusing one larger than the device's largest image.
     #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     max_texture_size: Option<u32>,
+    #[command(flatten)]
+    env: commands::EnvArgs,
 }
 
 #[derive(Subcommand)]
@@ -59,6 +61,10 @@ fn main() {
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some(n) = cli.max_texture_size {
         fovea::scene::texture_size::set_max_texture_size(n);
+    }
+    if let Err(e) = cli.env.apply() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
     }
     let result = match &cli.command {
         Command::Render(args) => commands::render::run(args),

@@ -129,6 +129,14 @@ pub struct GpuSceneInfo {
     pub object_count: u32,
     pub tlas_node_count: u32,
     pub tlas_root: u32,
+    pub env_width: u32,
+    pub env_height: u32,
+    pub env_rotate_cos: f32,
+    pub env_rotate_sin: f32,
+    pub env_pmf: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// shared.h's PushCamera: the eye's camera as every pass of a frame sees it.

@@ -154,7 +154,15 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             emitter_count,
             object_count,
             tlas_node_count,
-            tlas_root
+            tlas_root,
+            env_width,
+            env_height,
+            env_rotate_cos,
+            env_rotate_sin,
+            env_pmf,
+            pad0,
+            pad1,
+            pad2
         }
     );
     check!(

@@ -4,12 +4,15 @@
 
 pub mod bench;
 pub mod check;
+mod environment;
 pub mod gpu_report;
 pub mod render;
 pub mod scenes;
 pub mod tune;
 pub mod view;
 pub mod xr;
+
+pub use environment::EnvArgs;
 
 use anyhow::{bail, Result};
 use clap::Args;

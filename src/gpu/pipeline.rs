@@ -13,7 +13,7 @@ use std::sync::Arc;
 /// The bindings that are storage images and those that are uniform texel buffers (see
 /// TexelView); all others are storage buffers.
 const IMAGE_BINDINGS: [u32; 2] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES];
-const TEXEL_BINDINGS: [u32; 7] = [
+const TEXEL_BINDINGS: [u32; 8] = [
     BINDING_NODES,
     BINDING_TRIANGLES,
     BINDING_SHADING,
@@ -21,6 +21,7 @@ const TEXEL_BINDINGS: [u32; 7] = [
     BINDING_MATERIALS,
     BINDING_EMITTERS,
     BINDING_LATTICE_TEXELS,
+    BINDING_ENVIRONMENT,
 ];
 
 fn descriptor_type(binding: u32) -> vk::DescriptorType {

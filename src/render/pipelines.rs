@@ -111,6 +111,7 @@ impl Pipelines {
             (SPEC_HAS_TEXTURES, f.textures as u32),
             (SPEC_HAS_CUTOUTS, f.cutouts as u32),
             (SPEC_HAS_SINGLE_SIDED, f.single_sided as u32),
+            (SPEC_HAS_ENV_MAP, f.env_map as u32),
             (SPEC_MAX_BOUNCES, max_bounces),
             (SPEC_INTEGRATOR, integrator),
         ]

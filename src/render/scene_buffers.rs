@@ -25,7 +25,9 @@ pub struct SceneBuffers {
     objects: TexelView,
     materials: TexelView,
     emitters: TexelView,
-    _storage: [Buffer; 6],
+    /// GpuScene::environment (one empty element without an environment map).
+    environment: TexelView,
+    _storage: [Buffer; 7],
     info: Buffer,
     /// The textures glTF materials sample (none for most scenes).
     textures: TextureSet,
@@ -40,7 +42,8 @@ pub struct SceneBuffers {
 }
 
 /// Device-local bytes of a scene: its arrays (BVH nodes, triangles, shading, objects,
-/// materials, emitters) and its textures (every mip level).
+/// materials, emitters, the environment map with its sampling table) and its textures (every
+/// mip level).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SceneMemory {
     pub buffers: u64,
@@ -79,6 +82,7 @@ impl SceneBuffers {
         let objects = upload("objects", bytemuck::cast_slice(&gpu.objects))?;
         let materials = upload("materials", bytemuck::cast_slice(&gpu.materials))?;
         let emitters = upload("emitters", bytemuck::cast_slice(&gpu.emitters))?;
+        let environment = upload("environment", bytemuck::cast_slice(&gpu.environment))?;
         let accel = match ctx.info.ray_query {
             Some(_) => Some(AccelStructures::build(
                 ctx,
@@ -94,7 +98,16 @@ impl SceneBuffers {
             objects: TexelView::new(&objects, "objects")?,
             materials: TexelView::new(&materials, "materials")?,
             emitters: TexelView::new(&emitters, "emitters")?,
-            _storage: [nodes, triangles, shading, objects, materials, emitters],
+            environment: TexelView::new(&environment, "environment")?,
+            _storage: [
+                nodes,
+                triangles,
+                shading,
+                objects,
+                materials,
+                emitters,
+                environment,
+            ],
             info: upload("scene info", bytemuck::bytes_of(&gpu.info))?,
             textures: TextureSet::upload(ctx, &scene_textures::uploads(&scene.textures))?,
             accel,
@@ -117,6 +130,7 @@ impl SceneBuffers {
             .reads(BINDING_OBJECTS, &self.objects)
             .reads(BINDING_MATERIALS, &self.materials)
             .reads(BINDING_EMITTERS, &self.emitters)
+            .reads(BINDING_ENVIRONMENT, &self.environment)
             .reads(BINDING_SCENE_INFO, &self.info)
             .reads(BINDING_TEXTURES, Bound::Textures(&self.textures));
         match (traversal, &self.accel) {
@@ -152,6 +166,10 @@ fn arrays_plan(gpu: &GpuScene) -> Vec<PlannedAllocation> {
         ("objects", bytes(size_of_val(gpu.objects.as_slice()))),
         ("materials", bytes(size_of_val(gpu.materials.as_slice()))),
         ("emitters", bytes(size_of_val(gpu.emitters.as_slice()))),
+        (
+            "environment",
+            bytes(size_of_val(gpu.environment.as_slice())),
+        ),
         ("scene info", bytes(size_of_val(&gpu.info))),
     ];
     let largest = buffers.iter().map(|b| b.1).max().unwrap_or(0);

@@ -23,14 +23,14 @@ pub enum EnvSampling {
 pub fn environment_texels(env: &EnvironmentLight) -> Vec<[u32; 4]> {
     let map = &env.map;
     let (w, h) = (map.width as usize, map.height as usize);
+    let filtered = match env.sampling {
+        EnvSampling::Importance => bilinear_texel_means(map),
+        EnvSampling::Uniform => vec![1.0; w * h],
+    };
     let weights: Vec<f64> = (0..w * h)
         .map(|i| {
             let theta = ((i / w) as f64 + 0.5) / h as f64 * std::f64::consts::PI;
-            let light = match env.sampling {
-                EnvSampling::Importance => luminance(map.texels[i]) as f64,
-                EnvSampling::Uniform => 1.0,
-            };
-            light * theta.sin()
+            filtered[i] * theta.sin()
         })
         .collect();
     let table = AliasTable::new(&weights);
@@ -42,6 +42,32 @@ pub fn environment_texels(env: &EnvironmentLight) -> Vec<[u32; 4]> {
         texels.push([table.alias[i], table.keep[i].to_bits(), 0, 0]);
     }
     texels
+}
+
+/// Per texel, the mean luminance of the bilinear radiance the shaders read over the texel's
+/// area: its neighbours' luminance weighted (1/8, 3/4, 1/8) along each axis (columns wrap,
+/// rows clamp at the poles). Sampling by the texel's own value instead would give the texels
+/// around a one-texel sun, into which bilinear filtering spreads a quarter of its light, the
+/// density of their dim selves: fireflies of thousands where a path finds them otherwise.
+fn bilinear_texel_means(map: &super::EnvironmentMap) -> Vec<f64> {
+    let (w, h) = (map.width as usize, map.height as usize);
+    let lum: Vec<f64> = map.texels.iter().map(|t| luminance(*t) as f64).collect();
+    let tent = [(-1i64, 0.125), (0, 0.75), (1, 0.125)];
+    let mut out = vec![0.0; w * h];
+    for row in 0..h {
+        for col in 0..w {
+            let mut sum = 0.0;
+            for (dy, wy) in tent {
+                let r = (row as i64 + dy).clamp(0, h as i64 - 1) as usize;
+                for (dx, wx) in tent {
+                    let c = (col as i64 + dx).rem_euclid(w as i64) as usize;
+                    sum += wx * wy * lum[r * w + c];
+                }
+            }
+            out[row * w + col] = sum;
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -62,13 +88,26 @@ mod tests {
     }
 
     #[test]
-    fn a_bright_texel_is_chosen_in_proportion_to_its_light_and_solid_angle() {
+    fn a_bright_texel_is_chosen_in_proportion_to_the_light_filtering_gives_it() {
         let mut texels = vec![Vec3::splat(1.0); 8];
         texels[5] = Vec3::splat(7.0); // row 1 (of 2): the same sin θ as row 0
         let gpu = environment_texels(&env(texels, 4, EnvSampling::Importance));
         let pmf = |i: usize| f32::from_bits(gpu[2 * i][3]);
-        assert!((pmf(5) - 7.0 / 14.0).abs() < 1e-6);
-        assert!((pmf(0) - 1.0 / 14.0).abs() < 1e-6);
+        // Texel 5's bilinear mean: 1 + 6 × (3/4 along x) × (7/8 along y, its row clamped).
+        let mean = |extra: f32| 1.0 + 6.0 * extra;
+        let total = 8.0 + 6.0; // the bright texel's excess spreads but is not created
+        assert!(
+            (pmf(5) - mean(0.75 * 0.875) / total).abs() < 1e-6,
+            "{}",
+            pmf(5)
+        );
+        // Texel 0 (column 0, row 0) is its diagonal neighbour; texel 3 (column 3) is not.
+        assert!(
+            (pmf(0) - mean(0.125 * 0.125) / total).abs() < 1e-6,
+            "{}",
+            pmf(0)
+        );
+        assert!((pmf(3) - 1.0 / total).abs() < 1e-6, "{}", pmf(3));
         // Radiance × intensity.
         assert_eq!(f32::from_bits(gpu[10][0]), 14.0);
         let uniform = environment_texels(&env(vec![Vec3::ONE; 8], 4, EnvSampling::Uniform));

@@ -24,6 +24,8 @@ pub struct SceneFeatures {
     pub single_sided: bool,
     /// Any punctual light that emits (found only by next-event estimation).
     pub punctual_lights: bool,
+    /// An HDR environment map in place of the gradient sky (a light for next-event estimation).
+    pub env_map: bool,
 }
 
 impl SceneFeatures {
@@ -63,12 +65,15 @@ impl SceneFeatures {
             boxes: !scene.boxes.is_empty(),
             spheres: !scene.spheres.is_empty(),
             specular,
-            emitters: emitters || scene.lights.iter().any(|l| l.intensity.max_element() > 0.0),
+            emitters: emitters
+                || scene.environment_map.is_some()
+                || scene.lights.iter().any(|l| l.intensity.max_element() > 0.0),
             metallic_roughness,
             textures,
             cutouts: coverages.iter().any(|c| c.cuts_out()),
             single_sided: coverages.iter().any(|c| !c.double_sided),
             punctual_lights: scene.lights.iter().any(|l| l.intensity.max_element() > 0.0),
+            env_map: scene.environment_map.is_some(),
         }
     }
 
@@ -86,6 +91,7 @@ impl SceneFeatures {
             (self.cutouts, "alpha"),
             (self.single_sided, "single-sided"),
             (self.punctual_lights, "punctual-lights"),
+            (self.env_map, "environment-map"),
         ];
         let on: Vec<_> = names.iter().filter(|(f, _)| *f).map(|(_, n)| *n).collect();
         if on.is_empty() {

@@ -2,6 +2,7 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
+use super::env_sampling::environment_texels;
 use super::gpu_materials::{gpu_material, surface_flags};
 use super::light_selection::add_lights_and_select_by_power;
 use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
@@ -24,6 +25,8 @@ pub struct GpuScene {
     pub objects: Vec<GpuObject>,
     pub materials: Vec<GpuMaterial>,
     pub emitters: Vec<GpuEmitter>,
+    /// The HDR environment's texels and sampling table (env_sampling.rs); empty without one.
+    pub environment: Vec<[u32; 4]>,
     pub info: GpuSceneInfo,
     pub features: SceneFeatures,
 }
@@ -279,7 +282,13 @@ impl GpuScene {
         };
         let mut objects = objects;
         let mut emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
-        add_lights_and_select_by_power(&mut emitters, &scene.lights);
+        let has_map = scene.environment_map.is_some();
+        let env_pmf = add_lights_and_select_by_power(&mut emitters, &scene.lights, has_map);
+        let (environment, env_width, env_height) = match &scene.environment_map {
+            Some(map) => (environment_texels(map), map.map.width, map.map.height),
+            None => (Vec::new(), 0, 0),
+        };
+        let rotate = scene.environment_map.as_ref().map_or(0.0, |m| m.rotate_deg);
 
         let env = &scene.environment;
         let info = GpuSceneInfo {
@@ -291,6 +300,12 @@ impl GpuScene {
             tlas_node_count: tlas_nodes.len() as u32,
             // The renderer uploads the BLAS nodes and then the TLAS's into one buffer.
             tlas_root: blas_nodes.len() as u32,
+            env_width,
+            env_height,
+            env_rotate_cos: rotate.to_radians().cos(),
+            env_rotate_sin: rotate.to_radians().sin(),
+            env_pmf,
+            ..Default::default()
         };
         let mut features = features;
         // Zero-area emitters are dropped (they emit nothing); uneven ones are not NEE's but
@@ -308,6 +323,7 @@ impl GpuScene {
             objects,
             materials,
             emitters,
+            environment,
             info,
             features,
         })
@@ -332,6 +348,10 @@ impl GpuScene {
         let fingerprint = match self.shading.is_empty() {
             true => fingerprint,
             false => fingerprint.bytes(cast_slice(&self.shading)),
+        };
+        let fingerprint = match self.environment.is_empty() {
+            true => fingerprint,
+            false => fingerprint.bytes(cast_slice(&self.environment)),
         };
         fingerprint.value()
     }

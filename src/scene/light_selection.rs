@@ -15,9 +15,22 @@ use glam::Vec3;
 /// which for it grows with the extent of the scene (a sun over a 100 m ground plane would
 /// outweigh every lamp in the room the camera is in), so each one takes an equal share with
 /// the local lights as a group — pbrt-v4's split between infinite and local lights.
-pub fn add_lights_and_select_by_power(emitters: &mut Vec<GpuEmitter>, lights: &[PunctualLight]) {
+/// An HDR environment map (`environment`) is a light at infinity too.
+/// Returns the environment's probability (0 without one).
+pub fn add_lights_and_select_by_power(
+    emitters: &mut Vec<GpuEmitter>,
+    lights: &[PunctualLight],
+    environment: bool,
+) -> f32 {
     let mut local_powers: Vec<f32> = emitters.iter().map(area_power).collect();
     let mut infinite = Vec::new();
+    if environment {
+        infinite.push(GpuEmitter {
+            kind: KIND_ENVIRONMENT,
+            object: NO_OBJECT,
+            ..Default::default()
+        });
+    }
     for light in lights.iter().filter(|l| l.intensity.max_element() > 0.0) {
         match light.kind {
             LightKind::Directional => infinite.push(punctual_emitter(light)),
@@ -36,6 +49,9 @@ pub fn add_lights_and_select_by_power(emitters: &mut Vec<GpuEmitter>, lights: &[
     weights.extend(infinite.iter().map(|_| 1.0 / groups as f64));
     emitters.extend(infinite);
     assign_alias_table(emitters, &weights);
+    (emitters.iter())
+        .find(|e| e.kind == KIND_ENVIRONMENT)
+        .map_or(0.0, |e| e.pmf)
 }
 
 /// A power the table can use: positive and finite, else 0.

@@ -5,6 +5,7 @@ mod alias_table;
 pub mod builtin;
 mod camera_path;
 pub mod cpu_raycast;
+pub mod env_choice;
 pub mod env_map;
 pub mod env_sampling;
 mod error;
@@ -41,8 +42,16 @@ pub fn is_scene_file(name_or_path: &str) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }
 
-/// A built-in scene by name, or a .gltf/.glb file by path.
+/// A built-in scene by name, or a .gltf/.glb file by path, lit by the environment of `--env`
+/// where one was given (env_choice.rs).
 pub fn load(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
+    let mut scene = load_own(name_or_path, aspect)?;
+    env_choice::apply(&mut scene);
+    Ok(scene)
+}
+
+/// A scene as its file or built-in definition has it.
+fn load_own(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
     let path = std::path::Path::new(name_or_path);
     if is_scene_file(name_or_path) {
         let mut scene = gltf_load::load_gltf(path, aspect)?;

@@ -1,0 +1,81 @@
+// The HDR environment (BINDING_ENVIRONMENT, src/scene/env_map.rs): its radiance by direction,
+// bilinear between texels, and next-event estimation's choice of directions from it: a texel
+// from its alias table (luminance x sin theta), then a uniform point in the texel.
+// Directions map to the image as Blender's Environment Texture does for a glTF scene:
+// column u = 0.5 + atan2(z, x) / 2pi, row t = acos(y) / pi from the top.
+#ifndef FOVEA_ENVIRONMENT_GLSL
+#define FOVEA_ENVIRONMENT_GLSL
+#include "bindings.glsl"
+#include "geometry.glsl"
+
+// d turned back by the environment's rotation about +Y: the direction in the map's frame.
+vec3 env_frame(vec3 d) {
+    float c = scene_info.env_rotate_cos, s = scene_info.env_rotate_sin;
+    return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+}
+
+// The map's (u, t) of world direction d.
+vec2 env_uv(vec3 d) {
+    vec3 m = normalize(env_frame(d));
+    float u = 0.5 + atan(m.z, m.x) * (0.5 / PI);
+    return vec2(fract(u), acos(clamp(m.y, -1.0, 1.0)) * (1.0 / PI));
+}
+
+// The world direction at the map's (u, t): the inverse of env_uv.
+vec3 env_direction(vec2 ut) {
+    float phi = (ut.x - 0.5) * 2.0 * PI, theta = ut.y * PI;
+    vec3 m = vec3(sin(theta) * cos(phi), cos(theta), sin(theta) * sin(phi));
+    float c = scene_info.env_rotate_cos, s = scene_info.env_rotate_sin;
+    return vec3(c * m.x + s * m.z, m.y, -s * m.x + c * m.z);
+}
+
+// Texel (col, row)'s radiance (xyz) and probability of being chosen (w).
+vec4 env_texel(int col, int row) {
+    return fetch_vec4(environment_texels, 2 * (row * int(scene_info.env_width) + col));
+}
+
+vec3 env_radiance(vec3 d) {
+    int w = int(scene_info.env_width), h = int(scene_info.env_height);
+    vec2 ut = env_uv(d);
+    vec2 at = ut * vec2(w, h) - 0.5;
+    vec2 f = fract(at);
+    ivec2 c0 = ivec2(floor(at));
+    // Columns wrap around the sphere; rows stop at the poles.
+    int x0 = (c0.x % w + w) % w, x1 = (x0 + 1) % w;
+    int y0 = clamp(c0.y, 0, h - 1), y1 = clamp(c0.y + 1, 0, h - 1);
+    vec3 top = mix(env_texel(x0, y0).xyz, env_texel(x1, y0).xyz, f.x);
+    vec3 bottom = mix(env_texel(x0, y1).xyz, env_texel(x1, y1).xyz, f.x);
+    return mix(top, bottom, f.y);
+}
+
+// Solid-angle density of a direction in the texel of probability pmf at row position t:
+// the texel's (u, t) area 1/(w h) covers 2 pi^2 sin(theta) / (w h) steradians.
+float env_density(float pmf, float t) {
+    float sin_theta = sin(t * PI);
+    float texels = float(scene_info.env_width * scene_info.env_height);
+    return sin_theta > 0.0 ? pmf * texels / (2.0 * PI * PI * sin_theta) : 0.0;
+}
+
+// The density with which env_sample picks direction d.
+float env_pdf(vec3 d) {
+    vec2 ut = env_uv(d);
+    int col = min(int(ut.x * float(scene_info.env_width)), int(scene_info.env_width) - 1);
+    int row = min(int(ut.y * float(scene_info.env_height)), int(scene_info.env_height) - 1);
+    return env_density(env_texel(col, row).w, ut.y);
+}
+
+// A direction toward the environment: a texel chosen by the alias table (u.x the bucket, u.y
+// keep-or-alias), then (u.z, u_row) a uniform point in it. `pdf` is its solid-angle density.
+vec3 env_sample(vec3 u, float u_row, out float pdf) {
+    uint texels = scene_info.env_width * scene_info.env_height;
+    uint bucket = min(uint(u.x * float(texels)), texels - 1u);
+    uvec2 b = texelFetch(environment_texels, int(2u * bucket + 1u)).xy;
+    uint k = u.y < uintBitsToFloat(b.y) ? bucket : b.x;
+    uint col = k % scene_info.env_width, row = k / scene_info.env_width;
+    vec2 ut = vec2((float(col) + u.z) / float(scene_info.env_width),
+                   (float(row) + u_row) / float(scene_info.env_height));
+    pdf = env_density(env_texel(int(col), int(row)).w, ut.y);
+    return env_direction(ut);
+}
+
+#endif
