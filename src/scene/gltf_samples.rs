@@ -1,8 +1,8 @@
 //! fovea's own glTF scenes for tests and users, built here and written by the glb writer to
 //! `assets/gltf/` (`cargo run --example write_gltf_samples`): a grid of spheres over metallic ×
 //! roughness, a normal-mapped quad, an alpha-cut card casting a shadow, and a panel lit by
-//! `KHR_materials_emissive_strength`. Each has a ground, a light made of emissive geometry (glTF
-//! has no area lights) and a camera. tests/gltf_samples.rs checks the files are what this
+//! `KHR_materials_emissive_strength`, a textured room, and a scene lit by `KHR_lights_punctual`.
+//! Each has a ground, a light made of emissive geometry (glTF has no area lights) and a camera. tests/gltf_samples.rs checks the files are what this
 //! code writes.
 
 use std::f32::consts::{PI, TAU};
@@ -11,8 +11,9 @@ use glam::{Mat4, Vec2, Vec3};
 
 use super::shapes::{cube, quad, uv_sphere};
 use super::{
-    AlphaMode, Camera, Coverage, Environment, Instance, Material, MaterialTextures, Mesh,
-    MetallicRoughness, Scene, TexelEncoding, Texture, TextureRef, TextureSampler,
+    AlphaMode, Camera, Coverage, Environment, Instance, LightKind, Material, MaterialTextures,
+    Mesh, MetallicRoughness, PunctualLight, Scene, TexelEncoding, Texture, TextureRef,
+    TextureSampler,
 };
 
 /// Every sample scene, by the file name it is written under (without `.glb`).
@@ -23,7 +24,83 @@ pub fn gltf_samples() -> Vec<Scene> {
         alpha_card(),
         emissive_panel(),
         textured_room(),
+        punctual_lights(),
     ]
+}
+
+/// Three spheres and a cube on a ground lit by `KHR_lights_punctual` alone: a warm point
+/// light, a spot with a soft edge on the cube and a low sun, plus a small emissive panel (a
+/// scene may mix them). The lights' intensities are candela and lux, as fovea reads them.
+pub fn punctual_lights() -> Scene {
+    let mut b = SampleBuilder::new("punctual-lights");
+    b.ground(8.0, Vec3::splat(0.6));
+    let sphere = b.mesh(uv_sphere(32, 16));
+    for (i, (base, metallic, roughness)) in [
+        (Vec3::new(0.8, 0.2, 0.2), 0.0, 0.5),
+        (Vec3::new(0.9, 0.9, 0.9), 1.0, 0.3),
+        (Vec3::new(0.2, 0.5, 0.8), 0.0, 0.9),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let m = b.material(MetallicRoughness::factors(
+            base,
+            metallic,
+            roughness,
+            Vec3::ZERO,
+        ));
+        let at = Vec3::new(i as f32 * 1.2 - 1.2, 0.5, 0.0);
+        b.place(
+            sphere,
+            m,
+            Mat4::from_translation(at) * Mat4::from_scale(Vec3::splat(0.5)),
+        );
+    }
+    let cube = b.mesh(cube());
+    let m = b.material(MetallicRoughness::factors(
+        Vec3::splat(0.8),
+        0.0,
+        0.7,
+        Vec3::ZERO,
+    ));
+    b.place(
+        cube,
+        m,
+        Mat4::from_translation(Vec3::new(0.6, 0.3, 1.4)) * Mat4::from_scale(Vec3::splat(0.3)),
+    );
+    b.light(Vec3::new(-2.5, 2.0, -1.5), 0.5, 8.0);
+    let lights = &mut b.scene.lights;
+    lights.push(PunctualLight {
+        kind: LightKind::Point,
+        intensity: Vec3::new(6.0, 4.5, 3.0),
+        position: Vec3::new(-1.5, 2.2, 1.5),
+        direction: Vec3::NEG_Z,
+        range: None,
+    });
+    lights.push(PunctualLight {
+        kind: LightKind::Spot {
+            inner_cone_angle: 0.2,
+            outer_cone_angle: 0.45,
+        },
+        intensity: Vec3::splat(12.0),
+        position: Vec3::new(1.5, 3.0, 2.5),
+        direction: (Vec3::new(0.6, 0.3, 1.4) - Vec3::new(1.5, 3.0, 2.5)).normalize(),
+        range: Some(20.0),
+    });
+    lights.push(PunctualLight {
+        kind: LightKind::Directional,
+        intensity: Vec3::new(1.0, 0.8, 0.6),
+        position: Vec3::ZERO,
+        direction: Vec3::new(1.0, -0.5, -0.6).normalize(),
+        range: None,
+    });
+    b.finish(Camera::look_at(
+        Vec3::new(0.0, 2.5, 5.5),
+        Vec3::new(0.0, 0.4, 0.3),
+        Vec3::Y,
+        45.0,
+        1.0,
+    ))
 }
 
 /// 5 × 5 spheres: metallic 0 → 1 from front to back, roughness 0.05 → 1 from left to right,
