@@ -62,10 +62,12 @@
                                // the top, two RGBA32UI texels: (r, g, b, pmf) as float bits,
                                // then (alias, keep bits, 0, 0) (scene/env_sampling.rs); one
                                // empty element (never read, SPEC_HAS_ENV_MAP off) without one
-#define BINDING_COUNT 29
+#define BINDING_DISPLAY 29 // rgba32f storage image: OUTPUT through the display transform
+                           // (display.comp), what a window or headset shows of it
+#define BINDING_COUNT 30
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 29
+#define BINDING_TLAS 30
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -336,6 +338,17 @@ struct AccumulatePush {
     uint mean_layer; // the running mean's layer of LAYER_IMAGES
     uint frames_before; // frames already in that mean (0 starts a new one)
     uint pad0;
+};
+
+// display.comp: OUTPUT (scene-referred) into DISPLAY (display-referred linear, 0..1), as
+// src/render/display.rs's DisplayTransform::apply: x 2^exposure, then the tone mapper.
+#define TONEMAP_CLAMP 0
+#define TONEMAP_PBR_NEUTRAL 1
+struct DisplayPush {
+    uint width; // the images' width (eyes side by side) and height
+    uint height;
+    float scale; // 2^exposure
+    uint tonemap; // TONEMAP_*
 };
 
 // raycast.comp: a batch of probe rays.

@@ -210,6 +210,16 @@ pub struct RaycastPush {
     pub probe_count: u32,
 }
 
+/// Push constants of display.comp: OUTPUT through the display transform into DISPLAY.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct DisplayPush {
+    pub width: u32,
+    pub height: u32,
+    pub scale: f32,
+    pub tonemap: u32,
+}
+
 /// Push constants of brdf_probe.comp: a batch of BRDF queries.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
@@ -225,6 +235,7 @@ pub const PUSH_BYTES: usize = {
         std::mem::size_of::<AccumulatePush>(),
         std::mem::size_of::<RaycastPush>(),
         std::mem::size_of::<BrdfProbePush>(),
+        std::mem::size_of::<DisplayPush>(),
     ];
     let mut most = 0;
     let mut i = 0;

@@ -8,7 +8,7 @@ use fovea::render::Integrator;
 use fovea::scene::glb_write::glb_bytes;
 use fovea::scene::gltf_load::load_gltf;
 use fovea::scene::gltf_samples::gltf_samples;
-use fovea::scene::{AlphaMode, Material, MetallicRoughness, Scene};
+use fovea::scene::{AlphaMode, LightKind, Material, MetallicRoughness, Scene};
 
 fn path(name: &str) -> String {
     format!("{}/assets/gltf/{name}.glb", env!("CARGO_MANIFEST_DIR"))
@@ -46,7 +46,8 @@ fn each_sample_loads_with_what_it_shows_and_renders() {
             "normal-mapped-quad",
             "alpha-card",
             "emissive-panel",
-            "textured-room"
+            "textured-room",
+            "punctual-lights"
         ]
     );
     for name in &names {
@@ -72,6 +73,17 @@ fn each_sample_loads_with_what_it_shows_and_renders() {
                     && m.textures.base_color.is_some())),
             "emissive-panel" => {
                 assert!(materials.iter().any(|m| m.emission.max_element() > 1.0))
+            }
+            "punctual-lights" => {
+                let kinds: Vec<_> = scene.lights.iter().map(|l| l.kind).collect();
+                assert!(matches!(
+                    kinds[..],
+                    [
+                        LightKind::Point,
+                        LightKind::Spot { .. },
+                        LightKind::Directional
+                    ]
+                ));
             }
             _ => assert_eq!(
                 (materials.iter())

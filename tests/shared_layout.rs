@@ -223,6 +223,15 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     check!(s, BrdfProbePush { query_count });
     check!(
         s,
+        DisplayPush {
+            width,
+            height,
+            scale,
+            tonemap
+        }
+    );
+    check!(
+        s,
         GpuBrdfQuery {
             wo,
             wi,
@@ -296,7 +305,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
     );
     assert_eq!(
         s.len(),
-        20,
+        21,
         "shared.h has a struct this test does not check: add it"
     );
     for (name, size) in [
@@ -305,6 +314,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
         ("AccumulatePush", size_of::<AccumulatePush>()),
         ("RaycastPush", size_of::<RaycastPush>()),
         ("BrdfProbePush", size_of::<BrdfProbePush>()),
+        ("DisplayPush", size_of::<DisplayPush>()),
     ] {
         assert!(
             size <= 128,

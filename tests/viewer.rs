@@ -590,3 +590,59 @@ fn escape_ends_the_run_and_the_render_scale_applies() {
     let info = decoder.read_info().unwrap().info().clone();
     assert_eq!((info.width, info.height), (48, 32));
 }
+
+/// With `--exposure` and `--tonemap`, the window shows the image through them (a display pass
+/// runs before it is presented) and the screenshot's PNG is `fovea render`'s with the same
+/// flags, its EXR the same scene-referred radiance.
+#[test]
+fn the_window_shows_the_display_transform() {
+    let x = Xvfb::start();
+    let dir = scratch("display");
+    let shot = dir.join("view.png");
+    let out = dir.join("render.png");
+    let shared = [
+        "--scene",
+        "cornell",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--foveation",
+        "off",
+        "--spp",
+        "2",
+        "--seed",
+        "5",
+        "--exposure",
+        "1.5",
+        "--tonemap",
+        "pbr-neutral",
+    ];
+    let text = view(
+        &x,
+        &dir,
+        &[
+            &shared[..],
+            &["--frames", "1", "--screenshot", shot.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    render(&[&shared[..], &["--out", out.to_str().unwrap()]].concat());
+    let png = |p: &Path| std::fs::read(p.with_extension("png")).unwrap();
+    assert!(
+        png(&shot) == png(&out),
+        "the viewer's PNG differs from fovea render's"
+    );
+    let (a, b) = (
+        read_exr(&shot.with_extension("exr")),
+        read_exr(&out.with_extension("exr")),
+    );
+    assert!(
+        a == b,
+        "the viewer's linear image differs from fovea render's"
+    );
+    assert!(
+        text.contains("display: PbrNeutral at +1.5 EV (a display pass before presenting)"),
+        "{text}"
+    );
+}

@@ -1115,3 +1115,85 @@ fn each_frame_shows_the_trackers_newest_sample_at_its_latch_and_a_slow_composito
     assert_eq!(session["latency"]["missed_frames"], 11);
     assert!(out.contains("frames missed: 11"), "{out}");
 }
+
+/// The headset shows the scene through the display transform (`--exposure`, `--tonemap`), as
+/// `fovea render`'s PNG does for the same frame; without it, the same frame clipped.
+#[test]
+fn the_headset_shows_the_display_transform() {
+    let dir = scratch("display");
+    let session = ["--simulated", "--frames", "2", "--scene", "cornell"];
+    let frame = ["--foveation", "off", "--spp", "4"];
+    let display = ["--exposure", "2", "--tonemap", "pbr-neutral"];
+    let size = [("SIM_HEADSET_SIZE", "48x48")];
+    let one_frame = ["--temporal", "off"];
+    let (ok, out) = xr(
+        &dir,
+        &[&session[..], &frame, &one_frame, &display].concat(),
+        &size,
+    );
+    assert!(ok, "{out}");
+    let shown = [
+        read_png(&last_image(&dir, 0)),
+        read_png(&last_image(&dir, 1)),
+    ];
+    // The session's last frame (index 1) used seed 1 + 1.
+    let render_png = dir.join("render.png");
+    let view = [
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--stereo",
+        "--fov",
+        "vive-pro-eye",
+    ];
+    let out_arg = ["--seed", "2", "--out", render_png.to_str().unwrap()];
+    let (ok, out) = common::fovea(
+        &[
+            &["render", "--scene", "cornell"],
+            &view[..],
+            &frame,
+            &display,
+            &out_arg,
+        ]
+        .concat(),
+    );
+    assert!(ok, "{out}");
+    let (_, _, rendered) = read_png(&render_png);
+    let clipped_png = dir.join("clipped.png");
+    let clipped_arg = ["--seed", "2", "--out", clipped_png.to_str().unwrap()];
+    let (ok, out) = common::fovea(
+        &[
+            &["render", "--scene", "cornell"],
+            &view[..],
+            &frame,
+            &clipped_arg,
+        ]
+        .concat(),
+    );
+    assert!(ok, "{out}");
+    let (_, _, clipped) = read_png(&clipped_png);
+    for (eye, (_, _, rgba)) in shown.iter().enumerate() {
+        let (mut worst, mut unlike_clipped) = (0i32, 0);
+        for y in 12..36usize {
+            for x in 12..36usize {
+                let a = &rgba[(y * 48 + x) * 4..][..3];
+                let at = (y * 96 + eye * 48 + x) * 4;
+                let (b, c) = (&rendered[at..][..3], &clipped[at..][..3]);
+                for k in 0..3 {
+                    worst = worst.max((a[k] as i32 - b[k] as i32).abs());
+                }
+                unlike_clipped += (0..3).any(|k| (a[k] as i32 - c[k] as i32).abs() > 8) as u32;
+            }
+        }
+        // sRGB encoding by the blit (hardware) and by the PNG writer may round apart by one.
+        assert!(
+            worst <= 1,
+            "eye {eye}: differs from fovea render by up to {worst}/255"
+        );
+        assert!(
+            unlike_clipped > 100,
+            "eye {eye}: only {unlike_clipped} pixels unlike clipping"
+        );
+    }
+}

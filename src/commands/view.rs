@@ -104,6 +104,8 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value_t = PresentArg::Fastest)]
     pub present: PresentArg,
     #[command(flatten)]
+    pub display: super::DisplayArgs,
+    #[command(flatten)]
     pub gpu: GpuArgs,
 }
 
@@ -144,6 +146,7 @@ impl ViewArgs {
         let gpu = self.gpu.options();
         Ok(ViewerOptions {
             scene: self.scene.clone(),
+            display: self.display.choice(),
             window_size: [self.width, self.height],
             render_scale: self.scale,
             stereo: self.stereo,
@@ -185,6 +188,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let summary = viewer::run(options).context("fovea view")?;
     println!("device: {}", summary.device);
     println!("swapchain: {}", summary.swapchain);
+    println!("display: {}", summary.display);
     println!(
         "frames: {} ({} rendered, {} presented, {} not shown), swapchain recreated {} times, {} frame(s) in the final running mean",
         summary.frames,

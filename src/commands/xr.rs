@@ -79,6 +79,8 @@ pub struct XrArgs {
     #[arg(long, value_name = "FILE")]
     pub record_gaze: Option<PathBuf>,
     #[command(flatten)]
+    pub display: super::DisplayArgs,
+    #[command(flatten)]
     pub gpu: GpuArgs,
 }
 
@@ -118,6 +120,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
         stop,
         frames_in_flight: args.frames_in_flight as usize,
         temporal: (args.temporal == OnOff::On).then(fovea::render::TemporalSettings::default),
+        display: args.display.transform(&args.scene),
     };
     if args.probe {
         return probe(args, options);

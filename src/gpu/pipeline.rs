@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 /// The bindings that are storage images and those that are uniform texel buffers (see
 /// TexelView); all others are storage buffers.
-const IMAGE_BINDINGS: [u32; 2] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES];
+const IMAGE_BINDINGS: [u32; 3] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES, BINDING_DISPLAY];
 const TEXEL_BINDINGS: [u32; 8] = [
     BINDING_NODES,
     BINDING_TRIANGLES,

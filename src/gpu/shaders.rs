@@ -17,3 +17,4 @@ pub const RESOLVE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/resolve.spv
 pub const ACCUMULATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));
 pub const TEMPORAL: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/temporal.spv"));
 pub const DENOISE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/denoise.spv"));
+pub const DISPLAY: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/display.spv"));

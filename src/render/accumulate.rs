@@ -4,6 +4,8 @@
 //! must be rendered with seed `seed + n` (see [`frame_seed`]); the mean of `N` frames of `s`
 //! samples per pixel is then an estimate with `N·s` samples per pixel.
 
+use super::display::DisplayTransform;
+use super::display_stage::DisplayStage;
 use super::graph::FrameGraph;
 use super::request::EyeView;
 use super::RenderError;
@@ -152,6 +154,37 @@ impl Accumulator {
         let pushes = pushes(request, self.counts[index as usize]);
         self.record(request, &pushes)?;
         self.counts[index as usize] += 1;
+        Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
+    }
+
+    /// A display stage for `transform` that [`Self::show`] can run (None: the blit alone
+    /// shows the same).
+    pub fn display_stage(
+        &self,
+        transform: DisplayTransform,
+    ) -> Result<Option<DisplayStage>, RenderError> {
+        DisplayStage::for_transform(&self.ctx, &self.layout, transform)
+    }
+
+    /// Runs `stage` on `frame` (what the last `add` left there, or a frame as rendered) and
+    /// waits: its image is then what a window shows. Returns the pass's GPU milliseconds.
+    pub fn show(
+        &mut self,
+        frame: &StorageImage,
+        stage: &mut DisplayStage,
+    ) -> Result<f64, RenderError> {
+        stage.ensure_image(&self.ctx, frame)?;
+        let (ctx, layout) = (&self.ctx, &self.layout);
+        let (descriptors, timestamps) = (&mut self.descriptors, &mut self.timestamps);
+        let mut recorded = Ok(());
+        ctx.submit_and_wait("display", |cmd| {
+            recorded =
+                FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps).and_then(|mut g| {
+                    stage.record(&mut g, frame);
+                    g.finish()
+                });
+        })?;
+        recorded?;
         Ok(self.timestamps.read()?.iter().map(|p| p.ms).sum())
     }
 

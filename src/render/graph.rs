@@ -283,6 +283,11 @@ impl Recorder<'_> {
         });
     }
 
+    /// Commands that are not timed (a layout transition).
+    pub fn untimed(&mut self, work: impl FnOnce(vk::CommandBuffer)) {
+        work(self.cmd);
+    }
+
     /// Timed commands other than dispatches (copies).
     pub fn timed(&mut self, name: &str, work: impl FnOnce(vk::CommandBuffer)) {
         let cmd = self.cmd;

@@ -6,6 +6,7 @@ mod brdf_probe;
 mod compose;
 mod counters;
 pub mod display;
+pub mod display_stage;
 mod eye_params;
 mod frame;
 mod graph;

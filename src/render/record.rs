@@ -106,9 +106,10 @@ impl Renderer {
             slot,
         };
         let frame_slot = &mut self.ring.slots[slot];
+        let display = self.display.as_ref().filter(|_| targets.output.is_some());
         frame_slot
             .timestamps
-            .ensure_passes(passes.timed_passes(traced))?;
+            .ensure_passes(passes.timed_passes(traced) + display.is_some() as u32)?;
         let (ctx, layout) = (&self.ctx, &self.pipelines.layout);
         let mut recorded = Ok(());
         let commands = ctx.record_owned("frame", |cmd| {
@@ -117,9 +118,14 @@ impl Renderer {
             recorded =
                 FrameGraph::begin(ctx, cmd, layout, descriptors, timestamps).and_then(|mut g| {
                     record_passes(&passes, &mut g, traced);
+                    let mut shown = targets.output.as_ref();
+                    if let (Some(stage), Some(output)) = (display, shown) {
+                        stage.record(&mut g, output);
+                        shown = stage.image();
+                    }
                     // The caller's commands (a copy into a swapchain image), which order
-                    // their own reads of the output image.
-                    if let (Some(after), Some(image)) = (after, &targets.output) {
+                    // their own reads of the image shown.
+                    if let (Some(after), Some(image)) = (after, shown) {
                         after(cmd, image);
                     }
                     passes.collect_counters(&mut g);

@@ -5,6 +5,8 @@
 //! record.rs; the ray-cast probe, probe.rs. One way in renders a frame: [`Renderer::frame`].
 
 use super::counters::FrameCounters;
+use super::display::DisplayTransform;
+use super::display_stage::DisplayStage;
 use super::frame::Frame;
 use super::history::{History, HistoryKey, TemporalSettings};
 use super::in_flight::FrameRing;
@@ -38,6 +40,8 @@ pub struct Renderer {
     pub(super) traversal: Traversal,
     /// Whether frames also land in an image (`output_image`).
     output_image: bool,
+    /// The display transform of what is presented (`set_display`), where it needs a pass.
+    pub(super) display: Option<DisplayStage>,
     pub(super) ctx: Arc<GpuContext>,
 }
 
@@ -57,6 +61,7 @@ impl Renderer {
             profile_traversal: false,
             traversal: Traversal::preferred(ctx),
             output_image: false,
+            display: None,
             ctx: ctx.clone(),
         })
     }
@@ -114,6 +119,21 @@ impl Renderer {
     /// default: rendering to files and measuring frames need no image.
     pub fn set_output_image(&mut self, on: bool) {
         self.output_image = on;
+    }
+
+    /// From the next frame on, what is presented (`shown_image`, and the image the frame's
+    /// `after` commands get) is the output image through `transform` (glsl/display.comp).
+    pub fn set_display(&mut self, transform: DisplayTransform) -> Result<(), RenderError> {
+        self.display = DisplayStage::for_transform(&self.ctx, &self.pipelines.layout, transform)?;
+        Ok(())
+    }
+
+    /// What a window or headset shows of the last frame: the output image through the display
+    /// transform (display-referred linear RGB in [0, 1]), or the output image itself where the
+    /// transform needs no pass.
+    pub fn shown_image(&self) -> Option<&StorageImage> {
+        let display = self.display.as_ref().and_then(DisplayStage::image);
+        display.or_else(|| self.output_image())
     }
 
     /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL
@@ -239,6 +259,11 @@ impl Renderer {
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
             image: self.output_image,
         })?;
+        if let (Some(stage), Some(output)) = (&mut self.display, self.targets.current()) {
+            if let Some(frame) = &output.output {
+                stage.ensure_image(&self.ctx, frame)?;
+            }
+        }
         let (eyes, size) = (request.eyes.len(), [s.width, s.height]);
         if self.visibility.needs_upload(eyes, size, request.foveation) {
             // The buffer is replaced: no frame in flight may still read it.

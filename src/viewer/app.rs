@@ -46,7 +46,7 @@ pub fn run(options: ViewerOptions) -> Result<ViewSummary, ViewError> {
     let validation = ctx.validation_log();
     let eyes = if options.stereo { 2 } else { 1 };
     let aspect = options.window_size[0] as f32 / eyes as f32 / options.window_size[1] as f32;
-    let session = Session::new(&ctx, &options.scene, aspect)?;
+    let session = Session::new(&ctx, &options.scene, aspect, options.display)?;
     let device = format!(
         "{} ({}; {}; {} traversal)",
         ctx.info.name,
@@ -194,6 +194,7 @@ impl App {
             self.save_screenshot(&path)?;
         }
         self.summary.accumulated = self.session.accumulated();
+        self.summary.display = self.session.display_description();
         event_loop.exit();
         Ok(())
     }

@@ -5,6 +5,7 @@ use super::script::Script;
 use crate::foveation::gaze_trace::GazeTrace;
 use crate::foveation::{FoveationConfig, GazeChoice};
 use crate::gpu::{GpuOptions, PresentPreference};
+use crate::render::display::DisplayChoice;
 use crate::render::{FovChoice, Integrator};
 use std::path::PathBuf;
 
@@ -75,6 +76,8 @@ pub enum Refine {
 pub struct ViewerOptions {
     /// A built-in scene name or a .gltf/.glb path.
     pub scene: String,
+    /// Exposure and tone mapper of the window (each scene's transform follows from it).
+    pub display: DisplayChoice,
     /// The window's inner size at start, in pixels.
     pub window_size: [u32; 2],
     /// Render resolution relative to the window (each eye's image is scaled to its half in

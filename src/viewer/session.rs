@@ -7,7 +7,8 @@ use super::options::{DebugMode, Refine};
 use crate::foveation::FoveationConfig;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
-use crate::render::display::DisplayTransform;
+use crate::render::display::{DisplayChoice, DisplayTransform};
+use crate::render::display_stage::DisplayStage;
 use crate::render::FrameOptions;
 use crate::render::{
     output, DebugView, EyeView, Frame, FrameRequest, FrameStats, RenderSettings, Renderer,
@@ -21,6 +22,14 @@ pub struct Session {
     // Field order is drop order: GPU resources before the context.
     renderer: Renderer,
     accumulator: Accumulator,
+    /// The display transform's pass, where the scene's transform needs one.
+    display: Option<DisplayStage>,
+    /// What the window shows of the scene-referred image (`choice` gives each scene's), and
+    /// whether the last frame's image went through it (the image and temporal views do; the
+    /// debug views are shown as made).
+    choice: DisplayChoice,
+    transform: DisplayTransform,
+    displayed: bool,
     /// Frames rendered with the temporal history (its seeds: the settings' seed + this).
     temporal_frames: u32,
     pub raycaster: CpuRaycaster,
@@ -72,13 +81,25 @@ fn presenting_renderer(ctx: &Arc<GpuContext>, scene: &Scene) -> Result<Renderer,
 }
 
 impl Session {
-    /// Loads `scene` for eyes of aspect `aspect` and uploads it.
-    pub fn new(ctx: &Arc<GpuContext>, scene: &str, aspect: f32) -> Result<Self, ViewError> {
-        let scene = crate::scene::load(scene, aspect)?;
+    /// Loads `scene` for eyes of aspect `aspect` and uploads it; the window shows each scene
+    /// through the transform `display` gives it.
+    pub fn new(
+        ctx: &Arc<GpuContext>,
+        name: &str,
+        aspect: f32,
+        display: DisplayChoice,
+    ) -> Result<Self, ViewError> {
+        let scene = crate::scene::load(name, aspect)?;
         let renderer = presenting_renderer(ctx, &scene)?;
+        let accumulator = Accumulator::new(ctx)?;
+        let transform = display.transform(name);
         Ok(Self {
             renderer,
-            accumulator: Accumulator::new(ctx)?,
+            display: accumulator.display_stage(transform)?,
+            accumulator,
+            choice: display,
+            transform,
+            displayed: false,
             temporal_frames: 0,
             raycaster: CpuRaycaster::new(&scene),
             scene,
@@ -87,8 +108,11 @@ impl Session {
     }
 
     /// Replaces the scene (the running mean restarts with the next frame).
-    pub fn load_scene(&mut self, scene: &str, aspect: f32) -> Result<(), ViewError> {
-        let scene = crate::scene::load(scene, aspect)?;
+    pub fn load_scene(&mut self, name: &str, aspect: f32) -> Result<(), ViewError> {
+        let scene = crate::scene::load(name, aspect)?;
+        self.transform = self.choice.transform(name);
+        self.display = self.accumulator.display_stage(self.transform)?;
+        self.displayed = false;
         self.renderer = presenting_renderer(&self.ctx, &scene)?;
         self.raycaster = CpuRaycaster::new(&scene);
         self.scene = scene;
@@ -153,6 +177,11 @@ impl Session {
             DebugMode::Heat => Show::Heat,
         };
         let mut accumulate_ms = self.accumulate(p, Mean::Main, show)?;
+        self.displayed = false;
+        let display_ms = match show == Show::Mean {
+            true => self.show_through_display()?,
+            false => 0.0,
+        };
         if p.debug == DebugMode::Difference {
             // The same view rendered regularly at the innermost layer's spp and the same seed,
             // accumulated alongside: in the fovea the two are bit-identical.
@@ -188,6 +217,9 @@ impl Session {
             .flat_map(|s| s.pass_ms.iter().cloned())
             .collect();
         passes.push(("accumulate".into(), accumulate_ms));
+        if self.displayed {
+            passes.push(("display".into(), display_ms));
+        }
         Ok(FrameCost {
             passes,
             rays: stats.iter().map(|s| s.rays).sum(),
@@ -216,7 +248,12 @@ impl Session {
                 FrameOptions::measure(),
             )
             .map(Option::unwrap)?;
-        let s = frame.stats;
+        let mut s = frame.stats;
+        self.displayed = false;
+        let display_ms = self.show_through_display()?;
+        if self.displayed {
+            s.pass_ms.push(("display".into(), display_ms));
+        }
         Ok(FrameCost {
             passes: s.pass_ms,
             rays: s.rays,
@@ -240,14 +277,39 @@ impl Session {
         })?)
     }
 
+    /// Runs the display transform on the frame image, where it needs a pass; returns its
+    /// GPU milliseconds.
+    fn show_through_display(&mut self) -> Result<f64, ViewError> {
+        let (Some(stage), Some(frame)) = (&mut self.display, self.renderer.output_image()) else {
+            return Ok(0.0);
+        };
+        let ms = self.accumulator.show(frame, stage)?;
+        self.displayed = true;
+        Ok(ms)
+    }
+
+    /// The window's display transform, in words.
+    pub fn display_description(&self) -> String {
+        let t = self.transform;
+        let pass = match self.display.is_some() {
+            true => "a display pass before presenting",
+            false => "clipped by the swapchain's sRGB encoding",
+        };
+        format!("{:?} at {:+} EV ({pass})", t.tonemap, t.exposure)
+    }
+
     /// The image shown after the last frame (eyes side by side, linear RGBA), if any.
     pub fn shown(&self) -> Option<&StorageImage> {
-        self.renderer.output_image()
+        let display = self.display.as_ref().and_then(DisplayStage::image);
+        match self.displayed {
+            true => display,
+            false => self.renderer.output_image(),
+        }
     }
 
     /// Writes the image shown as `fovea render` writes its frames (PNG + linear EXR, or EXR).
     pub fn screenshot(&self, path: &Path) -> Result<Vec<PathBuf>, ViewError> {
-        let image = self.shown().ok_or_else(|| {
+        let image = self.renderer.output_image().ok_or_else(|| {
             ViewError::Input(format!(
                 "no frame has been shown yet, so there is nothing to save as '{}'",
                 path.display()
@@ -266,7 +328,12 @@ impl Session {
             gazes: Vec::new(),
             stats: FrameStats::default(),
         };
-        // The window shows the frame clipped (the blit's conversion), so the screenshot too.
-        Ok(output::write_frame(&frame, path, &DisplayTransform::CLAMP)?)
+        // The PNG shows what the window does: the image through the display transform, or a
+        // debug view clipped (the blit's conversion); the EXR stays scene-referred.
+        let transform = match self.displayed {
+            true => self.transform,
+            false => DisplayTransform::CLAMP,
+        };
+        Ok(output::write_frame(&frame, path, &transform)?)
     }
 }

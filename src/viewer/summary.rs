@@ -18,6 +18,8 @@ pub struct ViewSummary {
     pub device: String,
     /// The swapchain's format and present mode.
     pub swapchain: String,
+    /// What the window showed of the last scene's radiance (exposure, tone mapper).
+    pub display: String,
     /// What the validation layer reported (nothing without validation), read after the GPU
     /// context is gone so that leaks reported at destruction are in it.
     pub validation_messages: Vec<String>,

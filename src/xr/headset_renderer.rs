@@ -50,6 +50,7 @@ impl<'a> HeadsetRenderer<'a> {
         renderer.set_output_image(true);
         renderer.set_frames_in_flight(options.frames_in_flight)?;
         renderer.set_temporal(options.temporal)?;
+        renderer.set_display(options.display)?;
         Ok(Self {
             renderer,
             submitted: VecDeque::new(),

@@ -3,6 +3,7 @@
 use super::instance::RuntimeSource;
 use crate::foveation::FoveationConfig;
 use crate::gpu::GpuOptions;
+use crate::render::display::DisplayTransform;
 use crate::render::{DebugView, RenderSettings, TemporalSettings};
 use crate::scene::Scene;
 use std::sync::atomic::AtomicBool;
@@ -35,4 +36,6 @@ pub struct XrOptions {
     pub frames_in_flight: usize,
     /// Temporal history (`Renderer::set_temporal`); None: off.
     pub temporal: Option<TemporalSettings>,
+    /// What the swapchains show of the scene-referred frames (exposure, tone mapper).
+    pub display: DisplayTransform,
 }
