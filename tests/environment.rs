@@ -268,3 +268,43 @@ fn importance_sampling_cuts_the_error_where_the_light_is_concentrated() {
         );
     }
 }
+
+#[test]
+fn bad_environment_files_are_refused_with_what_to_do() {
+    let dir = common::test_dir("env-bad-input");
+    let write = |name: &str, w: u32, h: u32, value: f32| {
+        let path = dir.join(name);
+        let rgb = vec![value; (3 * w * h) as usize];
+        fovea::render::output::write_rgb_exr(&path, w, h, &rgb).unwrap();
+        path
+    };
+    let garbage = dir.join("garbage.exr");
+    std::fs::write(&garbage, b"not an image at all").unwrap();
+    let cases = [
+        (write("square.exr", 8, 8, 1.0), "twice as wide"),
+        (write("nan.exr", 8, 4, f32::NAN), "NaN or infinite"),
+        (garbage, "not a readable OpenEXR image"),
+        (
+            dir.join("sky.png"),
+            "must be an equirectangular .exr or .hdr",
+        ),
+        (dir.join("missing.hdr"), "cannot open it"),
+    ];
+    for (path, says) in cases {
+        let (ok, text) = common::fovea(&[
+            "render",
+            "--scene",
+            "cornell",
+            "--env",
+            path.to_str().unwrap(),
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--out",
+            common::SCRATCH_PNG,
+        ]);
+        assert!(!ok, "{}: accepted\n{text}", path.display());
+        assert!(text.contains(says), "{}: {text}", path.display());
+    }
+}

@@ -12,7 +12,8 @@ punctual-lights.glb -- and builds the Mitsuba scene from it:
   at the image's first texel);
 - glTF's metallic-roughness BRDF (the specification's Appendix B, as glsl/gltf_brdf.glsl has
   it: GGX with alpha = roughness^2, height-correlated Smith visibility, Schlick Fresnel with
-  F0 = 0.04 for the dielectric, whose Lambertian base is weighted by 1 - F) as a Python BSDF,
+  F0 = mix(0.04, base, metallic), a Lambertian base(1 - metallic) weighted by 1 - F) as a
+  Python BSDF,
   sampled by a cosine lobe (unbiased; slow only for glossy surfaces, so keep the compared
   scenes rough), base colour textures as Mitsuba `bitmap`s (sRGB, nearest or bilinear as the
   glTF sampler says, no mipmaps: compare scenes whose textures are read at level 0);
@@ -141,8 +142,11 @@ class GltfBrdf(mi.BSDF):
         schlick = dr.power(1 - v_h, 5)
         f0 = dr.lerp(mi.Color3f(0.04), base, self.metallic)
         f = f0 + (1 - f0) * schlick
-        f_dielectric = 0.04 + 0.96 * schlick
-        diffuse = (1 - f_dielectric) * (1 - self.metallic) * base / dr.pi
+        # The base is weighted by 1 - F with F0 = mix(0.04, base, metallic), as
+        # glsl/gltf_brdf.glsl and the glTF specification's sample implementation have it (its
+        # mix(dielectric, metal, metallic) form weighs it by the dielectric's 1 - F instead;
+        # the two differ only for 0 < metallic < 1).
+        diffuse = (1 - f) * (1 - self.metallic) * base / dr.pi
         value = diffuse + f * d * vis
         return dr.select(valid, value, 0.0), n_l
 

@@ -6,6 +6,7 @@ use super::motion::script::MotionScript;
 use crate::foveation::FoveationConfig;
 use crate::render::display::DisplayChoice;
 use crate::render::{FovChoice, Integrator, Traversal};
+use crate::scene::env_choice::EnvChoice;
 use serde::{Deserialize, Serialize};
 
 /// The thesis' five scenes (§3.1.1–3.1.4), in its order.
@@ -99,6 +100,10 @@ pub struct BenchPlan {
     /// plan.json when neither was given (each scene's default tone mapper).
     #[serde(default, skip_serializing_if = "DisplayChoice::is_default")]
     pub display: DisplayChoice,
+    /// `--env` and its options: the environment every scene is lit by. Absent from plan.json
+    /// without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<EnvChoice>,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -148,6 +153,7 @@ impl BenchPlan {
             traversal: Traversal::Software,
             motion: None,
             display: DisplayChoice::default(),
+            environment: None,
         }
     }
 

@@ -132,6 +132,7 @@ impl BenchArgs {
              spp => spp, integrator => integrator, max_bounces => max_bounces, seed => seed,
              reference_spp => reference_spp, sweep_spp => sweep_spp, sweep_frames => sweep_frames);
         plan.display = self.display.choice();
+        plan.environment = fovea::scene::env_choice::chosen().cloned();
         if let Some(f) = &self.foveation {
             plan.foveation = FoveationConfig::from_arg(f)?.ok_or_else(|| {
                 anyhow::anyhow!(
@@ -180,7 +181,10 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
                     given.join(", ")
                 );
             }
-            (bench::read_plan(dir)?, dir.clone())
+            let plan = bench::read_plan(dir)?;
+            fovea::scene::env_choice::adopt(plan.environment.as_ref())
+                .map_err(anyhow::Error::msg)?;
+            (plan, dir.clone())
         }
         None => {
             let dir = args

@@ -2,12 +2,11 @@
 //! every scene in place of its sky (fovea::scene::env_map, env_choice).
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use anyhow::Result;
 use clap::Args;
-use fovea::scene::env_choice::set_environment;
-use fovea::scene::{EnvSampling, EnvironmentLight, EnvironmentMap};
+use fovea::scene::env_choice::{set_environment, EnvChoice};
+use fovea::scene::EnvSampling;
 
 #[derive(Args, Clone, Debug)]
 pub struct EnvArgs {
@@ -35,29 +34,23 @@ impl EnvArgs {
             return Ok(());
         };
         let started = std::time::Instant::now();
-        let map = EnvironmentMap::load(path)?;
-        // Lossy EXR compression (Blender's own environments are DWAB) leaves a few slightly
-        // negative texels: set to 0 and said, not refused.
-        if map.clamped_negative > 0 {
-            tracing::info!(
-                "{}: {} negative texel(s) set to 0",
-                path.display(),
-                map.clamped_negative
-            );
-        }
-        tracing::info!(
-            "{}: {} × {} read in {:.0} ms",
-            path.display(),
-            map.width,
-            map.height,
-            started.elapsed().as_secs_f64() * 1e3
-        );
-        set_environment(EnvironmentLight {
-            map: Arc::new(map),
+        let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+        let clamped = set_environment(EnvChoice {
+            path: path.clone(),
             rotate_deg: self.env_rotate,
             intensity: self.env_intensity,
             sampling: self.env_sampling,
-        });
+        })?;
+        // Lossy EXR compression (Blender's own environments are DWAB) leaves a few slightly
+        // negative texels: set to 0 and said, not refused.
+        if clamped > 0 {
+            tracing::info!("{}: {clamped} negative texel(s) set to 0", path.display());
+        }
+        tracing::info!(
+            "{}: read in {:.0} ms",
+            path.display(),
+            started.elapsed().as_secs_f64() * 1e3
+        );
         Ok(())
     }
 }

@@ -126,6 +126,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
             .map(|p| FoveationConfig::load(p))
             .collect::<Result<_, _>>()?,
         display: args.display.choice(),
+        environment: fovea::scene::env_choice::chosen().cloned(),
     };
     let files = TuneFiles::new(&args.out);
     let cache = args.reference_cache.clone().unwrap_or_else(|| {

@@ -9,7 +9,18 @@ use super::env_map::EnvironmentLight;
 use super::lights::luminance;
 
 /// How next-event estimation chooses environment texels.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum EnvSampling {
     /// In proportion to luminance × sin θ: where the light comes from.
     #[default]

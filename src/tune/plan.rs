@@ -5,6 +5,7 @@ use super::space::Space;
 use crate::foveation::{Gaze, ImageGeometry};
 use crate::render::display::DisplayChoice;
 use crate::render::{FovChoice, Integrator, Traversal};
+use crate::scene::env_choice::EnvChoice;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -100,6 +101,9 @@ pub struct TunePlan {
     /// `--exposure` and `--tonemap`: what FovVideoVDP is shown of each scene.
     #[serde(default, skip_serializing_if = "DisplayChoice::is_default")]
     pub display: DisplayChoice,
+    /// `--env` and its options. Absent from the plan without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<EnvChoice>,
 }
 
 impl TunePlan {

@@ -119,6 +119,7 @@ mod tests {
             space: Space::standard(),
             include: vec![FoveationConfig::thesis().with_spp(8)],
             display: Default::default(),
+            environment: None,
         }
     }
 
