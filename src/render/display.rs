@@ -6,8 +6,6 @@
 //! `pbr-neutral` is the Khronos PBR Neutral tone mapper (2024), the default for glTF scenes,
 //! whose sunlit highlights would otherwise burn out to white.
 
-use super::output::linear_to_srgb;
-
 /// How radiance past the display's white is brought into range.
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
@@ -120,6 +118,29 @@ pub fn pbr_neutral(rgb: [f32; 3]) -> [f32; 3] {
     let new_peak = 1.0 - d * d / (peak + d - START);
     let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
     c.map(|v| v * new_peak / peak * (1.0 - g) + new_peak * g)
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1].
+pub fn linear_to_srgb(v: f32) -> f32 {
+    let v = if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The 8-bit sRGB encoding of linear values, as our PNGs store them (and as FLIP and the
+/// bench's pictures see them).
+pub fn linear_to_srgb8(linear: &[f32]) -> Vec<u8> {
+    linear
+        .iter()
+        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
+        .collect()
 }
 
 #[cfg(test)]

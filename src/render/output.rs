@@ -12,28 +12,8 @@ fn output_error(path: &Path, problem: impl std::fmt::Display) -> RenderError {
     }
 }
 
-/// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1].
-pub fn linear_to_srgb(v: f32) -> f32 {
-    let v = if v.is_finite() {
-        v.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// The 8-bit sRGB encoding of linear values, as our PNGs store them (and as FLIP and the
-/// bench's pictures see them).
-pub fn linear_to_srgb8(linear: &[f32]) -> Vec<u8> {
-    linear
-        .iter()
-        .map(|&v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)
-        .collect()
-}
+// The sRGB encodings live with the display transform; callers know them from here too.
+pub use super::display::{linear_to_srgb, linear_to_srgb8};
 
 pub fn write_png(
     frame: &Frame,

@@ -43,7 +43,28 @@ pub struct EnvironmentLight {
     /// Multiplies every texel.
     pub intensity: f32,
     /// How next-event estimation picks directions of it.
-    pub sampling: super::env_sampling::EnvSampling,
+    pub sampling: EnvSampling,
+}
+
+/// How next-event estimation chooses environment texels.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnvSampling {
+    /// In proportion to luminance × sin θ: where the light comes from.
+    #[default]
+    Importance,
+    /// In proportion to sin θ alone: directions uniform over the sphere (for comparison).
+    Uniform,
 }
 
 impl EnvironmentMap {

@@ -5,28 +5,42 @@
 //! pmf[k] · W·H / (2π² sin θ).
 
 use super::alias_table::AliasTable;
-use super::env_map::EnvironmentLight;
+use super::env_map::{EnvSampling, EnvironmentLight};
 use super::lights::luminance;
 
-/// How next-event estimation chooses environment texels.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    clap::ValueEnum,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum EnvSampling {
-    /// In proportion to luminance × sin θ: where the light comes from.
-    #[default]
-    Importance,
-    /// In proportion to sin θ alone: directions uniform over the sphere (for comparison).
-    Uniform,
+/// A scene's environment as the GPU layout takes it: texels (empty without one), size and turn.
+pub struct GpuEnvironment {
+    pub texels: Vec<[u32; 4]>,
+    pub width: u32,
+    pub height: u32,
+    pub rotate_deg: f32,
+}
+
+impl GpuEnvironment {
+    pub fn of(env: Option<&EnvironmentLight>) -> Self {
+        let Some(env) = env else {
+            return Self {
+                texels: Vec::new(),
+                width: 0,
+                height: 0,
+                rotate_deg: 0.0,
+            };
+        };
+        let started = std::time::Instant::now();
+        let texels = environment_texels(env);
+        tracing::info!(
+            "environment {} × {}: radiance and sampling table built in {:.1} ms",
+            env.map.width,
+            env.map.height,
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        Self {
+            texels,
+            width: env.map.width,
+            height: env.map.height,
+            rotate_deg: env.rotate_deg,
+        }
+    }
 }
 
 /// The GPU's texels of `env`: two per environment texel, rows from the top. First

@@ -2,10 +2,11 @@
 //! all objects (TLAS), triangles and objects reordered into their BVH's leaf order (so a leaf's
 //! primitive index is a direct array index), materials, and the emitter list for NEE.
 
-use super::env_sampling::environment_texels;
+use super::area_emitters::{collect_emitters, emits_unevenly};
+use super::env_sampling::GpuEnvironment;
 use super::gpu_materials::{gpu_material, surface_flags};
 use super::light_selection::add_lights_and_select_by_power;
-use super::{Material, Mesh, Scene, SceneError, SceneFeatures};
+use super::{Mesh, Scene, SceneError, SceneFeatures};
 use crate::shader_layout::*;
 use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -284,11 +285,7 @@ impl GpuScene {
         let mut emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
         let has_map = scene.environment_map.is_some();
         let env_pmf = add_lights_and_select_by_power(&mut emitters, &scene.lights, has_map);
-        let (environment, env_width, env_height) = match &scene.environment_map {
-            Some(map) => (environment_texels(map), map.map.width, map.map.height),
-            None => (Vec::new(), 0, 0),
-        };
-        let rotate = scene.environment_map.as_ref().map_or(0.0, |m| m.rotate_deg);
+        let environment = GpuEnvironment::of(scene.environment_map.as_ref());
 
         let env = &scene.environment;
         let info = GpuSceneInfo {
@@ -300,10 +297,10 @@ impl GpuScene {
             tlas_node_count: tlas_nodes.len() as u32,
             // The renderer uploads the BLAS nodes and then the TLAS's into one buffer.
             tlas_root: blas_nodes.len() as u32,
-            env_width,
-            env_height,
-            env_rotate_cos: rotate.to_radians().cos(),
-            env_rotate_sin: rotate.to_radians().sin(),
+            env_width: environment.width,
+            env_height: environment.height,
+            env_rotate_cos: environment.rotate_deg.to_radians().cos(),
+            env_rotate_sin: environment.rotate_deg.to_radians().sin(),
             env_pmf,
             ..Default::default()
         };
@@ -323,7 +320,7 @@ impl GpuScene {
             objects,
             materials,
             emitters,
-            environment,
+            environment: environment.texels,
             info,
             features,
         })
@@ -433,92 +430,6 @@ pub(crate) fn transform_aabb(aabb: &Aabb, m: Mat4) -> Aabb {
         out.extend(m.transform_point3(corner).into());
     }
     out
-}
-
-/// Emission that varies across the surface, which next-event estimation (one radiance per
-/// emitter, over its whole area) does not know: an emissive texture, or alpha that cuts
-/// holes in the emitter.
-fn emits_unevenly(m: &Material) -> bool {
-    matches!(m, Material::MetallicRoughness(m)
-        if m.textures.emissive.is_some() || m.coverage.cuts_out())
-}
-
-/// Emissive objects become NEE emitters: every world-space triangle of an emissive instance
-/// (in the same leaf order as TRIANGLES, so hit triangle → emitter is an offset), and each
-/// emissive box or sphere. Sets `GpuObject::emitter` to the first emitter of each object.
-fn collect_emitters(
-    objects: &mut [GpuObject],
-    triangles: &[GpuTriangle],
-    materials: &[Material],
-) -> Vec<GpuEmitter> {
-    let mut emitters = Vec::new();
-    for (index, ob) in objects.iter_mut().enumerate() {
-        let m = &materials[ob.material as usize];
-        // Uneven emission is found by BRDF sampling alone, with weight 1 (unbiased; noisier
-        // for small bright ones).
-        if !m.is_emissive() || emits_unevenly(m) {
-            continue;
-        }
-        ob.emitter = emitters.len() as u32;
-        let emission = |area: f32| v4(m.emission(), area);
-        match ob.kind {
-            KIND_INSTANCE => {
-                let to_world = Mat4::from_cols_array_2d(&[
-                    ob.object_to_world0,
-                    ob.object_to_world1,
-                    ob.object_to_world2,
-                    [0.0, 0.0, 0.0, 1.0],
-                ])
-                .transpose();
-                let mirrored = to_world.determinant() < 0.0;
-                let first = ob.triangle_base as usize;
-                for t in &triangles[first..first + ob.triangle_count as usize] {
-                    let p = |v: [f32; 4]| to_world.transform_point3(Vec3::new(v[0], v[1], v[2]));
-                    // A mirroring transform reverses the winding; swap two vertices so the
-                    // emitter's front side stays the image of the object's front side, as the
-                    // shaders' inverse-transpose normals (and glTF's winding rule) have it.
-                    let (a, b, c) = if mirrored {
-                        (p(t.v0), p(t.v2), p(t.v1))
-                    } else {
-                        (p(t.v0), p(t.v1), p(t.v2))
-                    };
-                    let area = 0.5 * (b - a).cross(c - a).length();
-                    emitters.push(GpuEmitter {
-                        p0: v4(a, 0.0),
-                        p1: v4(b, 0.0),
-                        p2: v4(c, 0.0),
-                        emission: emission(area.max(1e-30)),
-                        kind: KIND_TRIANGLE,
-                        object: index as u32,
-                        ..Default::default()
-                    });
-                }
-            }
-            KIND_BOX => {
-                let e = Vec3::from_slice(&ob.b[..3]) - Vec3::from_slice(&ob.a[..3]);
-                let area = 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
-                emitters.push(GpuEmitter {
-                    p0: ob.a,
-                    p1: ob.b,
-                    emission: emission(area.max(1e-30)),
-                    kind: KIND_BOX,
-                    object: index as u32,
-                    ..Default::default()
-                });
-            }
-            _ => {
-                let r = ob.a[3];
-                emitters.push(GpuEmitter {
-                    p0: ob.a,
-                    emission: emission(4.0 * std::f32::consts::PI * r * r),
-                    kind: KIND_SPHERE,
-                    object: index as u32,
-                    ..Default::default()
-                });
-            }
-        }
-    }
-    emitters
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! the GPU layout, and the feature flags that let shaders skip what a scene does not need.
 
 mod alias_table;
+mod area_emitters;
 pub mod builtin;
 mod camera_path;
 pub mod cpu_raycast;
@@ -28,8 +29,7 @@ pub mod validate;
 
 pub use camera_path::{CameraPath, CameraPathError, CameraPose};
 pub use cpu_raycast::CpuRaycaster;
-pub use env_map::{EnvironmentLight, EnvironmentMap};
-pub use env_sampling::EnvSampling;
+pub use env_map::{EnvSampling, EnvironmentLight, EnvironmentMap};
 pub use error::SceneError;
 pub use features::SceneFeatures;
 pub use lights::{LightKind, PunctualLight};

@@ -74,18 +74,7 @@ pub fn validate(scene: &Scene) -> Result<(), SceneError> {
             c.position, c.forward, c.up
         )));
     }
-    for (i, light) in scene.lights.iter().enumerate() {
-        if let Some(problem) = light.problem() {
-            return Err(invalid(format!("light {i}: {problem}")));
-        }
-        if light.intensity.max_element() > MAX_EMISSION {
-            return Err(invalid(format!(
-                "light {i}: intensity {} is above {MAX_EMISSION:e} (it would overflow 32-bit \
-                 floats); scale the lights and the exposure down together",
-                light.intensity
-            )));
-        }
-    }
+    check_lights(scene).map_err(invalid)?;
     let e = &scene.environment;
     for (what, v) in [
         ("zenith", e.zenith),
@@ -96,6 +85,23 @@ pub fn validate(scene: &Scene) -> Result<(), SceneError> {
             return Err(invalid(format!(
                 "the sky's {what} radiance {v} must be finite, ≥ 0 and ≤ {MAX_EMISSION:e}"
             )));
+        }
+    }
+    Ok(())
+}
+
+/// Each punctual light as the extension allows it, and no brighter than floats can carry.
+fn check_lights(scene: &Scene) -> Result<(), String> {
+    for (i, light) in scene.lights.iter().enumerate() {
+        if let Some(problem) = light.problem() {
+            return Err(format!("light {i}: {problem}"));
+        }
+        if light.intensity.max_element() > MAX_EMISSION {
+            return Err(format!(
+                "light {i}: intensity {} is above {MAX_EMISSION:e} (it would overflow 32-bit \
+                 floats); scale the lights and the exposure down together",
+                light.intensity
+            ));
         }
     }
     Ok(())
