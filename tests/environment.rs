@@ -308,3 +308,28 @@ fn bad_environment_files_are_refused_with_what_to_do() {
         assert!(text.contains(says), "{}: {text}", path.display());
     }
 }
+
+#[test]
+fn a_black_environment_is_no_light_for_next_event_estimation() {
+    use fovea::scene::gpu_layout::GpuScene;
+    use fovea::shader_layout::KIND_ENVIRONMENT;
+    let camera = Camera::look_at(Vec3::Y, Vec3::ZERO, Vec3::NEG_Z, 60.0, 1.0);
+    for (value, intensity, is_light) in [(0.0, 1.0, false), (1.0, 0.0, false), (1.0, 1.0, true)] {
+        let map =
+            EnvironmentMap::from_texels(Path::new("e.exr"), 8, 4, vec![Vec3::splat(value); 32]);
+        let mut env = light(map.unwrap(), 0.0, EnvSampling::Importance);
+        env.intensity = intensity;
+        let mut s = scene(camera, env);
+        s.meshes.push(fovea::check::scale::quad());
+        s.materials.push(Material::diffuse(Vec3::splat(0.5)));
+        s.instances.push(Instance {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        });
+        let gpu = GpuScene::build(&s).unwrap();
+        let found = gpu.emitters.iter().any(|e| e.kind == KIND_ENVIRONMENT);
+        assert_eq!(found, is_light, "texels {value}, intensity {intensity}");
+        assert_eq!(gpu.info.env_pmf > 0.0, is_light);
+    }
+}

@@ -283,7 +283,11 @@ impl GpuScene {
         };
         let mut objects = objects;
         let mut emitters = collect_emitters(&mut objects, &triangles, &scene.materials);
-        let has_map = scene.environment_map.is_some();
+        // A black environment (all texels 0, or intensity 0) is no light: a share of the shadow
+        // rays would be spent on it for nothing.
+        let has_map = (scene.environment_map.as_ref()).is_some_and(|m| {
+            m.intensity > 0.0 && m.map.texels.iter().any(|t| t.max_element() > 0.0)
+        });
         let env_pmf = add_lights_and_select_by_power(&mut emitters, &scene.lights, has_map);
         let environment = GpuEnvironment::of(scene.environment_map.as_ref());
 
