@@ -431,3 +431,30 @@ fn non_finite_gaze_falls_back_to_the_view_axis_on_the_cli() {
         "{text}"
     );
 }
+
+#[test]
+fn an_environment_that_does_not_fit_says_so_with_its_size() {
+    let sunset = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/env/sunset.exr");
+    let text = fails_with(
+        &[
+            "render",
+            "--scene",
+            "cornell",
+            "--env",
+            sunset,
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--out",
+            common::SCRATCH_PNG,
+        ],
+        &[("FOVEA_GPU_MEMORY_LIMIT", "12M")],
+        &[
+            "not enough GPU memory for scene 'cornell'",
+            "environment 16.00 MiB",
+            "a smaller --env",
+        ],
+    );
+    assert!(!text.contains("gpu pass"), "no frame may run:\n{text}");
+}

@@ -333,3 +333,80 @@ fn a_black_environment_is_no_light_for_next_event_estimation() {
         assert_eq!(gpu.info.env_pmf > 0.0, is_light);
     }
 }
+
+/// A scene that mixes every kind of light (emissive panel, point, spot, sun, environment)
+/// renders through the foveated layers and, along a camera path, with the temporal history,
+/// with nothing new: the fovea of a foveated frame is the regular frame's, pixel for pixel
+/// (same seed and spp), and four still frames of history have the regular image's mean.
+#[test]
+fn foveated_and_temporal_frames_take_every_kind_of_light() {
+    let dir = common::test_dir("env-foveated");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/gltf/punctual-lights.glb"
+    );
+    let courtyard = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/env/courtyard.exr");
+    let path = dir.join("path.csv");
+    let still: String = (0..4).map(|k| format!("{k},0,0,0,0,0,0\n")).collect();
+    std::fs::write(
+        &path,
+        format!("frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n{still}"),
+    )
+    .unwrap();
+    let render = |name: &str, extra: &[&str]| -> Vec<[f32; 3]> {
+        let out = dir.join(name);
+        let target = match name {
+            "temporal" => out.clone(),
+            _ => out.with_extension("exr"),
+        };
+        let args = [
+            &["render", "--scene", scene, "--env", courtyard][..],
+            &["--width", "64", "--height", "64", "--seed", "3"],
+            extra,
+            &["--out", target.to_str().unwrap()],
+        ]
+        .concat();
+        let (ok, text) = common::fovea(&args);
+        assert!(ok, "{name}: {text}");
+        let exr = match name {
+            "temporal" => out.join("frame_0003.exr"),
+            _ => target,
+        };
+        let image = exr::prelude::read_first_rgba_layer_from_file(
+            exr,
+            |size, _| vec![[0.0f32; 3]; size.width() * size.height()],
+            |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                px[pos.y() * 64 + pos.x()] = [r, g, b];
+            },
+        )
+        .unwrap();
+        let px = image.layer_data.channel_data.pixels;
+        assert!(px.iter().flatten().all(|c| c.is_finite()), "{name}");
+        px
+    };
+    let regular = render("regular", &["--spp", "16"]);
+    let foveated = render(
+        "foveated",
+        &["--foveation", "thesis", "--gaze", "32,32", "--spp", "16"],
+    );
+    // The fovea (6° of a 45° view: about 8 pixels around the gaze) is traced at every pixel.
+    for (y, x) in (28..36).flat_map(|y| (28..36).map(move |x| (y, x))) {
+        assert_eq!(
+            foveated[y * 64 + x],
+            regular[y * 64 + x],
+            "pixel ({x}, {y})"
+        );
+    }
+    let mean = |px: &[[f32; 3]]| {
+        px.iter().flatten().map(|&c| c as f64).sum::<f64>() / (3 * px.len()) as f64
+    };
+    let history = render(
+        "temporal",
+        &["--spp", "16", "--camera-path", path.to_str().unwrap()],
+    );
+    let (m, r) = (mean(&history), mean(&regular));
+    assert!(
+        (m - r).abs() < 0.03 * r,
+        "four frames of history: mean {m}, regular {r}"
+    );
+}

@@ -73,7 +73,7 @@ impl SceneBuffers {
         ctx.check_memory(
             &format!("scene '{}'", scene.name),
             &plan,
-            "simplify the scene (fewer or smaller meshes and textures)",
+            "simplify the scene (fewer or smaller meshes and textures, a smaller --env)",
         )?;
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes);
         let nodes = upload("bvh nodes", bytemuck::cast_slice(&gpu.nodes()))?;
