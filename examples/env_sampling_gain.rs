@@ -55,6 +55,7 @@ fn floor_and_sphere(map: &Arc<EnvironmentMap>, sampling: EnvSampling) -> Scene {
             intensity: 1.0,
             sampling,
         }),
+        light_selection: Default::default(),
     }
 }
 

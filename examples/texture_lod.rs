@@ -85,6 +85,7 @@ fn floor() -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

@@ -21,6 +21,11 @@ struct Cli {
     max_texture_size: Option<u32>,
     #[command(flatten)]
     env: commands::EnvArgs,
+    /// How next-event estimation picks lights: `power` (local lights by power, each sun or
+    /// environment an equal share beside them) or `uniform` (every emitter alike; for
+    /// comparison).
+    #[arg(long, global = true, value_enum, default_value_t = fovea::scene::LightSelection::Power)]
+    light_selection: fovea::scene::LightSelection,
 }
 
 #[derive(Subcommand)]
@@ -62,6 +67,7 @@ fn main() {
     if let Some(n) = cli.max_texture_size {
         fovea::scene::texture_size::set_max_texture_size(n);
     }
+    fovea::scene::light_selection::set_light_selection(cli.light_selection);
     if let Err(e) = cli.env.apply() {
         eprintln!("error: {e}");
         std::process::exit(1);

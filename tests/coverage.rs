@@ -53,6 +53,7 @@ fn scene(instances: Vec<Instance>, materials: Vec<Material>) -> Scene {
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -266,6 +267,7 @@ fn shadow_scene(card: Mesh, card_material: Material, textures: Vec<Texture>) -> 
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

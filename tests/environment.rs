@@ -29,6 +29,7 @@ fn scene(camera: Camera, env: EnvironmentLight) -> Scene {
         environment: Environment::black(),
         lights: vec![],
         environment_map: Some(env),
+        light_selection: Default::default(),
     }
 }
 

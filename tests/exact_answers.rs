@@ -21,6 +21,7 @@ fn empty_scene(name: &str, camera: Camera, environment: Environment) -> Scene {
         environment,
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

@@ -261,6 +261,7 @@ fn round_trip_scene() -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -837,6 +838,7 @@ fn textured_round_trip_scene() -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

@@ -35,6 +35,7 @@ fn plane_under(lights: Vec<PunctualLight>) -> Scene {
         environment: Environment::black(),
         lights,
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

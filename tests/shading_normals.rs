@@ -29,6 +29,7 @@ fn one_object(name: &str, mesh: Option<Mesh>, environment: Environment) -> Scene
         environment,
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     };
     match mesh {
         Some(mesh) => {

@@ -67,6 +67,7 @@ fn scene(material: MetallicRoughness, texture: Texture) -> Scene {
         environment: Environment::uniform(Vec3::ONE),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -359,6 +360,7 @@ fn checker_floor(repeats: f32, mipmaps: bool) -> Scene {
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -566,6 +568,7 @@ fn a_normal_map_tilts_shading_as_geometry_would() {
         },
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     };
     let ctx = common::context();
     let mean = |scene: &Scene| {

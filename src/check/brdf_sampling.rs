@@ -48,6 +48,7 @@ pub fn probe_renderer(
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     };
     Renderer::new(ctx, &scene)
 }

@@ -96,6 +96,7 @@ pub(super) fn furnace_scene(material: Material, triangles: bool) -> Scene {
         environment: Environment::uniform(Vec3::ONE),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     };
     if triangles {
         scene.meshes = vec![icosphere(3), degenerate_triangles()];

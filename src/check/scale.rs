@@ -80,6 +80,7 @@ pub fn plane_scene(lighting: Lighting) -> Scene {
         environment: Environment::uniform(Vec3::splat(LIGHT_RADIANCE)),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     };
     if lighting == Lighting::EnclosingEmitter {
         scene.environment = Environment::black();

@@ -200,5 +200,6 @@ fn single_mesh_scene(placed: &Placed) -> Scene {
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }

@@ -76,6 +76,7 @@ pub fn control(aspect: f32) -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -136,6 +137,7 @@ fn bunny_scene(name: &str, mesh: Mesh, aspect: f32) -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -215,6 +217,7 @@ pub fn cubes_441(aspect: f32) -> Scene {
         environment: Environment::sky(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -303,6 +306,7 @@ pub fn mirror_room(aspect: f32) -> Scene {
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 
@@ -424,6 +428,7 @@ pub fn cornell(aspect: f32) -> Scene {
         environment: Environment::black(),
         lights: Vec::new(),
         environment_map: None,
+        light_selection: Default::default(),
     }
 }
 

@@ -407,6 +407,7 @@ mod tests {
             environment: Environment::black(),
             lights: Vec::new(),
             environment_map: None,
+            light_selection: Default::default(),
         }
     }
 

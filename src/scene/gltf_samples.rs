@@ -327,6 +327,7 @@ impl SampleBuilder {
                 environment: Environment::black(),
                 lights: Vec::new(),
                 environment_map: None,
+                light_selection: Default::default(),
             },
         }
     }

@@ -288,7 +288,12 @@ impl GpuScene {
         let has_map = (scene.environment_map.as_ref()).is_some_and(|m| {
             m.intensity > 0.0 && m.map.texels.iter().any(|t| t.max_element() > 0.0)
         });
-        let env_pmf = add_lights_and_select_by_power(&mut emitters, &scene.lights, has_map);
+        let env_pmf = add_lights_and_select_by_power(
+            &mut emitters,
+            &scene.lights,
+            has_map,
+            scene.light_selection,
+        );
         let environment = GpuEnvironment::of(scene.environment_map.as_ref());
 
         let env = &scene.environment;
@@ -502,6 +507,7 @@ mod tests {
             environment: Environment::black(),
             lights: Vec::new(),
             environment_map: None,
+            light_selection: Default::default(),
         }
     }
 

@@ -448,6 +448,8 @@ pub struct Scene {
     pub lights: Vec<super::PunctualLight>,
     /// An HDR environment that replaces `environment` (the gradient sky) where given.
     pub environment_map: Option<super::EnvironmentLight>,
+    /// How next-event estimation weighs the lights (by power, or uniformly for comparison).
+    pub light_selection: super::LightSelection,
 }
 
 impl Scene {

@@ -207,6 +207,7 @@ fn scene_from_bytes(
         environment: Environment::sky(),
         lights: walked.lights,
         environment_map: None,
+        light_selection: Default::default(),
     })
 }
 
