@@ -10,13 +10,15 @@ use std::path::Path;
 use std::sync::Arc;
 
 use fovea::gpu::{GpuContext, GpuOptions};
-use fovea::render::{regular_frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::lights::luminance;
 use fovea::scene::{
     Camera, EnvSampling, Environment, EnvironmentLight, EnvironmentMap, Instance, Material, Scene,
     Sphere,
 };
 use glam::{Mat4, Vec3};
+use shared::{arg, relative_error, render_rgb};
+
+mod shared;
 
 const ENVIRONMENTS: [&str; 8] = [
     "city",
@@ -73,13 +75,6 @@ fn concentration(map: &EnvironmentMap) -> f64 {
     weights.iter().take(40).sum::<f64>() / total
 }
 
-fn arg(name: &str, default: u32) -> u32 {
-    let args: Vec<String> = std::env::args().collect();
-    (args.iter().position(|a| a == name))
-        .and_then(|i| args.get(i + 1)?.parse().ok())
-        .unwrap_or(default)
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (size, spp, reference_spp) = (
         arg("--size", 24),
@@ -87,26 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         arg("--reference-spp", 4096),
     );
     let ctx = Arc::new(GpuContext::new(&GpuOptions::default())?);
-    let render =
-        |scene: &Scene, spp: u32, seed: u32| -> Result<Vec<f32>, Box<dyn std::error::Error>> {
-            let mut renderer = Renderer::new(&ctx, scene)?;
-            let settings = RenderSettings {
-                width: size,
-                height: size,
-                spp,
-                seed,
-                integrator: Integrator::Pt,
-                max_bounces: 8,
-            };
-            Ok(regular_frame(&mut renderer, &scene.camera, &settings)?.rgb)
-        };
-    let relative_error = |image: &[f32], reference: &[f32]| {
-        let num: f64 = (image.iter().zip(reference))
-            .map(|(a, b)| ((a - b) as f64).powi(2))
-            .sum();
-        let den: f64 = reference.iter().map(|b| (*b as f64).powi(2)).sum();
-        (num / den).sqrt()
-    };
+    let render = |scene: &Scene, spp, seed| render_rgb(&ctx, scene, size, spp, seed);
     println!("{size}×{size}, {spp} spp against {reference_spp} spp (importance sampled)");
     println!("| environment | light in 40 brightest texels | rel. error, importance | rel. error, uniform | ratio |");
     println!("|---|---:|---:|---:|---:|");

@@ -9,10 +9,12 @@
 use std::sync::Arc;
 
 use fovea::gpu::{GpuContext, GpuOptions};
-use fovea::render::{regular_frame, Integrator, RenderSettings, Renderer};
 use fovea::scene::gltf_samples::punctual_lights;
 use fovea::scene::{LightKind, LightSelection, PunctualLight, Scene};
 use glam::Vec3;
+use shared::{arg, relative_error, render_rgb};
+
+mod shared;
 
 /// punctual-lights' geometry lit by one bright warm point light and 50 dim tinted ones on a
 /// spiral around it (0.02–0.2 cd; the bright one (20, 15, 10) cd).
@@ -48,34 +50,14 @@ fn many_lights() -> Scene {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let size: u32 = (args.iter().position(|a| a == "--size"))
-        .and_then(|i| args.get(i + 1)?.parse().ok())
-        .unwrap_or(128);
+    let size = arg("--size", 128);
     let ctx = Arc::new(GpuContext::new(&GpuOptions::default())?);
-    let render =
-        |scene: &Scene, selection, spp, seed| -> Result<Vec<f32>, Box<dyn std::error::Error>> {
-            let scene = Scene {
-                light_selection: selection,
-                ..scene.clone()
-            };
-            let mut renderer = Renderer::new(&ctx, &scene)?;
-            let settings = RenderSettings {
-                width: size,
-                height: size,
-                spp,
-                seed,
-                integrator: Integrator::Pt,
-                max_bounces: 8,
-            };
-            Ok(regular_frame(&mut renderer, &scene.camera, &settings)?.rgb)
+    let render = |scene: &Scene, selection, spp, seed| {
+        let scene = Scene {
+            light_selection: selection,
+            ..scene.clone()
         };
-    let relative_error = |image: &[f32], reference: &[f32]| {
-        let num: f64 = (image.iter().zip(reference))
-            .map(|(a, b)| ((a - b) as f64).powi(2))
-            .sum();
-        let den: f64 = reference.iter().map(|b| (*b as f64).powi(2)).sum();
-        (num / den).sqrt()
+        render_rgb(&ctx, &scene, size, spp, seed)
     };
     let mean = |image: &[f32]| image.iter().map(|&v| v as f64).sum::<f64>() / image.len() as f64;
     let sample = fovea::scene::load(

@@ -1,0 +1,45 @@
+//! What the measuring examples share: a square regular frame of a scene, its error against a
+//! reference, and their command-line numbers.
+
+use std::sync::Arc;
+
+use fovea::gpu::GpuContext;
+use fovea::render::{regular_frame, Integrator, RenderSettings, Renderer};
+use fovea::scene::Scene;
+
+/// The linear RGB of a `size` × `size` regular frame of `scene` (path tracer, 8 bounces).
+pub fn render_rgb(
+    ctx: &Arc<GpuContext>,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+    seed: u32,
+) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
+    let mut renderer = Renderer::new(ctx, scene)?;
+    let settings = RenderSettings {
+        width: size,
+        height: size,
+        spp,
+        seed,
+        integrator: Integrator::Pt,
+        max_bounces: 8,
+    };
+    Ok(regular_frame(&mut renderer, &scene.camera, &settings)?.rgb)
+}
+
+/// sqrt(Σ (image − reference)² / Σ reference²) over every pixel and channel.
+pub fn relative_error(image: &[f32], reference: &[f32]) -> f64 {
+    let num: f64 = (image.iter().zip(reference))
+        .map(|(a, b)| ((a - b) as f64).powi(2))
+        .sum();
+    let den: f64 = reference.iter().map(|b| (*b as f64).powi(2)).sum();
+    (num / den).sqrt()
+}
+
+/// The number after `name` on the command line, or `default`.
+pub fn arg(name: &str, default: u32) -> u32 {
+    let args: Vec<String> = std::env::args().collect();
+    (args.iter().position(|a| a == name))
+        .and_then(|i| args.get(i + 1)?.parse().ok())
+        .unwrap_or(default)
+}
