@@ -64,8 +64,14 @@ fn scratch(name: &str) -> common::TestDir {
 /// session; fails the test unless it succeeds. Returns everything it printed.
 fn view(x: &Xvfb, dir: &Path, args: &[&str]) -> String {
     let started = std::time::Instant::now();
+    // These tests check the running mean of still frames unless they ask for a --refine.
+    let refine: &[&str] = match args.contains(&"--refine") {
+        true => &[],
+        false => &["--refine", "foveated"],
+    };
     let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
         .arg("view")
+        .args(refine)
         .args(args)
         .current_dir(dir)
         .env("DISPLAY", &x.display)
@@ -645,4 +651,29 @@ fn the_window_shows_the_display_transform() {
         text.contains("display: PbrNeutral at +1.5 EV (a display pass before presenting)"),
         "{text}"
     );
+}
+
+/// By default the viewer shows what the headset shows: the temporal history, no running mean.
+#[test]
+fn the_viewer_shows_the_temporal_history_by_default() {
+    let x = Xvfb::start();
+    let dir = scratch("default-refine");
+    let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
+        .args([
+            "view", "--scene", "cornell", "--width", "48", "--height", "32", "--frames", "3",
+        ])
+        .current_dir(&*dir)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("FOVEA_VALIDATION", "1")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{text}");
+    assert_eq!(
+        accumulated(&text),
+        0,
+        "a running mean instead of the history:\n{text}"
+    );
+    assert!(text.contains("refine: temporal history"), "{text}");
 }

@@ -85,10 +85,11 @@ pub struct ViewArgs {
     /// The debug view at start (V cycles).
     #[arg(long, value_enum)]
     pub debug: Option<ViewDebugArg>,
-    /// What still frames add to the running mean: foveated frames (the mean converges to
-    /// the foveated image) or, after the first, regular ones (it converges to the reference);
-    /// or no mean but the temporal history, moving or not (the image view).
-    #[arg(long, value_enum, default_value_t = RefineArg::Foveated)]
+    /// What the image view shows: the temporal history (the default: what the headset
+    /// shows, moving or not), or a running mean of still frames: foveated frames (the mean
+    /// converges to the foveated image) or, after the first, regular ones (it converges to
+    /// the reference).
+    #[arg(long, value_enum, default_value_t = RefineArg::Temporal)]
     pub refine: RefineArg,
     /// End after this many frames.
     #[arg(long)]
@@ -189,6 +190,14 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     println!("device: {}", summary.device);
     println!("swapchain: {}", summary.swapchain);
     println!("display: {}", summary.display);
+    println!(
+        "refine: {}",
+        match args.refine {
+            RefineArg::Temporal => "temporal history (what the headset shows)",
+            RefineArg::Foveated => "running mean of still foveated frames",
+            RefineArg::Regular => "running mean of still frames, regular after the first",
+        }
+    );
     println!(
         "frames: {} ({} rendered, {} presented, {} not shown), swapchain recreated {} times, {} frame(s) in the final running mean",
         summary.frames,
