@@ -76,6 +76,9 @@ fn on_wayland_one_frame_equals_render_and_a_resize_is_clean() {
     let view = |args: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_fovea"))
             .arg("view")
+            // One frame of a running mean is the rendered frame itself (the default, the
+            // temporal history, traces with its lattice shift).
+            .args(["--refine", "foveated"])
             .args(args)
             .current_dir(&dir)
             .env("XDG_RUNTIME_DIR", &weston.runtime_dir)
