@@ -183,33 +183,9 @@ impl Session {
             false => 0.0,
         };
         if p.debug == DebugMode::Difference {
-            // The same view rendered regularly at the innermost layer's spp and the same seed,
-            // accumulated alongside: in the fovea the two are bit-identical.
-            let regular = FoveationConfig::regular(settings.spp);
-            frames.push(
-                self.renderer
-                    .frame(
-                        &FrameRequest {
-                            settings: RenderSettings {
-                                seed: self.accumulator.next_seed(base_seed, Mean::Regular),
-                                ..settings
-                            },
-                            foveation: &regular,
-                            eyes: p.eyes,
-                            debug: DebugView::None,
-                        },
-                        FrameOptions::measure(),
-                    )
-                    .map(Option::unwrap)?,
-            );
-            accumulate_ms += self.accumulate(
-                &FrameParams {
-                    foveation: &regular,
-                    ..*p
-                },
-                Mean::Regular,
-                Show::Difference,
-            )?;
+            let (regular, ms) = self.regular_alongside(p, settings)?;
+            frames.push(regular);
+            accumulate_ms += ms;
         }
         let stats: Vec<&FrameStats> = frames.iter().map(|f| &f.stats).collect();
         let mut passes: Vec<(String, f64)> = stats
@@ -226,6 +202,35 @@ impl Session {
             nonfinite_samples: stats.iter().map(|s| s.nonfinite_samples).sum(),
             stack_overflows: stats.iter().map(|s| s.stack_overflows).sum(),
         })
+    }
+
+    /// The difference view's other half: the same view rendered regularly at the innermost
+    /// layer's spp and the same seed, accumulated alongside (in the fovea the two are
+    /// bit-identical). Returns the frame and the accumulation's GPU ms.
+    fn regular_alongside(
+        &mut self,
+        p: &FrameParams,
+        settings: RenderSettings,
+    ) -> Result<(Frame, f64), ViewError> {
+        let regular = FoveationConfig::regular(settings.spp);
+        let request = FrameRequest {
+            settings: RenderSettings {
+                seed: (self.accumulator).next_seed(p.settings.seed, Mean::Regular),
+                ..settings
+            },
+            foveation: &regular,
+            eyes: p.eyes,
+            debug: DebugView::None,
+        };
+        let frame = (self.renderer)
+            .frame(&request, FrameOptions::measure())
+            .map(Option::unwrap)?;
+        let p = &FrameParams {
+            foveation: &regular,
+            ..*p
+        };
+        let ms = self.accumulate(p, Mean::Regular, Show::Difference)?;
+        Ok((frame, ms))
     }
 
     /// A frame of the image view with the temporal history: shown as rendered, no mean.
