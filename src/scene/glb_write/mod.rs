@@ -178,20 +178,21 @@ pub fn glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     let object = root
         .as_object_mut()
         .ok_or_else(|| invalid("internal: root is not an object".into()))?;
-    if !materials.is_empty() {
-        object.insert("materials".into(), Value::Array(materials));
+    // Arrays glTF forbids empty are left out (meshes and accessors, images, samplers and
+    // textures, buffer views come and go together).
+    let arrays = [
+        ("materials", materials),
+        ("meshes", meshes),
+        ("accessors", accessors),
+        ("images", images),
+        ("samplers", samplers),
+        ("textures", textures),
+        ("bufferViews", views),
+    ];
+    for (key, array) in arrays.into_iter().filter(|(_, a)| !a.is_empty()) {
+        object.insert(key.into(), Value::Array(array));
     }
-    if !meshes.is_empty() {
-        object.insert("meshes".into(), Value::Array(meshes));
-        object.insert("accessors".into(), Value::Array(accessors));
-    }
-    if !textures.is_empty() {
-        object.insert("images".into(), Value::Array(images));
-        object.insert("samplers".into(), Value::Array(samplers));
-        object.insert("textures".into(), Value::Array(textures));
-    }
-    if !views.is_empty() {
-        object.insert("bufferViews".into(), Value::Array(views));
+    if !bin.is_empty() {
         object.insert("buffers".into(), json!([{ "byteLength": bin.len() }]));
     }
     if !lights.is_empty() {
