@@ -67,7 +67,7 @@ fn main() {
     if let Some(n) = cli.max_texture_size {
         fovea::scene::texture_size::set_max_texture_size(n);
     }
-    fovea::scene::light_selection::set_light_selection(cli.light_selection);
+    fovea::scene::light_choice::set_light_selection(cli.light_selection);
     if let Err(e) = cli.env.apply() {
         eprintln!("error: {e}");
         std::process::exit(1);

@@ -4,37 +4,10 @@
 //! the number of lights. Its buckets live in the emitters themselves
 //! (`GpuEmitter::keep`, `alias`), with each emitter's probability (`pmf`) for MIS weights. The directional lights come last.
 
-use std::sync::OnceLock;
-
 use super::alias_table::AliasTable;
-use super::lights::{luminance, LightKind, PunctualLight};
+use super::lights::{luminance, LightKind, LightSelection, PunctualLight};
 use crate::shader_layout::*;
 use glam::Vec3;
-
-/// How next-event estimation weighs the lights it picks from.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum LightSelection {
-    /// Local lights by power, each light at infinity with an equal share beside them.
-    #[default]
-    Power,
-    /// Every emitter equally likely (for comparison).
-    Uniform,
-}
-
-static CHOICE: OnceLock<LightSelection> = OnceLock::new();
-
-/// `--light-selection`: the weighing of every scene loaded from now on. Returns false when one
-/// was set already (the first stays).
-pub fn set_light_selection(choice: LightSelection) -> bool {
-    CHOICE.set(choice).is_ok()
-}
-
-/// Gives `scene` the weighing chosen for the process, if one was.
-pub fn apply(scene: &mut super::Scene) {
-    if let Some(choice) = CHOICE.get() {
-        scene.light_selection = *choice;
-    }
-}
 
 /// Appends the scene's punctual lights (those that emit anything) to the area emitters and
 /// builds the table over all of them. Local lights (area, point, spot) are picked by power

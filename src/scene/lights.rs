@@ -132,6 +132,16 @@ impl PunctualLight {
     }
 }
 
+/// How next-event estimation weighs the lights it picks from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum LightSelection {
+    /// Local lights by power, each light at infinity with an equal share beside them.
+    #[default]
+    Power,
+    /// Every emitter equally likely (for comparison).
+    Uniform,
+}
+
 /// Rec. 709 luminance of linear RGB.
 pub fn luminance(rgb: Vec3) -> f32 {
     rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))

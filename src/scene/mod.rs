@@ -18,7 +18,8 @@ pub mod gltf_load;
 pub mod gltf_samples;
 pub mod gpu_layout;
 mod gpu_materials;
-pub mod light_selection;
+pub mod light_choice;
+mod light_selection;
 pub mod lights;
 pub mod mipmaps;
 pub mod shapes;
@@ -32,8 +33,7 @@ pub use cpu_raycast::CpuRaycaster;
 pub use env_map::{EnvSampling, EnvironmentLight, EnvironmentMap};
 pub use error::SceneError;
 pub use features::SceneFeatures;
-pub use light_selection::LightSelection;
-pub use lights::{LightKind, PunctualLight};
+pub use lights::{LightKind, LightSelection, PunctualLight};
 pub use types::*;
 
 /// Whether a scene named on the command line is a .gltf/.glb file (else a built-in name).
@@ -48,7 +48,7 @@ pub fn is_scene_file(name_or_path: &str) -> bool {
 pub fn load(name_or_path: &str, aspect: f32) -> Result<Scene, SceneError> {
     let mut scene = load_own(name_or_path, aspect)?;
     env_choice::apply(&mut scene);
-    light_selection::apply(&mut scene);
+    light_choice::apply(&mut scene);
     Ok(scene)
 }
 
