@@ -34,9 +34,9 @@ vec4 env_texel(int col, int row) {
     return fetch_vec4(environment_texels, 2 * (row * int(scene_info.env_width) + col));
 }
 
-vec3 env_radiance(vec3 d) {
+// The radiance at the map's (u, t): bilinear between texel centres.
+vec3 env_radiance(vec2 ut) {
     int w = int(scene_info.env_width), h = int(scene_info.env_height);
-    vec2 ut = env_uv(d);
     vec2 at = ut * vec2(w, h) - 0.5;
     vec2 f = fract(at);
     ivec2 c0 = ivec2(floor(at));
@@ -56,23 +56,23 @@ float env_density(float pmf, float t) {
     return sin_theta > 0.0 ? pmf * texels / (2.0 * PI * PI * sin_theta) : 0.0;
 }
 
-// The density with which env_sample picks direction d.
-float env_pdf(vec3 d) {
-    vec2 ut = env_uv(d);
+// The density with which env_sample picks the direction at the map's (u, t).
+float env_pdf(vec2 ut) {
     int col = min(int(ut.x * float(scene_info.env_width)), int(scene_info.env_width) - 1);
     int row = min(int(ut.y * float(scene_info.env_height)), int(scene_info.env_height) - 1);
     return env_density(env_texel(col, row).w, ut.y);
 }
 
 // A direction toward the environment: a texel chosen by the alias table (u.x the bucket, u.y
-// keep-or-alias), then (u.z, u_row) a uniform point in it. `pdf` is its solid-angle density.
-vec3 env_sample(vec3 u, float u_row, out float pdf) {
+// keep-or-alias), then (u.z, u_row) a uniform point in it, at the map's `ut`. `pdf` is its
+// solid-angle density.
+vec3 env_sample(vec3 u, float u_row, out vec2 ut, out float pdf) {
     uint texels = scene_info.env_width * scene_info.env_height;
     uint bucket = min(uint(u.x * float(texels)), texels - 1u);
     uvec2 b = texelFetch(environment_texels, int(2u * bucket + 1u)).xy;
     uint k = u.y < uintBitsToFloat(b.y) ? bucket : b.x;
     uint col = k % scene_info.env_width, row = k / scene_info.env_width;
-    vec2 ut = vec2((float(col) + u.z) / float(scene_info.env_width),
+    ut = vec2((float(col) + u.z) / float(scene_info.env_width),
                    (float(row) + u_row) / float(scene_info.env_height));
     pdf = env_density(env_texel(int(col), int(row)).w, ut.y);
     return env_direction(ut);

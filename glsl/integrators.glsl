@@ -15,10 +15,9 @@ float power_heuristic(float a, float b) {
     return a2 / (a2 + b * b);
 }
 
-// The sky: the HDR environment where the scene has one, else the gradient (ground below the
-// horizon, horizon -> zenith above it).
-vec3 environment(vec3 d) {
-    if (HAS_ENV_MAP) return env_radiance(d);
+// The gradient sky of a scene without an HDR environment: ground below the horizon,
+// horizon -> zenith above it.
+vec3 gradient_sky(vec3 d) {
     float y = d.y / max(length(d), 1e-30);
     if (y >= 0.0) return mix(scene_info.sky_horizon.xyz, scene_info.sky_zenith.xyz, y);
     return mix(scene_info.sky_horizon.xyz, scene_info.sky_ground.xyz, min(1.0, -8.0 * y));
@@ -156,11 +155,15 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
         // An environment map is also a light for next-event estimation (pt): a BRDF sample
         // that finds it takes its MIS weight. Camera rays and mirror bounces (prev_delta,
         // and every seed path) take it whole.
-        float w = 1.0;
-        if (HAS_ENV_MAP && !p.prev_delta) {
-            w = power_heuristic(p.prev_pdf, scene_info.env_pmf * env_pdf(p.d));
+        vec3 sky;
+        if (HAS_ENV_MAP) {
+            vec2 ut = env_uv(p.d);
+            sky = env_radiance(ut);
+            if (!p.prev_delta) sky *= power_heuristic(p.prev_pdf, scene_info.env_pmf * env_pdf(ut));
+        } else {
+            sky = gradient_sky(p.d);
         }
-        p.L += p.throughput * environment(p.d) * w;
+        p.L += p.throughput * sky;
         p.done = true;
         return false;
     }
@@ -255,11 +258,12 @@ vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint ra
     vec3 shadow_seg;
     if (HAS_ENV_MAP && e.kind == KIND_ENVIRONMENT) {
         float env_density;
-        wi = env_sample(u, rng_next(rng), env_density);
+        vec2 ut;
+        wi = env_sample(u, rng_next(rng), ut, env_density);
         float light_pdf = e.pmf * env_density;
         if (!(light_pdf > 0.0)) return vec3(0.0);
         float bpdf = material_pdf(s.m, wo, wi, n);
-        arriving = env_radiance(wi) * (power_heuristic(light_pdf, bpdf) / light_pdf);
+        arriving = env_radiance(ut) * (power_heuristic(light_pdf, bpdf) / light_pdf);
     } else if (is_punctual(e.kind)) {
         PunctualArrival a = punctual_arrival(e, s.p);
         wi = a.wi;

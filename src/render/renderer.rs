@@ -121,19 +121,11 @@ impl Renderer {
         self.output_image = on;
     }
 
-    /// From the next frame on, what is presented (`shown_image`, and the image the frame's
-    /// `after` commands get) is the output image through `transform` (glsl/display.comp).
+    /// From the next frame on, the image the frame's `after` commands get (what a headset
+    /// presents) is the output image through `transform` (glsl/display.comp).
     pub fn set_display(&mut self, transform: DisplayTransform) -> Result<(), RenderError> {
         self.display = DisplayStage::for_transform(&self.ctx, &self.pipelines.layout, transform)?;
         Ok(())
-    }
-
-    /// What a window or headset shows of the last frame: the output image through the display
-    /// transform (display-referred linear RGB in [0, 1]), or the output image itself where the
-    /// transform needs no pass.
-    pub fn shown_image(&self) -> Option<&StorageImage> {
-        let display = self.display.as_ref().and_then(DisplayStage::image);
-        display.or_else(|| self.output_image())
     }
 
     /// The last frame's output on the GPU (eyes side by side, RGBA32F linear radiance, GENERAL

@@ -141,25 +141,9 @@ impl EnvironmentMap {
             clamped_negative,
         })
     }
-
-    /// The texel a direction (fovea's axes, unrotated) falls in: (column, row).
-    pub fn texel_of(&self, d: Vec3) -> (u32, u32) {
-        let (u, t) = direction_to_uv(d);
-        let col = ((u * self.width as f32) as u32).min(self.width - 1);
-        let row = ((t * self.height as f32) as u32).min(self.height - 1);
-        (col, row)
-    }
 }
 
-/// (u, t) in [0, 1]² of a direction: column from the left, row from the top (module docs).
-pub fn direction_to_uv(d: Vec3) -> (f32, f32) {
-    let d = d.normalize();
-    let u = 0.5 + d.z.atan2(d.x) / (2.0 * std::f32::consts::PI);
-    let t = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
-    (u.rem_euclid(1.0), t)
-}
-
-/// The direction at (u, t) (the inverse of [`direction_to_uv`]).
+/// The direction at (u, t): column u from the left, row t from the top (module docs).
 pub fn uv_to_direction(u: f32, t: f32) -> Vec3 {
     let phi = (u - 0.5) * 2.0 * std::f32::consts::PI;
     let theta = t * std::f32::consts::PI;
@@ -201,6 +185,14 @@ fn read_hdr(path: &Path) -> Result<Texels, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The inverse of [`uv_to_direction`], as glsl/environment.glsl's env_uv: (u, t) in [0, 1]² of a direction: column from the left, row from the top (module docs).
+    fn direction_to_uv(d: Vec3) -> (f32, f32) {
+        let d = d.normalize();
+        let u = 0.5 + d.z.atan2(d.x) / (2.0 * std::f32::consts::PI);
+        let t = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+        (u.rem_euclid(1.0), t)
+    }
 
     #[test]
     fn the_orientation_is_blenders_for_gltf_axes() {

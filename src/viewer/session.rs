@@ -22,13 +22,12 @@ pub struct Session {
     // Field order is drop order: GPU resources before the context.
     renderer: Renderer,
     accumulator: Accumulator,
-    /// The display transform's pass, where the scene's transform needs one.
+    /// The display transform's pass, where the scene's transform (`choice` gives each
+    /// scene's) needs one; none for clamp at 0 EV, which the swapchain's blit shows alike.
     display: Option<DisplayStage>,
-    /// What the window shows of the scene-referred image (`choice` gives each scene's), and
-    /// whether the last frame's image went through it (the image and temporal views do; the
-    /// debug views are shown as made).
     choice: DisplayChoice,
-    transform: DisplayTransform,
+    /// Whether the last frame's image went through the display pass (the image and temporal
+    /// views do; the debug views are shown as made).
     displayed: bool,
     /// Frames rendered with the temporal history (its seeds: the settings' seed + this).
     temporal_frames: u32,
@@ -92,13 +91,11 @@ impl Session {
         let scene = crate::scene::load(name, aspect)?;
         let renderer = presenting_renderer(ctx, &scene)?;
         let accumulator = Accumulator::new(ctx)?;
-        let transform = display.transform(name);
         Ok(Self {
             renderer,
-            display: accumulator.display_stage(transform)?,
+            display: accumulator.display_stage(display.transform(name))?,
             accumulator,
             choice: display,
-            transform,
             displayed: false,
             temporal_frames: 0,
             raycaster: CpuRaycaster::new(&scene),
@@ -110,8 +107,7 @@ impl Session {
     /// Replaces the scene (the running mean restarts with the next frame).
     pub fn load_scene(&mut self, name: &str, aspect: f32) -> Result<(), ViewError> {
         let scene = crate::scene::load(name, aspect)?;
-        self.transform = self.choice.transform(name);
-        self.display = self.accumulator.display_stage(self.transform)?;
+        self.display = (self.accumulator).display_stage(self.choice.transform(name))?;
         self.displayed = false;
         self.renderer = presenting_renderer(&self.ctx, &scene)?;
         self.raycaster = CpuRaycaster::new(&scene);
@@ -293,9 +289,14 @@ impl Session {
         Ok(ms)
     }
 
+    /// What the window shows of the scene-referred image.
+    fn transform(&self) -> DisplayTransform {
+        (self.display.as_ref()).map_or(DisplayTransform::CLAMP, |stage| stage.transform)
+    }
+
     /// The window's display transform, in words.
     pub fn display_description(&self) -> String {
-        let t = self.transform;
+        let t = self.transform();
         let pass = match self.display.is_some() {
             true => "a display pass before presenting",
             false => "clipped by the swapchain's sRGB encoding",
@@ -336,7 +337,7 @@ impl Session {
         // The PNG shows what the window does: the image through the display transform, or a
         // debug view clipped (the blit's conversion); the EXR stays scene-referred.
         let transform = match self.displayed {
-            true => self.transform,
+            true => self.transform(),
             false => DisplayTransform::CLAMP,
         };
         Ok(output::write_frame(&frame, path, &transform)?)
