@@ -122,6 +122,7 @@ fn main() -> anyhow::Result<()> {
     }
     let ctx = Arc::new(GpuContext::new(&GpuOptions::default())?);
     let settings = |spp, seed| RenderSettings {
+        sampler: Default::default(),
         width: size,
         height: size,
         spp,

@@ -5,7 +5,6 @@
 #define FOVEA_BRDF_GLSL
 #include "bindings.glsl"
 #include "geometry.glsl"
-#include "rng.glsl"
 
 bool is_mirror(GpuMaterial m) {
     return isinf(m.kd.w);

@@ -6,6 +6,7 @@
 #include "environment.glsl"
 #include "gltf_brdf.glsl"
 #include "lights.glsl"
+#include "sampler.glsl"
 #include "shading.glsl"
 #include "textures.glsl"
 
@@ -179,7 +180,7 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
 // One call is one bounce of the path (see Path).
 // eq. 3.15's clamp f_c(n*w_i)^((alpha+2)/(alpha+1)) belongs to lobe-sampled directions; with the uniform
 // directions eq. 3.5 states it would bias the image, so the eq. 3.13 weight is used instead.
-void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
+void seed_step(inout Path p, inout Sampler smp, inout uint rays, inout bool overflow) {
     Hit h;
     SurfaceHit s;
     if (!next_vertex(p, h, s, rays, overflow)) return;
@@ -193,21 +194,21 @@ void seed_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow
     vec3 d;
     if (is_metallic_roughness(s.m)) {
         // glTF's BRDF, estimated the seed way: a uniform hemisphere direction, f cos / (1/2pi).
-        d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+        d = sample_power_cosine(sample_2d(smp), s.ns, 0.0);
         p.throughput *= gltf_eval(s.m, wo, d, s.ns) * dot(s.ns, d) * (2.0 * PI);
         widen_cone(p, s.m);
-    } else if (rng_next(rng) < p_s) {
+    } else if (sample_1d(smp) < p_s) {
         if (is_mirror(s.m)) {
             d = reflect(p.d, s.ns);
             p.throughput *= s.m.ks.xyz / p_s;
         } else {
-            d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+            d = sample_power_cosine(sample_2d(smp), s.ns, 0.0);
             vec3 r = reflect(-wo, s.ns);
             float alpha = s.m.kd.w;
             p.throughput *= s.m.ks.xyz * (alpha + 2.0) * phong_lobe(d, r, alpha) * dot(s.ns, d) / p_s;
         }
     } else {
-        d = sample_power_cosine(rng_next2(rng), s.ns, 0.0);
+        d = sample_power_cosine(sample_2d(smp), s.ns, 0.0);
         p.throughput *= 2.0 * s.m.kd.xyz * dot(s.ns, d) / (1.0 - p_s);
     }
     p.d = d;
@@ -247,19 +248,23 @@ float material_pdf(GpuMaterial m, vec3 wo, vec3 wi, vec3 n) {
 // throughput): an emitter chosen by power, then a point on it (MIS-weighted against BRDF
 // sampling) or a punctual light's direction (a delta: weight 1). `origin` is x lifted off the
 // surface for the shadow ray.
-vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint rays, inout bool overflow) {
+vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Sampler smp, inout uint rays, inout bool overflow) {
     vec3 n = s.ns;
-    float u_bucket = rng_next(rng);
-    float u_keep = rng_next(rng);
+    vec2 u_pick = sample_2d(smp); // the alias table's bucket, and whether to keep it
+    float u_bucket = u_pick.x;
+    float u_keep = u_pick.y;
     GpuEmitter e = load_emitter(choose_emitter(u_bucket, u_keep));
-    vec3 u = vec3(rng_next2(rng), rng_next(rng));
+    // The point on the light (a box's face in z), and for the environment (z, w) the point in
+    // its texel: two pairs, so that the two coordinates of a texel are one stratified pair.
+    vec4 u4 = vec4(sample_2d(smp), sample_2d(smp));
+    vec3 u = u4.xyz;
     vec3 wi;
     vec3 arriving; // irradiance (punctual) or MIS-weighted radiance over the solid-angle pdf
     vec3 shadow_seg;
     if (HAS_ENV_MAP && e.kind == KIND_ENVIRONMENT) {
         float env_density;
         vec2 ut;
-        wi = env_sample(u, rng_next(rng), ut, env_density);
+        wi = env_sample(u, u4.w, ut, env_density);
         float light_pdf = e.pmf * env_density;
         if (!(light_pdf > 0.0)) return vec3(0.0);
         float bpdf = material_pdf(s.m, wo, wi, n);
@@ -294,7 +299,7 @@ vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Rng rng, inout uint ra
     return material_eval(s.m, wo, wi, n) * cos_x * arriving;
 }
 
-void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) {
+void pt_step(inout Path p, inout Sampler smp, inout uint rays, inout bool overflow) {
     Hit h;
     SurfaceHit s;
     if (!next_vertex(p, h, s, rays, overflow)) return;
@@ -319,14 +324,14 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
 
     // Next-event estimation for the non-delta lobes.
     if (HAS_EMITTERS && scene_info.emitter_count > 0u && (!mirror || p_s < 1.0)) {
-        p.L += p.throughput * next_event(s, wo, origin, rng, rays, overflow);
+        p.L += p.throughput * next_event(s, wo, origin, smp, rays, overflow);
     }
 
     // Sample the brdf: glTF's mixture, or (thesis) a lobe chosen with p_S, then importance-sampled.
     vec3 wi;
-    float u_lobe = rng_next(rng);
+    float u_lobe = sample_1d(smp);
     bool spec_pick = u_lobe < p_s;
-    vec2 u = rng_next2(rng);
+    vec2 u = sample_2d(smp);
     if (gltf) {
         float pdf;
         // Below the shading or the geometric surface: absorbed.
@@ -376,7 +381,7 @@ void pt_step(inout Path p, inout Rng rng, inout uint rays, inout bool overflow) 
     // Russian roulette after 3 bounces: continue with probability max(throughput).
     if (p.bounce >= 3u) {
         float q = min(max(max(p.throughput.x, p.throughput.y), p.throughput.z), 0.95);
-        if (!(rng_next(rng) < q)) {
+        if (!(sample_1d(smp) < q)) {
             p.done = true;
             return;
         }

@@ -1,5 +1,6 @@
 // Random numbers: a PCG hash seeds a per-sample PCG32 stream, so every (pixel, sample, seed)
 // has its own independent, reproducible sequence - the same seed gives a bit-identical image.
+// (sampler.glsl draws a path's numbers from it or from a blue-noise sequence.)
 #ifndef FOVEA_RNG_GLSL
 #define FOVEA_RNG_GLSL
 
@@ -9,27 +10,16 @@ uint pcg_hash(uint v) {
     return (word >> 22u) ^ word;
 }
 
-struct Rng {
-    uint state;
-};
-
-Rng rng_init(uint pixel, uint sample_index, uint seed) {
-    Rng r;
-    r.state = pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(seed)));
-    return r;
+// A float in [0, 1) from 32 random bits: the top 24, so 1.0 is never returned.
+float bits_to_unit(uint x) {
+    return float(x >> 8u) * (1.0 / 16777216.0);
 }
 
-// A float in [0, 1): the top 24 bits, so 1.0 is never returned.
-float rng_next(inout Rng r) {
-    r.state = r.state * 747796405u + 2891336453u;
-    uint word = ((r.state >> ((r.state >> 28u) + 4u)) ^ r.state) * 277803737u;
-    word = (word >> 22u) ^ word;
-    return float(word >> 8u) * (1.0 / 16777216.0);
-}
-
-vec2 rng_next2(inout Rng r) {
-    float a = rng_next(r);
-    return vec2(a, rng_next(r));
+// The stream's next number: one PCG32 step.
+float pcg_next(inout uint state) {
+    state = state * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return bits_to_unit((word >> 22u) ^ word);
 }
 
 #endif

@@ -95,9 +95,13 @@
 #define SPEC_HAS_CUTOUTS 11 // some mesh instance is OBJECT_ALPHA_MASK or OBJECT_ALPHA_BLEND
 #define SPEC_HAS_SINGLE_SIDED 12 // some mesh instance is OBJECT_SINGLE_SIDED
 #define SPEC_HAS_ENV_MAP 13 // the sky is an HDR environment (BINDING_ENVIRONMENT), a light
+#define SPEC_SAMPLER 14 // where a path's random numbers come from (sampler.glsl)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
+
+#define SAMPLER_INDEPENDENT 0
+#define SAMPLER_ZSOBOL 1
 
 // ---- object kinds (GpuObject.kind) and emitter kinds (GpuEmitter.kind) ----------------------
 #define KIND_INSTANCE 0

@@ -2,8 +2,9 @@
 // The trace pass (thesis 3.2.1-3.2.2): one thread per traced lattice point of one eye, read
 // from the work list the plan pass wrote (an indirect dispatch sized by the GPU). The thread
 // traces the layer's spp samples at the point's pixel and writes their mean into LATTICE. A
-// sample's jitter and random numbers depend only on (pixel, sample, seed, eye), so the same
-// pixel traced by any layer config gives bit-identical values.
+// sample's jitter and random numbers depend only on (lattice point, spacing, spp, sample, seed,
+// eye) - with the independent sampler on (pixel, sample, seed, eye) - so the same pixel traced
+// by any layer config of its spacing and spp gives bit-identical values (sampler.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #define WRITES_LATTICE
@@ -74,18 +75,22 @@ void main() {
     // Path): sample s's random numbers and camera ray are the same as in a loop over samples,
     // and the samples are summed in the same order, so the image is too.
     uint s = 0u;
-    Rng rng = rng_init(pixel_index, 0u, seed);
+    // The sampler's point: the pixel in units of the spacing (floored; the offset keeps the
+    // margin's negative pixels apart), so a spacing-1 layer numbers pixels as a regular frame.
+    uint spacing = uint(layers[k].spacing);
+    ivec2 point = ivec2(uvec2(pixel + 4096 * layers[k].spacing) / spacing);
+    Sampler smp = sampler_start(point, spacing, pixel_index, 0u, spp, seed);
     // The pixel's angular height at the image centre, times the layer's lattice spacing.
     float pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
-    Path path = camera_path(vec2(pixel), rng_next2(rng), pixel_angle);
+    Path path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
     bool overflow = false;
     // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer): the loop
     // must not depend on a path ending to end.
     while (s < spp) {
         if (INTEGRATOR == INTEGRATOR_SEED) {
-            seed_step(path, rng, rays, overflow);
+            seed_step(path, smp, rays, overflow);
         } else {
-            pt_step(path, rng, rays, overflow);
+            pt_step(path, smp, rays, overflow);
         }
         if (!path.done) continue;
         if (overflow) overflows++;
@@ -96,8 +101,8 @@ void main() {
             sum += path.L;
         }
         if (++s == spp) break;
-        rng = rng_init(pixel_index, s, seed);
-        path = camera_path(vec2(pixel), rng_next2(rng), pixel_angle);
+        smp = sampler_start(point, spacing, pixel_index, s, spp, seed);
+        path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
         overflow = false;
     }
     lattice[entry] = vec4(sum / float(spp), 1.0);

@@ -1,5 +1,7 @@
 //! What the measuring examples share: a square regular frame of a scene, its error against a
 //! reference, and their command-line numbers.
+// Each example uses part of this module.
+#![allow(dead_code)]
 
 use std::sync::Arc;
 
@@ -17,6 +19,7 @@ pub fn render_rgb(
 ) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
     let mut renderer = Renderer::new(ctx, scene)?;
     let settings = RenderSettings {
+        sampler: Default::default(),
         width: size,
         height: size,
         spp,

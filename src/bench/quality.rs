@@ -20,6 +20,7 @@ const REFERENCE_CHUNK_SPP: u32 = 32;
 /// Settings of a frame of the plan at `spp` samples per pixel.
 pub fn settings(plan: &BenchPlan, spp: u32) -> RenderSettings {
     RenderSettings {
+        sampler: crate::render::Sampler::chosen(),
         width: plan.width,
         height: plan.height,
         spp,

@@ -123,6 +123,7 @@ pub fn gltf_furnace(
         let mut renderer = Renderer::new(ctx, &scene)?;
         for integrator in [Integrator::Pt, Integrator::Seed] {
             let settings = RenderSettings {
+                sampler: crate::render::Sampler::chosen(),
                 width: size,
                 height: size,
                 spp,

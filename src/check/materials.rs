@@ -174,6 +174,7 @@ pub fn white_furnace(
             let mut renderer = Renderer::new(ctx, &scene)?;
             for integrator in [Integrator::Pt, Integrator::Seed] {
                 let settings = RenderSettings {
+                    sampler: crate::render::Sampler::chosen(),
                     width: size,
                     height: size,
                     spp,
@@ -222,6 +223,7 @@ pub fn emission_scaling(
     factors: &[f32],
 ) -> Result<Vec<EmissionScaling>, RenderError> {
     let settings = RenderSettings {
+        sampler: crate::render::Sampler::chosen(),
         width: size,
         height: size,
         spp,

@@ -225,6 +225,7 @@ pub fn scaled_scene(
 
 fn settings(size: u32, spp: u32, integrator: Integrator) -> RenderSettings {
     RenderSettings {
+        sampler: crate::render::Sampler::chosen(),
         width: size,
         height: size,
         spp,

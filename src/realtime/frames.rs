@@ -47,6 +47,7 @@ pub fn eyes(scene: &Scene, plan: &RealtimePlan, stereo: bool) -> Vec<EyeView> {
 /// A frame of the plan's size; the layers carry the spp.
 pub fn settings(plan: &RealtimePlan) -> RenderSettings {
     RenderSettings {
+        sampler: crate::render::Sampler::chosen(),
         width: plan.width,
         height: plan.height,
         spp: 1,

@@ -20,6 +20,7 @@ mod record;
 mod regular;
 mod renderer;
 mod request;
+mod sampler;
 mod scene_buffers;
 mod scene_textures;
 mod settings;
@@ -39,7 +40,7 @@ pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
 };
 pub use scene_buffers::SceneMemory;
-pub use settings::{Integrator, RenderSettings, Traversal, TraversalChoice, MAX_SIDE};
+pub use settings::{Integrator, RenderSettings, Sampler, Traversal, TraversalChoice, MAX_SIDE};
 pub use slots::MAX_FRAMES_IN_FLIGHT;
 pub use version::renderer_version;
 

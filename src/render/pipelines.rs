@@ -23,6 +23,8 @@ pub struct TraceKey {
     pub traversal: Traversal,
     /// Also writes every lattice point's surface, for the temporal history.
     pub keeps_surfaces: bool,
+    /// Sampler::id.
+    pub sampler: u32,
 }
 
 impl TraceKey {
@@ -38,6 +40,7 @@ impl TraceKey {
             profile,
             traversal,
             keeps_surfaces: history,
+            sampler: settings.sampler.id(),
         }
     }
 
@@ -129,6 +132,7 @@ impl Pipelines {
         if !self.trace.contains_key(&trace) {
             let mut spec = self.specialization(trace.integrator, trace.max_bounces);
             spec.push((SPEC_PROFILE, trace.profile as u32));
+            spec.push((SPEC_SAMPLER, trace.sampler));
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", trace.spirv(), &spec)?;
             self.trace.insert(trace, p);
         }

@@ -1,5 +1,6 @@
 //! What one frame is asked to compute, validated before any GPU work.
 
+pub use super::sampler::Sampler;
 use crate::shader_layout::{INTEGRATOR_PT, INTEGRATOR_SEED};
 
 /// Which estimator traces the paths.
@@ -75,6 +76,7 @@ pub struct RenderSettings {
     pub seed: u32,
     pub integrator: Integrator,
     pub max_bounces: u32,
+    pub sampler: Sampler,
 }
 
 /// Largest image side: 16384 is the minimum maxImageDimension2D guaranteed by Vulkan devices
@@ -95,6 +97,7 @@ impl Default for RenderSettings {
             seed: 1,
             integrator: Integrator::Pt,
             max_bounces: 8,
+            sampler: Sampler::chosen(),
         }
     }
 }

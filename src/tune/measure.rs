@@ -277,6 +277,7 @@ impl TimedFrames {
 /// The settings of every frame of the plan (the layers carry the spp).
 fn settings(plan: &TunePlan) -> RenderSettings {
     RenderSettings {
+        sampler: crate::render::Sampler::chosen(),
         width: plan.width,
         height: plan.height,
         spp: 1,

@@ -53,6 +53,7 @@ impl App {
         let eyes = self.eyes(window, eye_size);
         let foveation = self.layers.frame_config();
         let settings = RenderSettings {
+            sampler: crate::render::Sampler::chosen(),
             width: eye_size[0],
             height: eye_size[1],
             spp: foveation.layers[0].spp,

@@ -53,6 +53,7 @@ pub fn settings(
     integrator: Integrator,
 ) -> RenderSettings {
     RenderSettings {
+        sampler: Default::default(),
         width,
         height,
         spp,

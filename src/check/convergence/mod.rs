@@ -3,7 +3,8 @@
 //!
 //! An unbiased Monte Carlo estimator's error falls as `spp^(-1/2)`, a line of slope −1/2 on a
 //! log-log plot; a flatter line means bias (a floor), heavy tails (fireflies that few samples
-//! miss) or correlated samples. Between the integrators, `pt` should have the lower error both
+//! miss) or correlated samples. The paths' numbers come from the independent sampler whatever
+//! `--sampler` says: the −1/2 law is about independent samples. Between the integrators, `pt` should have the lower error both
 //! at equal samples per pixel and at equal GPU time.
 //!
 //! Which reference for which number:

@@ -160,6 +160,7 @@ impl RenderArgs {
 
     pub fn settings(&self, config: &FoveationConfig) -> RenderSettings {
         RenderSettings {
+            sampler: fovea::render::Sampler::chosen(),
             width: self.width,
             height: self.height,
             // A regular frame compared with this one uses the innermost layer's spp.
