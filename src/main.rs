@@ -28,9 +28,10 @@ struct Cli {
     light_selection: fovea::scene::LightSelection,
     /// Where the paths' random numbers come from: `zsobol` (Owen-scrambled Sobol in Morton
     /// order: the error is blue noise over the screen) or `independent` (a random stream per
-    /// pixel: white-noise error; fovea's first sampler, for comparison).
-    #[arg(long, global = true, value_enum, default_value_t = fovea::render::Sampler::Zsobol)]
-    sampler: fovea::render::Sampler,
+    /// pixel: white-noise error; fovea's first sampler, for comparison). Default: zsobol (a
+    /// bench run resumed with --resume: the one it began with).
+    #[arg(long, global = true, value_enum)]
+    sampler: Option<fovea::render::Sampler>,
 }
 
 #[derive(Subcommand)]
@@ -73,7 +74,9 @@ fn main() {
         fovea::scene::texture_size::set_max_texture_size(n);
     }
     fovea::scene::light_choice::set_light_selection(cli.light_selection);
-    fovea::render::Sampler::choose_for_process(cli.sampler);
+    if let Some(sampler) = cli.sampler {
+        fovea::render::Sampler::choose_for_process(sampler);
+    }
     if let Err(e) = cli.env.apply() {
         eprintln!("error: {e}");
         std::process::exit(1);

@@ -316,7 +316,8 @@ fn bad_bench_input_gets_a_clear_error() {
 }
 
 /// `--traversal rayquery` measures the run through ray queries and says so in plan.json and
-/// the report; resuming takes the traversal from the plan, so naming one again is refused.
+/// the report; resuming takes the traversal (and the sampler) from the plan, so naming another
+/// is refused.
 #[test]
 fn a_ray_query_run_records_its_traversal() {
     let dir = temp_dir("rayquery");
@@ -343,4 +344,8 @@ fn a_ray_query_run_records_its_traversal() {
     assert!(report.contains("rayquery traversal"), "{report}");
     let (ok, text) = fovea(&["bench", "--resume", run_s, "--traversal", "software"]);
     assert!(!ok && text.contains("drop --traversal"), "{text}");
+    // The sampler is the plan's too.
+    assert_eq!(plan["sampler"], "zsobol");
+    let (ok, text) = fovea(&["bench", "--resume", run_s, "--sampler", "independent"]);
+    assert!(!ok && text.contains("drop --sampler independent"), "{text}");
 }

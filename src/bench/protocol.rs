@@ -104,6 +104,9 @@ pub struct BenchPlan {
     /// without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvChoice>,
+    /// `--sampler`. Plans written before the flag ran with the independent sampler.
+    #[serde(default = "crate::render::Sampler::before_the_flag")]
+    pub sampler: crate::render::Sampler,
 }
 
 /// A block of measurements that runs its modes interleaved frame by frame: one repeat of one
@@ -134,6 +137,7 @@ impl BenchPlan {
     /// field of view.
     pub fn thesis() -> Self {
         Self {
+            sampler: crate::render::Sampler::chosen(),
             scenes: THESIS_SCENES.iter().map(|s| s.to_string()).collect(),
             frames: 100,
             repeats_foveated: 10,

@@ -133,6 +133,7 @@ impl BenchArgs {
              reference_spp => reference_spp, sweep_spp => sweep_spp, sweep_frames => sweep_frames);
         plan.display = self.display.choice();
         plan.environment = fovea::scene::env_choice::chosen().cloned();
+        plan.sampler = fovea::render::Sampler::chosen();
         if let Some(f) = &self.foveation {
             plan.foveation = FoveationConfig::from_arg(f)?.ok_or_else(|| {
                 anyhow::anyhow!(
@@ -184,6 +185,7 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
             let plan = bench::read_plan(dir)?;
             fovea::scene::env_choice::adopt(plan.environment.as_ref())
                 .map_err(anyhow::Error::msg)?;
+            fovea::render::Sampler::adopt(plan.sampler).map_err(anyhow::Error::msg)?;
             (plan, dir.clone())
         }
         None => {

@@ -127,6 +127,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
             .collect::<Result<_, _>>()?,
         display: args.display.choice(),
         environment: fovea::scene::env_choice::chosen().cloned(),
+        sampler: fovea::render::Sampler::chosen(),
     };
     let files = TuneFiles::new(&args.out);
     let cache = args.reference_cache.clone().unwrap_or_else(|| {

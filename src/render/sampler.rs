@@ -50,6 +50,27 @@ impl Sampler {
         SAMPLER_CHOICE.set(choice).is_ok()
     }
 
+    /// `--resume`: the run continues with the sampler it began with. Refuses another one given
+    /// on the command line.
+    pub fn adopt(planned: Sampler) -> Result<(), String> {
+        match SAMPLER_CHOICE.get() {
+            Some(given) if *given != planned => Err(format!(
+                "this run began with --sampler {}; --resume continues with it: drop --sampler {}",
+                planned.name(),
+                given.name()
+            )),
+            _ => {
+                let _ = SAMPLER_CHOICE.set(planned);
+                Ok(())
+            }
+        }
+    }
+
+    /// What a plan written before `--sampler` existed ran with.
+    pub fn before_the_flag() -> Sampler {
+        Sampler::Independent
+    }
+
     /// The process's `--sampler`, or the default.
     pub fn chosen() -> Sampler {
         SAMPLER_CHOICE.get().copied().unwrap_or_default()

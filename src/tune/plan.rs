@@ -104,6 +104,9 @@ pub struct TunePlan {
     /// `--env` and its options. Absent from the plan without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvChoice>,
+    /// `--sampler`. Plans written before the flag ran with the independent sampler.
+    #[serde(default = "crate::render::Sampler::before_the_flag")]
+    pub sampler: crate::render::Sampler,
 }
 
 impl TunePlan {

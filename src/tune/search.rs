@@ -120,6 +120,7 @@ mod tests {
             include: vec![FoveationConfig::thesis().with_spp(8)],
             display: Default::default(),
             environment: None,
+            sampler: Default::default(),
         }
     }
 

@@ -333,6 +333,7 @@ fn write_json(
         "fov": format!("{:?}", args.fov),
         "spp": settings.spp,
         "integrator": format!("{:?}", settings.integrator),
+        "sampler": settings.sampler.name(),
         "max_bounces": settings.max_bounces,
         "records": records,
     });
