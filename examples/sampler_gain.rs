@@ -13,9 +13,9 @@ use fovea::foveation::{EyeFov, ImageGeometry};
 use fovea::gpu::{GpuContext, GpuOptions};
 use fovea::metrics::jod::Fvvdp;
 use fovea::render::display::DisplayTransform;
-use fovea::render::{regular_frame, Integrator, RenderSettings, Renderer, Sampler};
+use fovea::render::{regular_frame, RenderSettings, Renderer, Sampler};
 use fovea::scene::Scene;
-use shared::arg;
+use shared::{arg, square};
 
 mod shared;
 
@@ -61,13 +61,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut renderer = Renderer::new(&ctx, &scene)?;
         let mut render = |spp, seed, sampler| -> Result<Vec<f32>, Box<dyn std::error::Error>> {
             let settings = RenderSettings {
-                width: size,
-                height: size,
-                spp,
-                seed,
-                integrator: Integrator::Pt,
-                max_bounces: 8,
                 sampler,
+                ..square(size, spp, seed)
             };
             Ok(regular_frame(&mut renderer, &scene.camera, &settings)?.rgb)
         };

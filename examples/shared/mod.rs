@@ -18,7 +18,12 @@ pub fn render_rgb(
     seed: u32,
 ) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
     let mut renderer = Renderer::new(ctx, scene)?;
-    let settings = RenderSettings {
+    Ok(regular_frame(&mut renderer, &scene.camera, &square(size, spp, seed))?.rgb)
+}
+
+/// A `size` × `size` frame of the path tracer at 8 bounces, with the default sampler.
+pub fn square(size: u32, spp: u32, seed: u32) -> RenderSettings {
+    RenderSettings {
         sampler: Default::default(),
         width: size,
         height: size,
@@ -26,8 +31,7 @@ pub fn render_rgb(
         seed,
         integrator: Integrator::Pt,
         max_bounces: 8,
-    };
-    Ok(regular_frame(&mut renderer, &scene.camera, &settings)?.rgb)
+    }
 }
 
 /// sqrt(Σ (image − reference)² / Σ reference²) over every pixel and channel.
