@@ -284,7 +284,7 @@ fn bad_bench_input_gets_a_clear_error() {
     let dir = temp_dir("bad");
     let d = dir.join("x");
     let d = d.to_str().unwrap();
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["bench", "--frames", "0", "--dir", d],
             "--frames must be at least 1",
@@ -306,6 +306,10 @@ fn bad_bench_input_gets_a_clear_error() {
             "--resume needs the directory of an earlier",
         ),
         (&["bench", "--resume", d, "--frames", "3"], "drop --frames"),
+        (
+            &["bench", "--resume", d, "--display", "varjo-xr-4"],
+            "drop --display",
+        ),
     ];
     for (args, expected) in cases {
         let (ok, text) = fovea(args);
@@ -317,7 +321,7 @@ fn bad_bench_input_gets_a_clear_error() {
 
 /// `--traversal rayquery` measures the run through ray queries and says so in plan.json and
 /// the report; resuming takes the traversal (and the sampler) from the plan, so naming another
-/// is refused.
+/// is refused. `--display` sets the field of view and photometry, the sizes given keep theirs.
 #[test]
 fn a_ray_query_run_records_its_traversal() {
     let dir = temp_dir("rayquery");
@@ -335,6 +339,8 @@ fn a_ray_query_run_records_its_traversal() {
     ]);
     args.extend(["--dir", run_s, "--reference-cache", cache.to_str().unwrap()]);
     args.extend(["--traversal", "rayquery"]);
+    // The Varjo XR-4's field of view and photometry, at the small size given.
+    args.extend(["--display", "varjo-xr-4"]);
     let (ok, text) = fovea(&args);
     assert!(ok && text.contains("(rayquery traversal)"), "{text}");
     let plan: serde_json::Value =
@@ -344,6 +350,10 @@ fn a_ray_query_run_records_its_traversal() {
     assert!(report.contains("rayquery traversal"), "{report}");
     let (ok, text) = fovea(&["bench", "--resume", run_s, "--traversal", "software"]);
     assert!(!ok && text.contains("drop --traversal"), "{text}");
+    assert_eq!(
+        (&plan["profile"], &plan["fov"], &plan["width"]),
+        (&"varjo-xr-4".into(), &"varjo-xr-4".into(), &16.into())
+    );
     // The sampler is the plan's too.
     assert_eq!(plan["sampler"], "zsobol");
     let (ok, text) = fovea(&["bench", "--resume", run_s, "--sampler", "independent"]);

@@ -221,11 +221,21 @@ fn bad_input_gets_a_message() {
     }
     // A drawn config far over the budget is timed on the first scene and not judged: its
     // row says so and has no JOD (and nothing fits 1 µs, so the run ends with the message).
+    // (On the Varjo XR-4's field of view and photometry, at the small size given: the plan
+    // says so.)
     let _ = std::fs::remove_dir_all(&dir);
-    let mut args = tune_args(out, &["--budget-ms", "0.001"]);
+    let mut args = tune_args(out, &["--budget-ms", "0.001", "--display", "varjo-xr-4"]);
     args[10] = "5".into();
     let (ok, text) = run(&args);
     assert!(!ok && text.contains("raise --budget-ms"), "{text}");
+    assert!(
+        text.contains("48x54 per eye (varjo-xr-4 photometry)"),
+        "{text}"
+    );
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t-tune.json")).unwrap()).unwrap();
+    assert_eq!(plan["profile"], "varjo-xr-4", "{plan}");
+    assert_eq!(plan["fov"], "varjo-xr-4", "{plan}");
     let all = rows(&dir.join("t-candidates.csv"));
     assert_eq!(all.len(), 5, "{all:?}");
     assert!(all[..4].iter().all(|r| r.jod.is_finite()), "{all:?}");

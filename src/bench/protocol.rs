@@ -104,6 +104,10 @@ pub struct BenchPlan {
     /// without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvChoice>,
+    /// `--display`: the headset whose photometry FovVideoVDP judges on (its image size and
+    /// field of view are `width`, `height`, `fov`). Absent from older plans: the Vive Pro Eye.
+    #[serde(default)]
+    pub profile: crate::foveation::DisplayProfile,
     /// `--sampler`. Plans written before the flag ran with the independent sampler.
     #[serde(default = "crate::render::Sampler::before_the_flag")]
     pub sampler: crate::render::Sampler,
@@ -138,6 +142,7 @@ impl BenchPlan {
     pub fn thesis() -> Self {
         Self {
             sampler: crate::render::Sampler::chosen(),
+            profile: Default::default(),
             scenes: THESIS_SCENES.iter().map(|s| s.to_string()).collect(),
             frames: 100,
             repeats_foveated: 10,

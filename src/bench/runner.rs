@@ -98,7 +98,7 @@ pub fn run(
     }
     let (frames_log, done_frames) = open_frames_log(dir)?;
     let (quality_log, done_points) = open_quality_log(dir)?;
-    let metric = perceptual_metric()?;
+    let metric = perceptual_metric(plan.profile)?;
     let trace_path = dir.join(TRACE_FILE);
     let trace = TraceWriter::open(&trace_path).map_err(|e| BenchError::file(&trace_path, e))?;
     let pending_frames = pending_frames(plan, &done_frames);

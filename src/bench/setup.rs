@@ -5,6 +5,7 @@
 use super::error::BenchError;
 use super::files::{COMMANDS_FILE, PLAN_FILE};
 use super::protocol::{BenchPlan, RunOptions};
+use crate::foveation::DisplayProfile;
 use crate::gpu::GpuContext;
 use crate::metrics::jod::{Fvvdp, JodError};
 use crate::render::Renderer;
@@ -80,8 +81,8 @@ fn append_command_line(dir: &Path, command_line: &str) -> Result<String, BenchEr
 
 /// FovVideoVDP, started once for the run; without its venv the run goes on without JOD
 /// scores and says how to get them.
-pub fn perceptual_metric() -> Result<Option<Fvvdp>, BenchError> {
-    match Fvvdp::start() {
+pub fn perceptual_metric(display: DisplayProfile) -> Result<Option<Fvvdp>, BenchError> {
+    match Fvvdp::start_for(display) {
         Ok(metric) => Ok(Some(metric)),
         Err(e @ JodError::NotFound { .. }) => {
             eprintln!("fovea bench: no JOD scores in this run: {e}");

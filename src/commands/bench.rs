@@ -7,13 +7,14 @@ use clap::Args;
 use fovea::bench::motion::{MotionChoice, Sequence};
 use fovea::bench::summary::utc_stamp;
 use fovea::bench::{self, BenchPlan, RunOptions};
-use fovea::foveation::{FoveationConfig, GazeTrace};
+use fovea::foveation::{DisplayProfile, FoveationConfig, GazeTrace};
 use fovea::render::{FovChoice, Integrator, Traversal};
 use std::path::PathBuf;
 
 /// Flags that set the plan; none may be given with --resume.
-const PLAN_FLAGS: [&str; 19] = [
+const PLAN_FLAGS: [&str; 20] = [
     "quick",
+    "display_profile",
     "scenes",
     "frames",
     "repeats",
@@ -52,6 +53,11 @@ pub struct BenchArgs {
     /// Repeats of regular rendering (default 1).
     #[arg(long)]
     pub regular_repeats: Option<u32>,
+    /// The headset: its eye image's size (a quarter of it each way with --quick) and field of
+    /// view, unless --width, --height or --fov say otherwise, and its display's photometry
+    /// for FovVideoVDP (default vive-pro-eye).
+    #[arg(long = "display", value_enum)]
+    pub display_profile: Option<DisplayProfile>,
     /// Width of one eye's image (default 1440, the Vive Pro Eye's).
     #[arg(long)]
     pub width: Option<u32>,
@@ -122,6 +128,12 @@ impl BenchArgs {
             true => BenchPlan::quick(),
             false => BenchPlan::thesis(),
         };
+        if let Some(profile) = self.display_profile {
+            let (w, h) = profile.eye_size();
+            let scale = if self.quick { 4 } else { 1 };
+            (plan.profile, plan.fov) = (profile, profile.fov());
+            (plan.width, plan.height) = (w / scale, h / scale);
+        }
         macro_rules! set {
             ($($field:ident => $target:ident),*) => {
                 $(if let Some(v) = &self.$field { plan.$target = v.clone(); })*
@@ -173,7 +185,10 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> Result<()> {
             let given: Vec<String> = PLAN_FLAGS
                 .iter()
                 .filter(|f| matches.value_source(f) == Some(clap::parser::ValueSource::CommandLine))
-                .map(|f| format!("--{}", f.replace('_', "-")))
+                .map(|f| match *f {
+                    "display_profile" => "--display".to_string(), // the flag's own name
+                    f => format!("--{}", f.replace('_', "-")),
+                })
                 .collect();
             if !given.is_empty() {
                 anyhow::bail!(

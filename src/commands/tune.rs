@@ -4,7 +4,7 @@
 use super::{check_validation, gpu_context, DisplayArgs, GpuArgs};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use fovea::foveation::FoveationConfig;
+use fovea::foveation::{DisplayProfile, FoveationConfig};
 use fovea::render::{FovChoice, Integrator, Traversal};
 use fovea::tune::files::TuneFiles;
 use fovea::tune::space::Space;
@@ -33,14 +33,18 @@ pub struct TuneArgs {
     /// Scene(s) to judge configs on, comma-separated (JOD and GPU time are averaged).
     #[arg(long, value_delimiter = ',', required = true)]
     pub scene: Vec<String>,
-    /// One eye's field of view.
-    #[arg(long, value_enum, default_value_t = FovChoice::ViveProEye)]
-    pub fov: FovChoice,
-    /// One eye's image size.
-    #[arg(long, default_value_t = 1440)]
-    pub width: u32,
-    #[arg(long, default_value_t = 1600)]
-    pub height: u32,
+    /// The headset: its eye image's size and field of view (unless --width, --height or --fov
+    /// say otherwise) and its display's photometry, which FovVideoVDP judges on.
+    #[arg(long = "display", value_enum, default_value_t = DisplayProfile::ViveProEye)]
+    pub display_profile: DisplayProfile,
+    /// One eye's field of view. Default: the --display's.
+    #[arg(long, value_enum)]
+    pub fov: Option<FovChoice>,
+    /// One eye's image size. Default: the --display's (1440×1600 for the Vive Pro Eye).
+    #[arg(long)]
+    pub width: Option<u32>,
+    #[arg(long)]
+    pub height: Option<u32>,
     /// GPU milliseconds one eye's frame may take (median of the timed frames).
     #[arg(
         long,
@@ -102,9 +106,10 @@ pub fn run(args: &TuneArgs) -> Result<()> {
     };
     let plan = TunePlan {
         scenes: args.scene.clone(),
-        width: args.width,
-        height: args.height,
-        fov: args.fov,
+        width: (args.width).unwrap_or(args.display_profile.eye_size().0),
+        height: (args.height).unwrap_or(args.display_profile.eye_size().1),
+        fov: (args.fov).unwrap_or(args.display_profile.fov()),
+        profile: args.display_profile,
         budget: match (args.budget_ms, args.budget_of_regular) {
             (_, Some(spp)) => Budget::Regular(spp),
             (Some(ms), None) => Budget::Ms(ms),
@@ -136,11 +141,12 @@ pub fn run(args: &TuneArgs) -> Result<()> {
             .map_or_else(|| PathBuf::from("references"), |p| p.join("references"))
     });
     println!(
-        "fovea tune: {} configs on {} at {}x{} per eye, {} on {}",
+        "fovea tune: {} configs on {} at {}x{} per eye ({} photometry), {} on {}",
         plan.candidates,
         plan.scenes.join(", "),
         plan.width,
         plan.height,
+        plan.profile.name(),
         match plan.budget {
             Budget::Ms(ms) => format!("budget {ms} ms"),
             Budget::Regular(spp) => format!("budget = regular {spp} spp's time"),

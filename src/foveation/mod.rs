@@ -6,6 +6,7 @@
 pub mod blend;
 pub mod catmull_rom;
 pub mod config;
+pub mod display_profile;
 pub mod fixation;
 pub mod gaze;
 pub mod gaze_filter;
@@ -18,6 +19,7 @@ pub mod view;
 pub mod visibility_mask;
 
 pub use config::*;
+pub use display_profile::{DisplayProfile, Photometry};
 pub use gaze::{Gaze, GazeChoice};
 pub use gaze_filter::{GazeFilter, GazeStatus};
 pub use gaze_source::{FixedGaze, GazeSource, TraceReplay};

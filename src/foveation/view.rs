@@ -32,6 +32,16 @@ impl EyeFov {
     };
     /// Per-eye resolution of the Vive Pro Eye's panels.
     pub const VIVE_PRO_EYE_SIZE: (u32, u32) = (1440, 1600);
+    /// Varjo XR-4, either eye: the spec sheet's 120° × 105°, taken as symmetric (Varjo
+    /// publishes no per-eye asymmetry; the runtime's `xrLocateViews` has the real angles).
+    pub const VARJO_XR_4: EyeFov = EyeFov {
+        left: -std::f32::consts::FRAC_PI_3, // 60°
+        right: std::f32::consts::FRAC_PI_3,
+        up: 0.916_297_9, // 52.5°
+        down: -0.916_297_9,
+    };
+    /// Per-eye resolution of the Varjo XR-4's panels.
+    pub const VARJO_XR_4_SIZE: (u32, u32) = (3840, 3744);
 }
 
 /// The pixel grid of one eye's image over its field of view. Pixel `(x, y)` covers

@@ -6,11 +6,11 @@
 //! temporary directory.
 //!
 //! What fovea hands the metric is what the headset shows: the linear image clamped to [0, 1]
-//! and sRGB-encoded, on the HTC Vive Pro's display photometry (pyfvvdp's `htc_vive_pro`:
-//! 133 cd/m² peak, 0.1 black), at the eye image's own resolution and horizontal field of
-//! view, foveated around the gaze pixel.
+//! and sRGB-encoded, on the display's photometry (`--display`'s profile; by default the HTC
+//! Vive Pro's, pyfvvdp's `htc_vive_pro`: 133 cd/m² peak, 0.1 black), at the eye image's own
+//! resolution and horizontal field of view, foveated around the gaze pixel.
 
-use crate::foveation::ImageGeometry;
+use crate::foveation::{DisplayProfile, ImageGeometry, Photometry};
 use crate::render::display::DisplayTransform;
 use crate::render::output::linear_to_srgb;
 use std::io::{BufRead, BufReader, Write};
@@ -21,8 +21,6 @@ use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 pub const VENV_DIR: &str = ".venv-fvvdp";
 /// Overrides where the venv is looked for.
 pub const VENV_ENV: &str = "FOVEA_FVVDP_VENV";
-/// pyfvvdp's display model whose photometry the metric uses.
-pub const DISPLAY: &str = "htc_vive_pro";
 /// The best score: the test cannot be told from the reference.
 pub const JOD_MAX: f64 = 10.0;
 
@@ -118,13 +116,21 @@ pub struct Fvvdp {
     stdin: ChildStdin,
     stdout: BufReader<ChildStdout>,
     dir: PathBuf,
+    /// The display's luminance range the metric judges on.
+    photometry: Photometry,
     /// torch's version, as the server reported it.
     pub torch: String,
 }
 
 impl Fvvdp {
-    /// Finds the venv ([`locate_python`]) and starts the metric.
+    /// Finds the venv ([`locate_python`]) and starts the metric, judging on the Vive Pro's
+    /// photometry.
     pub fn start() -> Result<Self, JodError> {
+        Self::start_for(DisplayProfile::ViveProEye)
+    }
+
+    /// [`Fvvdp::start`], judging on `display`'s photometry.
+    pub fn start_for(display: DisplayProfile) -> Result<Self, JodError> {
         let python = locate_python()?;
         let dir = private_dir("fovea-jod")?;
         let stderr_path = dir.join("stderr.txt");
@@ -152,6 +158,7 @@ impl Fvvdp {
             stdin,
             stdout,
             dir,
+            photometry: display.photometry(),
             torch: String::new(),
         };
         let hello = metric.answer()?;
@@ -233,7 +240,8 @@ impl Fvvdp {
             "test": test,
             "reference": reference,
             "fixation": fixation,
-            "display": DISPLAY,
+            "peak_cd_m2": self.photometry.peak_cd_m2,
+            "black_cd_m2": self.photometry.black_cd_m2,
             "fov_horizontal_deg": fov_horizontal_deg(image),
         });
         let line = format!("{request}\n");

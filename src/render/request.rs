@@ -76,6 +76,10 @@ pub enum FovChoice {
     Scene,
     /// The HTC Vive Pro Eye's per-eye asymmetric field of view (about 105° × 111°).
     ViveProEye,
+    /// The Varjo XR-4's 120° × 105° (taken as symmetric).
+    #[value(name = "varjo-xr-4")]
+    #[serde(rename = "varjo-xr-4")]
+    VarjoXr4,
 }
 
 /// Distance between the eyes in scene units (metres): a typical adult IPD.
@@ -109,6 +113,7 @@ pub fn eye_views(
             (f, f)
         }
         FovChoice::ViveProEye => (EyeFov::VIVE_PRO_EYE_LEFT, EyeFov::VIVE_PRO_EYE_RIGHT),
+        FovChoice::VarjoXr4 => (EyeFov::VARJO_XR_4, EyeFov::VARJO_XR_4),
     };
     if !stereo {
         return vec![EyeView {

@@ -79,6 +79,10 @@ pub struct TunePlan {
     pub width: u32,
     pub height: u32,
     pub fov: FovChoice,
+    /// `--display`: the headset whose photometry FovVideoVDP judges on. Absent from older
+    /// plans: the Vive Pro Eye.
+    #[serde(default)]
+    pub profile: crate::foveation::DisplayProfile,
     pub budget: Budget,
     /// What the budget is compared with.
     #[serde(default)]

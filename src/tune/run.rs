@@ -31,7 +31,7 @@ pub fn run(
     plan.validate().map_err(TuneError::Plan)?;
     open_plan(plan, files)?;
     // Started first, so that a missing venv stops the run before anything is rendered.
-    let mut metric = Fvvdp::start()?;
+    let mut metric = Fvvdp::start_for(plan.profile)?;
     let (mut log, mut rows) = CsvLog::<CandidateRow>::open(&files.candidates)?;
     rows.sort_by_key(|r| r.index);
 

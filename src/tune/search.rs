@@ -107,6 +107,7 @@ mod tests {
             width: 64,
             height: 72,
             fov: FovChoice::ViveProEye,
+            profile: Default::default(),
             budget: Budget::Regular(1),
             cost: Cost::GpuTime,
             candidates: 20,

@@ -4,8 +4,9 @@ a whole run, so torch is imported once.
 
 Request: {"width", "height", "frames", "fps" (0 for an image), "test", "reference" (paths of
 raw little-endian float32 files, frames x height x width x RGB, display-encoded sRGB in 0..1),
-"fixation" ([[x, y]] per frame, pixels from the top-left), "display" (a pyfvvdp display model
-name, for its photometry), "fov_horizontal_deg" (the image's horizontal field of view, for its
+"fixation" ([[x, y]] per frame, pixels from the top-left), "peak_cd_m2" and "black_cd_m2" (the
+display's luminance at 1 and 0: its photometry, an sRGB display as pyfvvdp models one from its
+display_models.json entries), "fov_horizontal_deg" (the image's horizontal field of view, for its
 geometry)}. Answer: {"jod": float} or {"error": "what went wrong"}.
 """
 import json
@@ -17,7 +18,7 @@ def main():
         import numpy as np
         import torch
         import pyfvvdp
-        from pyfvvdp.fvvdp_display_model import fvvdp_display_geometry, fvvdp_display_photometry
+        from pyfvvdp.fvvdp_display_model import fvvdp_display_geometry, fvvdp_display_photo_eotf
     except Exception as e:  # a broken venv: say so on the protocol, then stop
         print(json.dumps({"error": f"cannot import pyfvvdp: {e}"}), flush=True)
         return 1
@@ -25,11 +26,13 @@ def main():
     print(json.dumps({"ready": True, "torch": torch.__version__, "numpy": np.__version__}), flush=True)
     metrics = {}
 
-    def metric(display, width, height, fov):
-        key = (display, width, height, round(fov, 6))
+    def metric(peak, black, width, height, fov):
+        key = (peak, black, width, height, round(fov, 6))
         if key not in metrics:
             geometry = fvvdp_display_geometry((width, height), distance_m=3.0, fov_horizontal=fov)
-            photometry = fvvdp_display_photometry.load(display)
+            # What fvvdp_display_photometry.load builds from a display_models.json entry with
+            # max_luminance and min_luminance (sRGB EOTF, gamma 2.2, no ambient light).
+            photometry = fvvdp_display_photo_eotf(peak, contrast=peak / black, EOTF="sRGB")
             metrics[key] = pyfvvdp.fvvdp(
                 display_photometry=photometry,
                 display_geometry=geometry,
@@ -52,7 +55,10 @@ def main():
             fixation = torch.tensor(r["fixation"], dtype=torch.float32)
             if fixation.shape != (f, 2):
                 raise ValueError(f"fixation has shape {tuple(fixation.shape)}, needs ({f}, 2)")
-            m = metric(r["display"], w, h, float(r["fov_horizontal_deg"]))
+            peak, black = float(r["peak_cd_m2"]), float(r["black_cd_m2"])
+            if not (peak > black > 0):
+                raise ValueError(f"display luminance {black}..{peak} cd/m^2: needs peak > black > 0")
+            m = metric(peak, black, w, h, float(r["fov_horizontal_deg"]))
             fps = float(r["fps"])
             with torch.no_grad():
                 if f == 1:

@@ -75,7 +75,7 @@ pub fn run(
 ) -> Result<(), BenchError> {
     let (log, done) = open_motion_log(dir, plan)?;
     let (jod_log, _) = CsvLog::<MotionJodRow>::open(&dir.join(MOTION_JOD_FILE))?;
-    let metric = perceptual_metric()?;
+    let metric = perceptual_metric(plan.profile)?;
     let mut run = MotionRun {
         ctx,
         plan,

@@ -1,0 +1,117 @@
+//! The headsets fovea renders for, as their makers' spec sheets give them: one eye's image size
+//! and field of view, and the display's photometry, which FovVideoVDP needs to judge what the
+//! eye sees (`--display`).
+
+use super::view::EyeFov;
+use crate::render::FovChoice;
+
+/// A display's luminance range in cd/m²: what a display-encoded 1 and 0 emit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Photometry {
+    pub peak_cd_m2: f64,
+    pub black_cd_m2: f64,
+}
+
+/// `--display`: a headset's eye image and display.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Hash,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum DisplayProfile {
+    /// HTC Vive Pro Eye: 1440×1600 per eye over about 105°×111°, 133 cd/m² peak (about 14 px/°).
+    #[default]
+    ViveProEye,
+    /// Varjo XR-4: 3840×3744 per eye over 120°×105°, 200 cd/m² peak, 10000:1 (32 px/°).
+    #[value(name = "varjo-xr-4")]
+    #[serde(rename = "varjo-xr-4")]
+    VarjoXr4,
+}
+
+impl DisplayProfile {
+    pub fn name(self) -> &'static str {
+        match self {
+            DisplayProfile::ViveProEye => "vive-pro-eye",
+            DisplayProfile::VarjoXr4 => "varjo-xr-4",
+        }
+    }
+
+    /// One eye's image size in pixels (width, height): the panel's.
+    pub fn eye_size(self) -> (u32, u32) {
+        match self {
+            DisplayProfile::ViveProEye => EyeFov::VIVE_PRO_EYE_SIZE,
+            DisplayProfile::VarjoXr4 => EyeFov::VARJO_XR_4_SIZE,
+        }
+    }
+
+    /// The eyes' fields of view.
+    pub fn fov(self) -> FovChoice {
+        match self {
+            DisplayProfile::ViveProEye => FovChoice::ViveProEye,
+            DisplayProfile::VarjoXr4 => FovChoice::VarjoXr4,
+        }
+    }
+
+    /// What FovVideoVDP is told of the display's luminance.
+    pub fn photometry(self) -> Photometry {
+        match self {
+            // pyfvvdp's `htc_vive_pro` model (Mantiuk et al., from arXiv:1912.02913).
+            DisplayProfile::ViveProEye => Photometry {
+                peak_cd_m2: 133.3,
+                black_cd_m2: 0.1,
+            },
+            // Varjo's XR-4 spec sheet: 200 nits, local-dimming contrast 10000:1.
+            DisplayProfile::VarjoXr4 => Photometry {
+                peak_cd_m2: 200.0,
+                black_cd_m2: 0.02,
+            },
+        }
+    }
+
+    /// Where the numbers come from.
+    pub fn source(self) -> &'static str {
+        match self {
+            DisplayProfile::ViveProEye => {
+                "HTC's Vive Pro Eye panels (1440×1600 per eye); field of view as SteamVR \
+                 reports it; photometry from pyfvvdp's htc_vive_pro (arXiv:1912.02913)"
+            }
+            DisplayProfile::VarjoXr4 => {
+                "Varjo XR-4 spec sheet (varjo.com/products/xr-4): 3840×3744 per eye, 120°×105° \
+                 field of view, 200 nits, 10000:1 contrast, 51 px/° at the lens centre"
+            }
+        }
+    }
+
+    /// One eye's mean horizontal density: its pixels over its horizontal field of view in
+    /// degrees (the figure spec sheets and the issue's "13 px/°" use). A flat image holds
+    /// fewer pixels per degree at its centre than this, more at its edges.
+    pub fn pixels_per_degree(self) -> f64 {
+        let fov = match self.fov() {
+            FovChoice::VarjoXr4 => EyeFov::VARJO_XR_4,
+            _ => EyeFov::VIVE_PRO_EYE_LEFT,
+        };
+        let width_deg = (fov.right - fov.left) as f64 * 180.0 / std::f64::consts::PI;
+        self.eye_size().0 as f64 / width_deg
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_profiles_densities_are_the_spec_sheets() {
+        let vive = DisplayProfile::ViveProEye.pixels_per_degree();
+        let varjo = DisplayProfile::VarjoXr4.pixels_per_degree();
+        assert!((13.0..14.5).contains(&vive), "{vive}");
+        assert!((varjo - 32.0).abs() < 0.01, "{varjo}");
+    }
+}
