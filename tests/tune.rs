@@ -53,6 +53,8 @@ struct Row {
     gpu_ms: f64,
     pace_ratio: f64,
     jod: f64,
+    jod_motion: f64,
+    jod_forward: f64,
     config_json: String,
 }
 
@@ -256,5 +258,54 @@ fn bad_input_gets_a_message() {
     assert!(
         !dir.join("references").exists(),
         "rendered before finding the metric"
+    );
+}
+
+/// `--objective motion`: every config's JOD is a video of the head turning and the eye
+/// saccading with the history on (the first-frame scores beside it), and the video sees the
+/// history: the same config scores higher with it than without.
+#[test]
+fn the_motion_objective_judges_a_video_with_the_history() {
+    let dir = temp_dir("motion");
+    let out = dir.join("m.toml");
+    let out = out.to_str().unwrap();
+    let mut args = tune_args(
+        out,
+        &[
+            "--budget-of-regular",
+            "2",
+            "--objective",
+            "motion",
+            "--fov",
+            "scene",
+        ],
+    );
+    args[10] = "5".into();
+    let (ok, text) = run(&args);
+    assert!(ok, "{text}");
+    let all = rows(&dir.join("m-candidates.csv"));
+    assert_eq!(all.len(), 5, "{all:?}");
+    for r in &all {
+        assert!(r.jod_motion.is_finite() && r.jod == r.jod_motion, "{r:?}");
+        assert!(r.jod_forward.is_finite(), "{r:?}");
+    }
+    let plan: fovea::tune::TunePlan =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("m-tune.json")).unwrap()).unwrap();
+    assert_eq!(plan.objective, fovea::tune::Objective::Motion);
+    let ctx = common::context();
+    let references = dir.join("references");
+    let mut judge =
+        fovea::tune::measure::SceneJudge::new(&ctx, &plan, "cornell", &references, &mut |_, _| {})
+            .unwrap();
+    let mut metric = fovea::metrics::jod::Fvvdp::start().unwrap_or_else(|e| panic!("{e}"));
+    let config = fovea::foveation::FoveationConfig::regular(1);
+    let with = judge.motion_jod(&plan, &config, true, &mut metric).unwrap();
+    let without = judge
+        .motion_jod(&plan, &config, false, &mut metric)
+        .unwrap();
+    eprintln!("regular 1 spp in motion: {with:.3} JOD with the history, {without:.3} without");
+    assert!(
+        with > without + 0.1,
+        "with history {with}, without {without}"
     );
 }

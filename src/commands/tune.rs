@@ -8,7 +8,7 @@ use fovea::foveation::{DisplayProfile, FoveationConfig};
 use fovea::render::{FovChoice, Integrator, Traversal};
 use fovea::tune::files::TuneFiles;
 use fovea::tune::space::Space;
-use fovea::tune::{self, Budget, Cost, TuneOptions, TunePlan};
+use fovea::tune::{self, Budget, Cost, Objective, TuneOptions, TunePlan};
 use std::path::PathBuf;
 
 /// Which grid the search draws configs from.
@@ -37,6 +37,12 @@ pub struct TuneArgs {
     /// say otherwise) and its display's photometry, which FovVideoVDP judges on.
     #[arg(long = "display", value_enum, default_value_t = DisplayProfile::ViveProEye)]
     pub display_profile: DisplayProfile,
+    /// What a config's JOD is: `still`, the first frame after the eye lands at each gaze with
+    /// no history; or `motion`, a video of the head turning and the eye saccading with the
+    /// history on (every config, the uniform baselines too), the first-frame scores kept
+    /// beside it.
+    #[arg(long, value_enum, default_value_t = Objective::Still)]
+    pub objective: Objective,
     /// One eye's field of view. Default: the --display's.
     #[arg(long, value_enum)]
     pub fov: Option<FovChoice>,
@@ -110,6 +116,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
         height: (args.height).unwrap_or(args.display_profile.eye_size().1),
         fov: (args.fov).unwrap_or(args.display_profile.fov()),
         profile: args.display_profile,
+        objective: args.objective,
         budget: match (args.budget_ms, args.budget_of_regular) {
             (_, Some(spp)) => Budget::Regular(spp),
             (Some(ms), None) => Budget::Ms(ms),

@@ -22,11 +22,16 @@ pub struct CandidateRow {
     /// the regular frames timed between its frames, summed over scenes (NaN with a budget in
     /// ms). At most 1 is within the budget, however the machine's speed drifted in the run.
     pub pace_ratio: f64,
-    /// FovVideoVDP JOD: mean over scenes and gazes; then per gaze (mean over scenes).
+    /// FovVideoVDP JOD, the objective: with `--objective still` the mean over scenes and gazes
+    /// of the first frames; with `motion` the mean over scenes of the videos (`jod_motion`).
+    /// Then the first frames' per gaze (mean over scenes).
     pub jod: f64,
     pub jod_forward: f64,
     pub jod_off_axis: f64,
     pub jod_corner: f64,
+    /// With `--objective motion`: the videos' JOD, mean over scenes (else empty).
+    #[serde(default = "no_score")]
+    pub jod_motion: f64,
     /// Camera paths traced per visible pixel (forward gaze, first scene): the rays' share.
     pub paths_per_pixel: f64,
     /// Per scene, its median GPU ms and JOD per gaze, as JSON:
@@ -35,6 +40,10 @@ pub struct CandidateRow {
     pub scenes_json: String,
     /// The config itself, as JSON.
     pub config_json: String,
+}
+
+fn no_score() -> f64 {
+    f64::NAN
 }
 
 impl CandidateRow {

@@ -5,7 +5,7 @@ use super::cost::{costs, Point};
 use super::error::TuneError;
 use super::files::{config_toml, write_rows, CandidateRow, FrontRow, TuneFiles};
 use super::front::{best_within, pareto_front};
-use super::plan::{Budget, Cost, TuneOptions, TunePlan};
+use super::plan::{Budget, Cost, Objective, TuneOptions, TunePlan};
 use super::space::describe;
 use crate::bench::plots::{self, Curve, CurvePoint, JodChart};
 use crate::foveation::FoveationConfig;
@@ -112,8 +112,12 @@ fn config_header(
 /// What the chosen config scored and cost, against the budget.
 fn chosen_line(plan: &TunePlan, chosen: &FrontRow, budget: f64) -> String {
     format!(
-        "JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms GPU per eye; budget {:.2} ms{}.",
+        "JOD {:.3} ({}forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms GPU per eye; budget {:.2} ms{}.",
         chosen.jod,
+        match plan.objective {
+            Objective::Still => "",
+            Objective::Motion => "in motion with history; first frames: ",
+        },
         chosen.jod_forward,
         chosen.jod_off_axis,
         chosen.jod_corner,

@@ -3,7 +3,8 @@
 //! then the timed frames whose median GPU time is the config's cost.
 
 use super::error::TuneError;
-use super::plan::{Budget, Cost, TuneGaze, TunePlan};
+use super::motion::MotionJudge;
+use super::plan::{Budget, Cost, Objective, TuneGaze, TunePlan};
 use crate::bench::quality;
 use crate::bench::BenchPlan;
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
@@ -34,12 +35,16 @@ pub struct SceneJudge {
     reference: Vec<f32>,
     /// Pixels the lens shows (the space's occlusion mask); the rest is black in both images.
     visible: Vec<bool>,
+    /// With `--objective motion`: the judged sequence.
+    motion: Option<MotionJudge>,
 }
 
 /// What one config measured on one scene.
 pub struct SceneScore {
-    /// Per gaze of [`TuneGaze::ALL`].
+    /// Per gaze of [`TuneGaze::ALL`]: the first frame after the eye lands there.
     pub jod: Vec<f64>,
+    /// With `--objective motion`: the video's JOD (NaN otherwise).
+    pub motion_jod: f64,
     pub timing: Timing,
     pub paths_per_pixel: f64,
 }
@@ -126,6 +131,18 @@ impl SceneJudge {
         let reference =
             quality::reference_image(&mut renderer, &bench, name, &eyes[..1], &path, progress)?;
         let visible = visible_pixels(&image, plan.space.occlusion_deg);
+        let motion = match plan.objective {
+            Objective::Still => None,
+            Objective::Motion => Some(MotionJudge::new(
+                &mut renderer,
+                plan,
+                &bench,
+                &scene,
+                name,
+                cache,
+                &visible,
+            )?),
+        };
         Ok(Self {
             name: name.to_string(),
             renderer,
@@ -134,6 +151,7 @@ impl SceneJudge {
             image,
             reference: hidden_black(reference, &visible),
             visible,
+            motion,
         })
     }
 
@@ -148,9 +166,8 @@ impl SceneJudge {
         metric: &mut Fvvdp,
     ) -> Result<SceneScore, TuneError> {
         let name = self.name.clone();
-        // The denoiser is guided by the history's surfaces, so configs that denoise keep one;
-        // it starts empty for every judged frame.
-        let temporal = (config.denoise_iterations() > 0).then(TemporalSettings::default);
+        // A history that starts empty for every judged frame (see keeps_history).
+        let temporal = keeps_history(plan, config).then(TemporalSettings::default);
         self.renderer
             .set_temporal(temporal)
             .map_err(TuneError::render(&name))?;
@@ -183,11 +200,40 @@ impl SceneJudge {
             jod.push(metric.image(&test, &self.reference, &self.image, gaze, &display)?);
             self.timed_frames(plan, &request, pace, &mut timed)?;
         }
+        let motion_jod = match self.motion.is_some() {
+            true => self.motion_jod(plan, config, true, metric)?,
+            false => f64::NAN,
+        };
         Ok(SceneScore {
             jod,
+            motion_jod,
             timing: timed.medians(),
             paths_per_pixel,
         })
+    }
+
+    /// `config`'s JOD on the motion sequence (with `--objective motion`; NaN without), the
+    /// history kept or not.
+    pub fn motion_jod(
+        &mut self,
+        plan: &TunePlan,
+        config: &FoveationConfig,
+        history: bool,
+        metric: &mut Fvvdp,
+    ) -> Result<f64, TuneError> {
+        let Some(motion) = &self.motion else {
+            return Ok(f64::NAN);
+        };
+        motion.score(
+            &mut self.renderer,
+            settings(plan),
+            config,
+            history,
+            &self.image,
+            &self.visible,
+            &plan.display.transform(&self.name),
+            metric,
+        )
     }
 
     /// `config`'s time alone, gaze forward: the medians of its timed frames (after one
@@ -198,7 +244,7 @@ impl SceneJudge {
         config: &FoveationConfig,
         pace: Option<&FoveationConfig>,
     ) -> Result<Timing, TuneError> {
-        let temporal = (config.denoise_iterations() > 0).then(TemporalSettings::default);
+        let temporal = keeps_history(plan, config).then(TemporalSettings::default);
         self.renderer
             .set_temporal(temporal)
             .map_err(TuneError::render(&self.name))?;
@@ -272,6 +318,13 @@ impl TimedFrames {
             pace_samples: of(&self.pace, paths),
         }
     }
+}
+
+/// Whether `config` is timed (and its still frames judged) with the temporal history: with
+/// `--objective motion`, which judges it with one, always; else when it denoises (the
+/// denoiser is guided by the history's surfaces).
+fn keeps_history(plan: &TunePlan, config: &FoveationConfig) -> bool {
+    plan.objective == Objective::Motion || config.denoise_iterations() > 0
 }
 
 /// The settings of every frame of the plan (the layers carry the spp).

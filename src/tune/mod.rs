@@ -14,6 +14,7 @@ pub mod files;
 pub mod finish;
 pub mod front;
 pub mod measure;
+pub mod motion;
 pub mod plan;
 pub mod run;
 pub mod search;
@@ -21,5 +22,5 @@ pub mod space;
 
 pub use error::TuneError;
 pub use finish::TuneOutcome;
-pub use plan::{Budget, Cost, TuneGaze, TuneOptions, TunePlan};
+pub use plan::{Budget, Cost, Objective, TuneGaze, TuneOptions, TunePlan};
 pub use run::run;

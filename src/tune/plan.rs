@@ -33,6 +33,18 @@ pub enum Cost {
     Samples,
 }
 
+/// `--objective`: what a config's JOD is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Objective {
+    /// The first frame after the eye lands at each gaze, no history (the worst case).
+    #[default]
+    Still,
+    /// A video of the head turning and the eye saccading, history on (tune/motion.rs); the
+    /// first-frame scores are kept beside it.
+    Motion,
+}
+
 /// Where the eye looks while a config is judged: the three positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -108,6 +120,9 @@ pub struct TunePlan {
     /// `--env` and its options. Absent from the plan without one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvChoice>,
+    /// `--objective`. Absent from older plans: still.
+    #[serde(default)]
+    pub objective: Objective,
     /// `--sampler`. Plans written before the flag ran with the independent sampler.
     #[serde(default = "crate::render::Sampler::before_the_flag")]
     pub sampler: crate::render::Sampler,

@@ -8,7 +8,7 @@ use super::error::TuneError;
 use super::files::{CandidateRow, TuneFiles};
 use super::finish::{finish, TuneOutcome};
 use super::measure::{SceneJudge, Timing};
-use super::plan::{Budget, TuneGaze, TuneOptions, TunePlan};
+use super::plan::{Budget, Objective, TuneGaze, TuneOptions, TunePlan};
 use super::search::{candidate, first_configs, random_configs};
 use super::space::describe;
 use crate::bench::csv_log::CsvLog;
@@ -187,6 +187,7 @@ fn unjudged(
         gpu_ms,
         pace_ratio,
         jod: f64::NAN,
+        jod_motion: f64::NAN,
         jod_forward: f64::NAN,
         jod_off_axis: f64::NAN,
         jod_corner: f64::NAN,
@@ -208,6 +209,7 @@ fn judge(
 ) -> Result<CandidateRow, TuneError> {
     let pace = pace_config(plan);
     let mut per_gaze = vec![0.0; TuneGaze::ALL.len()];
+    let mut motion = 0.0;
     let mut timings = Vec::new();
     let mut paths_per_pixel = f64::NAN;
     let mut scenes = serde_json::Map::new();
@@ -220,9 +222,11 @@ fn judge(
                 "pace_ms": score.timing.pace_ms,
                 "paths": score.timing.samples,
                 "pace_paths": score.timing.pace_samples,
-                "jod": score.jod
+                "jod": score.jod,
+                "jod_motion": score.motion_jod
             }),
         );
+        motion += score.motion_jod / plan.scenes.len() as f64;
         for (sum, jod) in per_gaze.iter_mut().zip(&score.jod) {
             *sum += jod / plan.scenes.len() as f64;
         }
@@ -241,7 +245,11 @@ fn judge(
         config: describe(config),
         gpu_ms,
         pace_ratio,
-        jod: per_gaze.iter().sum::<f64>() / per_gaze.len() as f64,
+        jod: match plan.objective {
+            Objective::Still => per_gaze.iter().sum::<f64>() / per_gaze.len() as f64,
+            Objective::Motion => motion,
+        },
+        jod_motion: motion,
         jod_forward: per_gaze[0],
         jod_off_axis: per_gaze[1],
         jod_corner: per_gaze[2],

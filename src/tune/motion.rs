@@ -1,0 +1,172 @@
+//! `--objective motion`: a config judged on what the headset shows while the head turns and
+//! the eye saccades, with the temporal history on, as a short FovVideoVDP video (foveated at
+//! each frame's fixation) against each frame's converged reference.
+//!
+//! The sequence follows the bench's motion script (`MotionScript::head_and_saccades`: the head
+//! turning up to 31°/s, saccades of 10–23° between fixations of 250 ms). Its window starts
+//! [`WARM_UP`] frames before the first saccade's start and is scored from the frame before
+//! the saccade for [`SCORED`] frames: the history has had time to build up, and the video holds
+//! a fixation, a saccade and the landing after it. Every config gets the history, the
+//! uniform baselines too, so foveation is compared with the best uniform frame at each cost.
+
+use super::error::TuneError;
+use super::plan::TunePlan;
+use crate::bench::motion::MotionScript;
+use crate::bench::{quality, BenchPlan};
+use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
+use crate::metrics::hidden_black;
+use crate::metrics::jod::{Fvvdp, JodInput};
+use crate::render::display::DisplayTransform;
+use crate::render::{
+    eye_views, DebugView, EyeView, FrameOptions, FrameRequest, RenderSettings, Renderer,
+    TemporalSettings,
+};
+use crate::scene::Scene;
+use std::path::Path;
+
+/// Frames rendered (not scored) before the scored ones, so that the history has built up.
+pub const WARM_UP: u32 = 8;
+/// Frames scored: about 130 ms at 90 Hz, holding the end of a fixation, a saccade and the
+/// landing.
+pub const SCORED: u32 = 12;
+
+/// One scene's judged sequence: each frame's eye (the head's pose, the gaze at the script's
+/// fixation) and, for the scored frames, its reference.
+pub struct MotionJudge {
+    name: String,
+    frames: Vec<EyeView>,
+    references: Vec<Vec<f32>>,
+    fixations: Vec<[f64; 2]>,
+}
+
+impl MotionJudge {
+    /// The sequence of `scene` (loaded as `name`) at `plan`'s image, and each scored frame's
+    /// reference from `cache` (or rendered into it by `renderer`).
+    pub fn new(
+        renderer: &mut Renderer,
+        plan: &TunePlan,
+        bench: &BenchPlan,
+        scene: &Scene,
+        name: &str,
+        cache: &Path,
+        visible: &[bool],
+    ) -> Result<Self, TuneError> {
+        let script = MotionScript::head_and_saccades();
+        let first = first_scored_frame(&script);
+        let frames: Vec<EyeView> = (first - WARM_UP..first + SCORED)
+            .map(|k| frame_eye(scene, plan, &script, k))
+            .collect();
+        let mut references = Vec::new();
+        let mut fixations = Vec::new();
+        for eye in &frames[WARM_UP as usize..] {
+            let eyes = std::slice::from_ref(eye);
+            let path = quality::ReferenceKey::new(renderer, bench, name, eyes).path(cache);
+            let rgb = quality::reference_image(renderer, bench, name, eyes, &path, &mut |_, _| {})?;
+            references.push(hidden_black(rgb, visible));
+            let Gaze::Pixel(x, y) = eye.gaze else {
+                unreachable!("frame_eye gives every frame a gaze pixel")
+            };
+            fixations.push([x, y]);
+        }
+        Ok(Self {
+            name: name.to_string(),
+            frames,
+            references,
+            fixations,
+        })
+    }
+
+    /// `config`'s video JOD: the sequence rendered from an empty history (kept when
+    /// `history`, as the headset does), its scored frames against their references.
+    #[allow(clippy::too_many_arguments)]
+    pub fn score(
+        &self,
+        renderer: &mut Renderer,
+        settings: RenderSettings,
+        config: &FoveationConfig,
+        history: bool,
+        image: &ImageGeometry,
+        visible: &[bool],
+        display: &DisplayTransform,
+        metric: &mut Fvvdp,
+    ) -> Result<f64, TuneError> {
+        let name = self.name.as_str();
+        renderer
+            .set_temporal(history.then(TemporalSettings::default))
+            .map_err(TuneError::render(name))?;
+        renderer.reset_history();
+        let mut tests = Vec::new();
+        for (k, eye) in self.frames.iter().enumerate() {
+            let request = FrameRequest {
+                settings: RenderSettings {
+                    seed: settings.seed.wrapping_add(k as u32),
+                    ..settings
+                },
+                foveation: config,
+                eyes: std::slice::from_ref(eye),
+                debug: DebugView::None,
+            };
+            let frame = renderer
+                .frame(&request, FrameOptions::pixels())
+                .map(Option::unwrap)
+                .map_err(TuneError::render(name))?;
+            if k >= WARM_UP as usize {
+                tests.push(hidden_black(frame.rgb, visible));
+            }
+        }
+        let tests: Vec<&[f32]> = tests.iter().map(Vec::as_slice).collect();
+        let references: Vec<&[f32]> = self.references.iter().map(Vec::as_slice).collect();
+        Ok(metric.score(&JodInput {
+            test: &tests,
+            reference: &references,
+            image,
+            fixation: &self.fixations,
+            fps: MotionScript::head_and_saccades().frame_rate_hz,
+            display,
+        })?)
+    }
+}
+
+/// The first scored frame: the one before the script's first saccade starts.
+fn first_scored_frame(script: &MotionScript) -> u32 {
+    let saccade = (0..10 * WARM_UP + 1000)
+        .find(|&k| script.gaze_deg(k).1)
+        .expect("the script has saccades");
+    saccade.max(WARM_UP + 1) - 1
+}
+
+/// One eye (the left, mono) at frame `k`: the scene camera turned by the script's head, the
+/// gaze at the script's fixation.
+fn frame_eye(scene: &Scene, plan: &TunePlan, script: &MotionScript, k: u32) -> EyeView {
+    let head = script.head_pose(k).apply(&scene.camera);
+    let aspect = plan.width as f32 / plan.height as f32;
+    let forward = GazeChoice {
+        left: Gaze::Forward,
+        right: Gaze::Forward,
+    };
+    let eye = eye_views(&head, aspect, plan.fov, false, forward)[0];
+    let image = eye.image(plan.width, plan.height);
+    let [x, y] = script.gaze_pixel(k, &scene.camera, &eye.camera, &image);
+    EyeView {
+        gaze: Gaze::Pixel(x, y),
+        ..eye
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_scored_window_holds_a_saccade_after_a_fixation() {
+        let script = MotionScript::head_and_saccades();
+        let first = first_scored_frame(&script);
+        assert!(first >= WARM_UP);
+        assert!(!script.gaze_deg(first).1, "the window starts fixating");
+        assert!(script.gaze_deg(first + 1).1, "then the saccade");
+        let landed = (first..first + SCORED)
+            .filter(|&k| !script.gaze_deg(k).1)
+            .count();
+        assert!(landed >= 3, "{landed} fixating frames in the window");
+    }
+}
