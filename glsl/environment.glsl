@@ -1,6 +1,7 @@
 // The HDR environment (BINDING_ENVIRONMENT, src/scene/env_map.rs): its radiance by direction,
 // bilinear between texels, and next-event estimation's choice of directions from it: a texel
-// from its alias table (luminance x sin theta), then a uniform point in the texel.
+// in proportion to luminance x sin theta, and a uniform point in it, by inverting the rows'
+// and each row's cumulative distribution with the two numbers of one 2-D sample.
 // Directions map to the image as Blender's Environment Texture does for a glTF scene:
 // column u = 0.5 + atan2(z, x) / 2pi, row t = acos(y) / pi from the top.
 #ifndef FOVEA_ENVIRONMENT_GLSL
@@ -63,18 +64,40 @@ float env_pdf(vec2 ut) {
     return env_density(env_texel(col, row).w, ut.y);
 }
 
-// A direction toward the environment: a texel chosen by the alias table (u.x the bucket, u.y
-// keep-or-alias), then (u.z, u_row) a uniform point in it, at the map's `ut`. `pdf` is its
-// solid-angle density.
-vec3 env_sample(vec3 u, float u_row, out vec2 ut, out float pdf) {
-    uint texels = scene_info.env_width * scene_info.env_height;
-    uint bucket = min(uint(u.x * float(texels)), texels - 1u);
-    uvec2 b = texelFetch(environment_texels, int(2u * bucket + 1u)).xy;
-    uint k = u.y < uintBitsToFloat(b.y) ? bucket : b.x;
-    uint col = k % scene_info.env_width, row = k / scene_info.env_width;
-    ut = vec2((float(col) + u.z) / float(scene_info.env_width),
-                   (float(row) + u_row) / float(scene_info.env_height));
-    pdf = env_density(env_texel(int(col), int(row)).w, ut.y);
+// Where texel (col, row) starts in its row's cumulative distribution (x) and where its row
+// starts in the map's (y) (src/scene/env_sampling.rs).
+vec2 env_starts(int col, int row) {
+    return uintBitsToFloat(texelFetch(environment_texels, 2 * (row * int(scene_info.env_width) + col) + 1).xy);
+}
+
+// A direction toward the environment from one 2-D sample: the row whose interval of the
+// map's cumulative distribution holds u.y, the column whose interval of that row's holds
+// u.x (binary searches), each coordinate's place inside its interval the place inside the
+// texel; at the map's `ut`. `pdf` is its solid-angle density.
+vec3 env_sample(vec2 u, out vec2 ut, out float pdf) {
+    int w = int(scene_info.env_width), h = int(scene_info.env_height);
+    // The last row starting at or before u.y (row 0 starts at 0).
+    int lo = 0, hi = h;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (env_starts(0, mid).y <= u.y) lo = mid; else hi = mid;
+    }
+    int row = lo;
+    float r0 = env_starts(0, row).y, r1 = row + 1 < h ? env_starts(0, row + 1).y : 1.0;
+    lo = 0;
+    hi = w;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (env_starts(mid, row).x <= u.x) lo = mid; else hi = mid;
+    }
+    int col = lo;
+    float c0 = env_starts(col, row).x, c1 = col + 1 < w ? env_starts(col + 1, row).x : 1.0;
+    // Inside the texel: the remainders (an interval of zero width, which rounding alone can
+    // reach, gives its texel's centre).
+    vec2 inside = vec2(c1 > c0 ? (u.x - c0) / (c1 - c0) : 0.5, r1 > r0 ? (u.y - r0) / (r1 - r0) : 0.5);
+    inside = clamp(inside, 0.0, 0.99999994);
+    ut = (vec2(col, row) + inside) / vec2(w, h);
+    pdf = env_density(env_texel(col, row).w, ut.y);
     return env_direction(ut);
 }
 

@@ -254,17 +254,16 @@ vec3 next_event(SurfaceHit s, vec3 wo, vec3 origin, inout Sampler smp, inout uin
     float u_bucket = u_pick.x;
     float u_keep = u_pick.y;
     GpuEmitter e = load_emitter(choose_emitter(u_bucket, u_keep));
-    // The point on the light (a box's face in z), and for the environment (z, w) the point in
-    // its texel: two pairs, so that the two coordinates of a texel are one stratified pair.
-    vec4 u4 = vec4(sample_2d(smp), sample_2d(smp));
-    vec3 u = u4.xyz;
+    // The point on the light or the environment's direction (xy: one stratified pair), and a
+    // box's face (z).
+    vec3 u = vec3(sample_2d(smp), sample_1d(smp));
     vec3 wi;
     vec3 arriving; // irradiance (punctual) or MIS-weighted radiance over the solid-angle pdf
     vec3 shadow_seg;
     if (HAS_ENV_MAP && e.kind == KIND_ENVIRONMENT) {
         float env_density;
         vec2 ut;
-        wi = env_sample(u, u4.w, ut, env_density);
+        wi = env_sample(u.xy, ut, env_density);
         float light_pdf = e.pmf * env_density;
         if (!(light_pdf > 0.0)) return vec3(0.0);
         float bpdf = material_pdf(s.m, wo, wi, n);

@@ -1,10 +1,13 @@
 //! An environment as the shaders read it (shared.h's BINDING_ENVIRONMENT): per texel, its
-//! radiance and the probability of choosing it, then its alias-table bucket. Next-event
-//! estimation picks a texel from the table and a uniform point in it; texel k of a W × H map
-//! at polar angle θ covers 2π²/(W·H) · sin θ of solid angle, so a direction in it has density
+//! radiance and the probability of choosing it, then where it starts in its row's and its
+//! row in the map's cumulative distribution. Next-event estimation inverts the two (a row by
+//! one coordinate of a 2-D sample, a column in it by the other) and keeps each coordinate's
+//! remainder as the position inside the texel: one stratified pair of numbers becomes one
+//! stratified set of directions (a blue-noise sampler's pair stays a pair), where an alias
+//! table's buckets scatter neighbouring numbers over the map. Texel k of a W × H map at polar
+//! angle θ covers 2π²/(W·H) · sin θ of solid angle, so a direction in it has density
 //! pmf[k] · W·H / (2π² sin θ).
 
-use super::alias_table::AliasTable;
 use super::env_map::{EnvSampling, EnvironmentLight};
 use super::lights::luminance;
 
@@ -44,7 +47,9 @@ impl GpuEnvironment {
 }
 
 /// The GPU's texels of `env`: two per environment texel, rows from the top. First
-/// (r, g, b, pmf) as float bits, the radiance × `env.intensity`; then (alias, keep bits, 0, 0).
+/// (r, g, b, pmf) as float bits, the radiance × `env.intensity`; then (the row's cumulative
+/// probability before this texel, given the row; the map's cumulative probability before
+/// this texel's row; 0, 0), as float bits.
 pub fn environment_texels(env: &EnvironmentLight) -> Vec<[u32; 4]> {
     let map = &env.map;
     let (w, h) = (map.width as usize, map.height as usize);
@@ -58,13 +63,32 @@ pub fn environment_texels(env: &EnvironmentLight) -> Vec<[u32; 4]> {
             filtered[i] * theta.sin()
         })
         .collect();
-    let table = AliasTable::new(&weights);
+    let rows: Vec<f64> = weights.chunks(w).map(|r| r.iter().sum()).collect();
+    let total: f64 = rows.iter().sum();
     let mut texels = Vec::with_capacity(2 * w * h);
-    for (i, t) in map.texels.iter().enumerate() {
-        let l = *t * env.intensity;
-        let pmf = table.pmf[i] as f32;
-        texels.push([l.x.to_bits(), l.y.to_bits(), l.z.to_bits(), pmf.to_bits()]);
-        texels.push([table.alias[i], table.keep[i].to_bits(), 0, 0]);
+    let mut before_row = 0.0;
+    for (row, row_sum) in rows.iter().enumerate() {
+        let mut before_texel = 0.0;
+        for col in 0..w {
+            let i = row * w + col;
+            let l = map.texels[i] * env.intensity;
+            let pmf = (weights[i] / total) as f32;
+            texels.push([l.x.to_bits(), l.y.to_bits(), l.z.to_bits(), pmf.to_bits()]);
+            // A row of zero weight is never chosen; its columns' starts are spread evenly.
+            let conditional = match *row_sum > 0.0 {
+                true => before_texel / row_sum,
+                false => col as f64 / w as f64,
+            };
+            let marginal = before_row / total;
+            texels.push([
+                (conditional as f32).to_bits(),
+                (marginal as f32).to_bits(),
+                0,
+                0,
+            ]);
+            before_texel += weights[i];
+        }
+        before_row += row_sum;
     }
     texels
 }
@@ -137,5 +161,47 @@ mod tests {
         assert_eq!(f32::from_bits(gpu[10][0]), 14.0);
         let uniform = environment_texels(&env(vec![Vec3::ONE; 8], 4, EnvSampling::Uniform));
         assert!((f32::from_bits(uniform[10][3]) - 1.0 / 8.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn each_texel_knows_where_it_and_its_row_start_in_the_distribution() {
+        // 4 × 2: row 0 weights (1, 1, 1, 1), row 1 (1, 1, 5, 1) before filtering; uniform
+        // sampling makes every texel's weight its sin θ (the two rows' are equal).
+        let gpu = environment_texels(&env(vec![Vec3::ONE; 8], 4, EnvSampling::Uniform));
+        let starts = |i: usize| {
+            (
+                f32::from_bits(gpu[2 * i + 1][0]),
+                f32::from_bits(gpu[2 * i + 1][1]),
+            )
+        };
+        assert_eq!(starts(0), (0.0, 0.0));
+        assert_eq!(starts(3), (0.75, 0.0));
+        assert_eq!(starts(4), (0.0, 0.5));
+        assert_eq!(starts(6), (0.5, 0.5));
+        // A bright texel widens its own interval of its row, and its row's of the map.
+        let mut texels = vec![Vec3::splat(1.0); 8];
+        texels[6] = Vec3::splat(5.0);
+        let gpu = environment_texels(&env(texels, 4, EnvSampling::Uniform));
+        let pmf = |i: usize| f32::from_bits(gpu[2 * i][3]);
+        let start = |i: usize| f32::from_bits(gpu[2 * i + 1][0]);
+        assert_eq!(pmf(6), 1.0 / 8.0, "uniform sampling ignores the radiance");
+        let gpu = environment_texels(&env(
+            (0..8)
+                .map(|i| Vec3::splat(if i == 6 { 5.0 } else { 1.0 }))
+                .collect(),
+            4,
+            EnvSampling::Importance,
+        ));
+        let pmf_i = |i: usize| f32::from_bits(gpu[2 * i][3]);
+        let start_i = |i: usize| f32::from_bits(gpu[2 * i + 1][0]);
+        let row_1 = f32::from_bits(gpu[2 * 4 + 1][1]);
+        assert!(
+            row_1 < 0.5,
+            "the brighter row 1 starts before half: {row_1}"
+        );
+        let in_row = |i: usize| pmf_i(i) / (1.0 - row_1);
+        assert!((start_i(7) - start_i(6) - in_row(6)).abs() < 1e-6);
+        assert!((start(7) - 0.75).abs() < 1e-6);
+        assert!(pmf(6) > 0.0);
     }
 }
