@@ -76,6 +76,7 @@ fn concentration(map: &EnvironmentMap) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    shared::choose_sampler()?;
     let (size, spp, reference_spp) = (
         arg("--size", 24),
         arg("--spp", 16),

@@ -50,6 +50,7 @@ fn many_lights() -> Scene {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    shared::choose_sampler()?;
     let size = arg("--size", 128);
     let ctx = Arc::new(GpuContext::new(&GpuOptions::default())?);
     let render = |scene: &Scene, selection, spp, seed| {

@@ -21,10 +21,11 @@ pub fn render_rgb(
     Ok(regular_frame(&mut renderer, &scene.camera, &square(size, spp, seed))?.rgb)
 }
 
-/// A `size` × `size` frame of the path tracer at 8 bounces, with the default sampler.
+/// A `size` × `size` frame of the path tracer at 8 bounces, with the `--sampler` given to
+/// the example ([`choose_sampler`]; zsobol by default).
 pub fn square(size: u32, spp: u32, seed: u32) -> RenderSettings {
     RenderSettings {
-        sampler: Default::default(),
+        sampler: fovea::render::Sampler::chosen(),
         width: size,
         height: size,
         spp,
@@ -49,4 +50,19 @@ pub fn arg(name: &str, default: u32) -> u32 {
     (args.iter().position(|a| a == name))
         .and_then(|i| args.get(i + 1)?.parse().ok())
         .unwrap_or(default)
+}
+
+/// `--sampler independent|zsobol` on the example's command line, as `fovea --sampler` takes it.
+pub fn choose_sampler() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().collect();
+    let Some(i) = args.iter().position(|a| a == "--sampler") else {
+        return Ok(());
+    };
+    let sampler = match args.get(i + 1).map(String::as_str) {
+        Some("zsobol") => fovea::render::Sampler::Zsobol,
+        Some("independent") => fovea::render::Sampler::Independent,
+        other => return Err(format!("--sampler {other:?}: give zsobol or independent")),
+    };
+    fovea::render::Sampler::choose_for_process(sampler);
+    Ok(())
 }

@@ -1,7 +1,6 @@
 //! The alias method (Walker 1977, built by Vose's method, 1991): a discrete distribution
 //! sampled with one uniform bucket and one comparison, whatever its size. Next-event
-//! estimation picks lights with one (light_selection.rs) and environment texels with another
-//! (env_sampling.rs).
+//! estimation picks lights with one (light_selection.rs).
 
 /// Bucket i (chosen uniformly) gives item i with probability `keep[i]`, else `alias[i]`; the
 /// result is item j with probability `pmf[j]`.

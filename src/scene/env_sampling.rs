@@ -165,43 +165,31 @@ mod tests {
 
     #[test]
     fn each_texel_knows_where_it_and_its_row_start_in_the_distribution() {
-        // 4 × 2: row 0 weights (1, 1, 1, 1), row 1 (1, 1, 5, 1) before filtering; uniform
-        // sampling makes every texel's weight its sin θ (the two rows' are equal).
-        let gpu = environment_texels(&env(vec![Vec3::ONE; 8], 4, EnvSampling::Uniform));
-        let starts = |i: usize| {
-            (
-                f32::from_bits(gpu[2 * i + 1][0]),
-                f32::from_bits(gpu[2 * i + 1][1]),
-            )
+        let starts = |gpu: &[[u32; 4]], i: usize| {
+            let t = gpu[2 * i + 1];
+            (f32::from_bits(t[0]), f32::from_bits(t[1]))
         };
-        assert_eq!(starts(0), (0.0, 0.0));
-        assert_eq!(starts(3), (0.75, 0.0));
-        assert_eq!(starts(4), (0.0, 0.5));
-        assert_eq!(starts(6), (0.5, 0.5));
-        // A bright texel widens its own interval of its row, and its row's of the map.
-        let mut texels = vec![Vec3::splat(1.0); 8];
-        texels[6] = Vec3::splat(5.0);
-        let gpu = environment_texels(&env(texels, 4, EnvSampling::Uniform));
-        let pmf = |i: usize| f32::from_bits(gpu[2 * i][3]);
-        let start = |i: usize| f32::from_bits(gpu[2 * i + 1][0]);
-        assert_eq!(pmf(6), 1.0 / 8.0, "uniform sampling ignores the radiance");
-        let gpu = environment_texels(&env(
-            (0..8)
-                .map(|i| Vec3::splat(if i == 6 { 5.0 } else { 1.0 }))
-                .collect(),
-            4,
-            EnvSampling::Importance,
-        ));
-        let pmf_i = |i: usize| f32::from_bits(gpu[2 * i][3]);
-        let start_i = |i: usize| f32::from_bits(gpu[2 * i + 1][0]);
-        let row_1 = f32::from_bits(gpu[2 * 4 + 1][1]);
-        assert!(
-            row_1 < 0.5,
-            "the brighter row 1 starts before half: {row_1}"
-        );
-        let in_row = |i: usize| pmf_i(i) / (1.0 - row_1);
-        assert!((start_i(7) - start_i(6) - in_row(6)).abs() < 1e-6);
-        assert!((start(7) - 0.75).abs() < 1e-6);
-        assert!(pmf(6) > 0.0);
+        let pmf = |gpu: &[[u32; 4]], i: usize| f32::from_bits(gpu[2 * i][3]);
+        // 4 × 2, uniform: every texel weighs its sin θ, the same in both rows.
+        let gpu = environment_texels(&env(vec![Vec3::ONE; 8], 4, EnvSampling::Uniform));
+        assert_eq!(starts(&gpu, 0), (0.0, 0.0));
+        assert_eq!(starts(&gpu, 3), (0.75, 0.0));
+        assert_eq!(starts(&gpu, 4), (0.0, 0.5));
+        assert_eq!(starts(&gpu, 6), (0.5, 0.5));
+        // A bright texel in row 1 widens its row's interval of the map and its own of the row:
+        // each interval is the probability of what it holds.
+        let texels = (0..8)
+            .map(|i| Vec3::splat(if i == 6 { 5.0 } else { 1.0 }))
+            .collect();
+        let gpu = environment_texels(&env(texels, 4, EnvSampling::Importance));
+        let row_0: f32 = (0..4).map(|i| pmf(&gpu, i)).sum();
+        assert!((starts(&gpu, 4).1 - row_0).abs() < 1e-6 && row_0 < 0.5);
+        for i in 4..7 {
+            let interval = starts(&gpu, i + 1).0 - starts(&gpu, i).0;
+            assert!(
+                (interval - pmf(&gpu, i) / (1.0 - row_0)).abs() < 1e-6,
+                "texel {i}"
+            );
+        }
     }
 }
