@@ -56,7 +56,7 @@ pub struct BenchArgs {
     /// The headset: its eye image's size (a quarter of it each way with --quick) and field of
     /// view, unless --width, --height or --fov say otherwise, and its display's photometry
     /// for FovVideoVDP (default vive-pro-eye).
-    #[arg(long = "display", value_enum)]
+    #[arg(long = "display", value_name = "HEADSET", value_enum)]
     pub display_profile: Option<DisplayProfile>,
     /// Width of one eye's image (default 1440, the Vive Pro Eye's).
     #[arg(long)]

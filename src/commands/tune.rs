@@ -35,7 +35,7 @@ pub struct TuneArgs {
     pub scene: Vec<String>,
     /// The headset: its eye image's size and field of view (unless --width, --height or --fov
     /// say otherwise) and its display's photometry, which FovVideoVDP judges on.
-    #[arg(long = "display", value_enum, default_value_t = DisplayProfile::ViveProEye)]
+    #[arg(long = "display", value_name = "HEADSET", value_enum, default_value_t = DisplayProfile::ViveProEye)]
     pub display_profile: DisplayProfile,
     /// What a config's JOD is: `still`, the first frame after the eye lands at each gaze with
     /// no history; or `motion`, a video of the head turning and the eye saccading with the
@@ -104,43 +104,50 @@ pub struct TuneArgs {
     pub display: DisplayArgs,
 }
 
+impl TuneArgs {
+    /// The plan these flags ask for, on a device whose preferred traversal is `traversal`.
+    fn plan(&self, traversal: Traversal) -> Result<TunePlan> {
+        let space = match self.space {
+            SpaceChoice::Standard => Space::standard(),
+            SpaceChoice::Small => Space::small(),
+        };
+        Ok(TunePlan {
+            scenes: self.scene.clone(),
+            width: (self.width).unwrap_or(self.display_profile.eye_size().0),
+            height: (self.height).unwrap_or(self.display_profile.eye_size().1),
+            fov: (self.fov).unwrap_or(self.display_profile.fov()),
+            profile: self.display_profile,
+            objective: self.objective,
+            budget: match (self.budget_ms, self.budget_of_regular) {
+                (_, Some(spp)) => Budget::Regular(spp),
+                (Some(ms), None) => Budget::Ms(ms),
+                (None, None) => unreachable!("clap requires one of the two"),
+            },
+            cost: match self.cost {
+                CostChoice::GpuTime => Cost::GpuTime,
+                CostChoice::Samples => Cost::Samples,
+            },
+            candidates: self.candidates,
+            seed: self.seed,
+            frames: self.frames,
+            reference_spp: self.reference_spp,
+            integrator: self.integrator,
+            max_bounces: self.max_bounces,
+            traversal,
+            space,
+            include: (self.include.iter())
+                .map(|p| FoveationConfig::load(p))
+                .collect::<Result<_, _>>()?,
+            display: self.display.choice(),
+            environment: fovea::scene::env_choice::chosen().cloned(),
+            sampler: fovea::render::Sampler::chosen(),
+        })
+    }
+}
+
 pub fn run(args: &TuneArgs) -> Result<()> {
     let ctx = gpu_context(&args.gpu)?;
-    let space = match args.space {
-        SpaceChoice::Standard => Space::standard(),
-        SpaceChoice::Small => Space::small(),
-    };
-    let plan = TunePlan {
-        scenes: args.scene.clone(),
-        width: (args.width).unwrap_or(args.display_profile.eye_size().0),
-        height: (args.height).unwrap_or(args.display_profile.eye_size().1),
-        fov: (args.fov).unwrap_or(args.display_profile.fov()),
-        profile: args.display_profile,
-        objective: args.objective,
-        budget: match (args.budget_ms, args.budget_of_regular) {
-            (_, Some(spp)) => Budget::Regular(spp),
-            (Some(ms), None) => Budget::Ms(ms),
-            (None, None) => unreachable!("clap requires one of the two"),
-        },
-        cost: match args.cost {
-            CostChoice::GpuTime => Cost::GpuTime,
-            CostChoice::Samples => Cost::Samples,
-        },
-        candidates: args.candidates,
-        seed: args.seed,
-        frames: args.frames,
-        reference_spp: args.reference_spp,
-        integrator: args.integrator,
-        max_bounces: args.max_bounces,
-        traversal: Traversal::preferred(&ctx),
-        space,
-        include: (args.include.iter())
-            .map(|p| FoveationConfig::load(p))
-            .collect::<Result<_, _>>()?,
-        display: args.display.choice(),
-        environment: fovea::scene::env_choice::chosen().cloned(),
-        sampler: fovea::render::Sampler::chosen(),
-    };
+    let plan = args.plan(Traversal::preferred(&ctx))?;
     let files = TuneFiles::new(&args.out);
     let cache = args.reference_cache.clone().unwrap_or_else(|| {
         (args.out.parent())
