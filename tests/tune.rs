@@ -283,6 +283,10 @@ fn the_motion_objective_judges_a_video_with_the_history() {
     args[10] = "5".into();
     let (ok, text) = run(&args);
     assert!(ok, "{text}");
+    assert!(
+        text.contains("(in motion with history; first frames: forward"),
+        "{text}"
+    );
     let all = rows(&dir.join("m-candidates.csv"));
     assert_eq!(all.len(), 5, "{all:?}");
     for r in &all {

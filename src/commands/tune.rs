@@ -178,8 +178,12 @@ pub fn run(args: &TuneArgs) -> Result<()> {
     )?;
     check_validation(&ctx)?;
     let c = &outcome.chosen;
+    let first_frames = match plan.objective {
+        Objective::Still => "",
+        Objective::Motion => "in motion with history; first frames: ",
+    };
     println!(
-        "chosen: {} — JOD {:.3} (forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms per eye (budget {:.2} ms)",
+        "chosen: {} — JOD {:.3} ({first_frames}forward {:.3}, off-axis {:.3}, corner {:.3}) at {:.2} ms per eye (budget {:.2} ms)",
         c.config, c.jod, c.jod_forward, c.jod_off_axis, c.jod_corner, c.cost_ms, outcome.budget_ms
     );
     println!(
