@@ -68,16 +68,18 @@ uint spread_bits(uint v) {
     return v;
 }
 
-// Sample `sample_index` (of `spp`) of lattice point `point` (of a lattice of `spacing`; the
-// independent sampler keys on `pixel_index`, the pixel's row-major index, as it always has).
-Sampler sampler_start(ivec2 point, uint spacing, uint pixel_index, uint sample_index, uint spp, uint seed) {
-    Sampler s;
-    s.dim = 0u;
-    if (SAMPLER == SAMPLER_INDEPENDENT) {
-        s.state = pcg_hash(pixel_index ^ pcg_hash(sample_index ^ pcg_hash(seed)));
-        s.seed = 0u;
-        return s;
-    }
+// What every sample of one lattice point shares, computed once per point: for zsobol the
+// point's block of sequence indices (its Morton index shifted past the sample bits) and its
+// tile's scramble seed; for the independent sampler its pixel and hashed seed.
+struct SamplerPoint {
+    uint base;
+    uint seed;
+};
+
+// Lattice point `point` of a lattice of `spacing`, traced at `spp` samples (the independent
+// sampler keys on `pixel_index`, the pixel's row-major index, as it always has).
+SamplerPoint sampler_point(ivec2 point, uint spacing, uint pixel_index, uint spp, uint seed) {
+    if (SAMPLER == SAMPLER_INDEPENDENT) return SamplerPoint(pixel_index, pcg_hash(seed));
     // A pixel's block of indices is spp rounded up to a power of two; the tile shrinks so that
     // tile and block fit 32 bits.
     uint block_bits = spp <= 1u ? 0u : uint(findMSB(spp - 1u)) + 1u;
@@ -86,10 +88,22 @@ Sampler sampler_start(ivec2 point, uint spacing, uint pixel_index, uint sample_i
     uvec2 in_tile = p & ((1u << tile_bits) - 1u);
     uvec2 tile = p >> tile_bits;
     uint morton = spread_bits(in_tile.x) | (spread_bits(in_tile.y) << 1);
-    s.state = (morton << block_bits) | sample_index;
     // Spacing enters the seed: lattices of different spacings must not repeat each other's
     // numbers where they overlap on screen.
-    s.seed = pcg_hash(seed ^ pcg_hash(tile.x ^ pcg_hash(tile.y ^ pcg_hash(spacing))));
+    return SamplerPoint(morton << block_bits, pcg_hash(seed ^ pcg_hash(tile.x ^ pcg_hash(tile.y ^ pcg_hash(spacing)))));
+}
+
+// Sample `sample_index` of the point.
+Sampler sampler_start(SamplerPoint point, uint sample_index) {
+    Sampler s;
+    s.dim = 0u;
+    if (SAMPLER == SAMPLER_INDEPENDENT) {
+        s.state = pcg_hash(point.base ^ pcg_hash(sample_index ^ point.seed));
+        s.seed = 0u;
+    } else {
+        s.state = point.base | sample_index;
+        s.seed = point.seed;
+    }
     return s;
 }
 
@@ -99,6 +113,11 @@ uint zsobol_pair(inout Sampler s, out uint h) {
     return nested_uniform_scramble(s.state, h);
 }
 
+// The pair's first coordinate: the Owen-scrambled van der Corput point of index i.
+uint zsobol_x(uint i, uint h) {
+    return nested_uniform_scramble(bitfieldReverse(i), pcg_hash(h ^ 0x68bc21ebu));
+}
+
 vec2 sample_2d(inout Sampler s) {
     if (SAMPLER == SAMPLER_INDEPENDENT) {
         float a = pcg_next(s.state);
@@ -106,9 +125,8 @@ vec2 sample_2d(inout Sampler s) {
     }
     uint h;
     uint i = zsobol_pair(s, h);
-    uint x = nested_uniform_scramble(bitfieldReverse(i), pcg_hash(h ^ 0x68bc21ebu));
     uint y = nested_uniform_scramble(sobol_dim1(i), pcg_hash(h ^ 0x02e5be93u));
-    return vec2(bits_to_unit(x), bits_to_unit(y));
+    return vec2(bits_to_unit(zsobol_x(i, h)), bits_to_unit(y));
 }
 
 // One number. The independent sampler takes one from its stream; zsobol takes a whole pair's
@@ -118,7 +136,7 @@ float sample_1d(inout Sampler s) {
     if (SAMPLER == SAMPLER_INDEPENDENT) return pcg_next(s.state);
     uint h;
     uint i = zsobol_pair(s, h);
-    return bits_to_unit(nested_uniform_scramble(bitfieldReverse(i), pcg_hash(h ^ 0x68bc21ebu)));
+    return bits_to_unit(zsobol_x(i, h));
 }
 
 #endif

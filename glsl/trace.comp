@@ -79,7 +79,8 @@ void main() {
     // margin's negative pixels apart), so a spacing-1 layer numbers pixels as a regular frame.
     uint spacing = uint(layers[k].spacing);
     ivec2 point = ivec2(uvec2(pixel + 4096 * layers[k].spacing) / spacing);
-    Sampler smp = sampler_start(point, spacing, pixel_index, 0u, spp, seed);
+    SamplerPoint sampled = sampler_point(point, spacing, pixel_index, spp, seed);
+    Sampler smp = sampler_start(sampled, 0u);
     // The pixel's angular height at the image centre, times the layer's lattice spacing.
     float pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
     Path path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
@@ -101,7 +102,7 @@ void main() {
             sum += path.L;
         }
         if (++s == spp) break;
-        smp = sampler_start(point, spacing, pixel_index, s, spp, seed);
+        smp = sampler_start(sampled, s);
         path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
         overflow = false;
     }

@@ -60,6 +60,14 @@ impl DisplayProfile {
         }
     }
 
+    /// The left eye's field of view (the right mirrors it).
+    pub fn left_eye_fov(self) -> EyeFov {
+        match self {
+            DisplayProfile::ViveProEye => EyeFov::VIVE_PRO_EYE_LEFT,
+            DisplayProfile::VarjoXr4 => EyeFov::VARJO_XR_4,
+        }
+    }
+
     /// What FovVideoVDP is told of the display's luminance.
     pub fn photometry(self) -> Photometry {
         match self {
@@ -94,10 +102,7 @@ impl DisplayProfile {
     /// degrees (the figure spec sheets and the "13 px/°" use). A flat image holds
     /// fewer pixels per degree at its centre than this, more at its edges.
     pub fn pixels_per_degree(self) -> f64 {
-        let fov = match self.fov() {
-            FovChoice::VarjoXr4 => EyeFov::VARJO_XR_4,
-            _ => EyeFov::VIVE_PRO_EYE_LEFT,
-        };
+        let fov = self.left_eye_fov();
         let width_deg = (fov.right - fov.left) as f64 * 180.0 / std::f64::consts::PI;
         self.eye_size().0 as f64 / width_deg
     }

@@ -37,6 +37,8 @@ pub struct MotionJudge {
     frames: Vec<EyeView>,
     references: Vec<Vec<f32>>,
     fixations: Vec<[f64; 2]>,
+    /// The script's frame rate, which the video plays at.
+    fps: f64,
 }
 
 impl MotionJudge {
@@ -73,6 +75,7 @@ impl MotionJudge {
             frames,
             references,
             fixations,
+            fps: script.frame_rate_hz,
         })
     }
 
@@ -121,7 +124,7 @@ impl MotionJudge {
             reference: &references,
             image,
             fixation: &self.fixations,
-            fps: MotionScript::head_and_saccades().frame_rate_hz,
+            fps: self.fps,
             display,
         })?)
     }
