@@ -206,6 +206,11 @@ void history_store(uint plane, uint i, vec4 v, uvec4 surface) {
     }
 }
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
+#ifdef WRITES_LATTICE_FILTERED
+layout(std430, set = 0, binding = BINDING_LATTICE_FILTERED) writeonly buffer LatticeFilteredBuf { vec4 lattice_filtered[]; };
+#else
+layout(std430, set = 0, binding = BINDING_LATTICE_FILTERED) readonly buffer LatticeFilteredBuf { vec4 lattice_filtered[]; };
+#endif
 layout(std430, set = 0, binding = BINDING_HISTORY_VIEWS) readonly buffer HistoryViews { GpuHistoryView history_views[]; };
 
 // The pass's own push constants (shared.h): each shader names its struct before its includes.

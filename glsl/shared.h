@@ -64,10 +64,13 @@
                                // empty element (never read, SPEC_HAS_ENV_MAP off) without one
 #define BINDING_DISPLAY 29 // rgba32f storage image: OUTPUT through the display transform
                            // (display.comp), what a window or headset shows of it
-#define BINDING_COUNT 30
+#define BINDING_LATTICE_FILTERED 30 // vec4[] in LATTICE's layout: lattice_filter.comp's values (rgb)
+                                   // and how many points each is worth (a), which resolve then
+                                   // reads (as its LATTICE_TEXELS) in place of LATTICE
+#define BINDING_COUNT 31
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 30
+#define BINDING_TLAS 31
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -394,9 +397,11 @@ struct GpuLayer {
                     // same in each of its layers: the gaze decides it, so it is written with
                     // the gaze, right before the frame is submitted (not a push constant)
     uint denoise; // denoise.comp's iterations over the pixels shown from this layer
+    // lattice_filter.comp's Gaussian width: filter_mar times the eye's minimum angle of
+    // resolution at the point's eccentricity, and at least filter_px pixels (both 0: none)
+    float filter_mar;
+    float filter_px;
     uint pad0;
-    uint pad1;
-    uint pad2;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------

@@ -247,8 +247,13 @@ void main() {
     history_store(write_plane, history_index(p), vec4(mean, n), surface);
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
-    // the shown layer's spp, halving with every spp-worth of samples the pixel has.
+    // the shown layer's spp, halving with every spp-worth of samples the pixel has. Where the
+    // lattice filter smoothed the layer, the estimate is worth as many points as the nearest
+    // point's filtered value averaged (lattice_filter.comp): the filter's blur shows until
+    // the pixel's own samples outweigh it.
     if (pc.eye.debug == DEBUG_LAYERS) return; // the layer tints stay as resolve made them
-    float w_spatial = shown_spp * exp2(-n / shown_spp);
+    float worth = shown_spp;
+    if (layers[k].filter_mar > 0.0 || layers[k].filter_px > 0.0) worth *= max(lattice_filtered[own_entry].a, 1.0);
+    float w_spatial = worth * exp2(-n / worth);
     pixels[out_index] = vec4((mean * n + spatial * w_spatial) / (n + w_spatial), 1.0);
 }

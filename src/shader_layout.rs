@@ -273,9 +273,11 @@ pub struct GpuLayer {
     pub outer: f32,
     pub plan_runs: u32,
     pub denoise: u32,
+    /// lattice_filter.comp's width: this many minimum angles of resolution at the point's
+    /// eccentricity, and at least `filter_px` pixels.
+    pub filter_mar: f32,
+    pub filter_px: f32,
     pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
 }
 
 #[repr(C)]

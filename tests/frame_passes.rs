@@ -1,5 +1,5 @@
 //! What a frame reports of its passes (issue 34): every pass of both eyes is timed, however
-//! many the frame has (history and five denoise iterations are 21), and a device loss with
+//! many the frame has (history, the lattice filter and five denoise iterations are 23), and a device loss with
 //! frames in flight names the pass of the frame that was lost, not of the one recorded after.
 
 mod common;
@@ -38,7 +38,7 @@ fn stereo_eyes(scene: &fovea::scene::Scene) -> Vec<fovea::render::EyeView> {
 }
 
 #[test]
-fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
+fn a_stereo_frame_with_history_a_lattice_filter_and_five_denoise_iterations_times_every_pass() {
     let ctx = common::context();
     let scene = fovea::scene::load("cornell", 1.0).unwrap();
     let mut renderer = Renderer::new(&ctx, &scene).unwrap();
@@ -48,6 +48,7 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
     renderer.set_output_image(true);
     let mut config = FoveationConfig::regular(1);
     config.layers[0].denoise = 5;
+    config.layers[0].filter_px = 1.0;
     let eyes = stereo_eyes(&scene);
     // The second frame has a history to carry.
     let mut frame = None;
@@ -69,6 +70,7 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
     expected.extend(both("plan"));
     expected.push("dispatch sizes".into());
     expected.extend(both("trace"));
+    expected.extend(both("lattice filter"));
     expected.extend(both("resolve"));
     expected.extend(both("temporal"));
     for _ in 0..5 {
@@ -78,12 +80,12 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
     expected.push("output image".into());
     let names: Vec<&str> = stats.pass_ms.iter().map(|(n, _)| n.as_str()).collect();
     eprintln!(
-        "stereo frame, history, 5 denoise iterations: {} timed passes, {:.3} GPU ms",
+        "stereo frame, history, lattice filter, 5 denoise iterations: {} timed passes, {:.3} GPU ms",
         names.len(),
         stats.gpu_ms()
     );
     assert_eq!(names, expected, "every pass of both eyes, in order");
-    assert_eq!(names.len(), 21);
+    assert_eq!(names.len(), 23);
 
     // The frame's GPU time is its passes' sum, each pass measured (none left at zero
     // because it was dropped), and each pass starts no earlier than the one recorded before.
@@ -98,7 +100,7 @@ fn a_stereo_frame_with_history_and_five_denoise_iterations_times_every_pass() {
         .iter()
         .all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
     assert!(stats.gpu_ms() > 0.0);
-    assert_eq!(stats.pass_start_ms.len(), 21);
+    assert_eq!(stats.pass_start_ms.len(), 23);
     assert!(
         stats.pass_start_ms.windows(2).all(|w| w[0] <= w[1]),
         "{:?}",

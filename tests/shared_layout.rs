@@ -274,9 +274,9 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             outer,
             plan_runs,
             denoise,
-            pad0,
-            pad1,
-            pad2
+            filter_mar,
+            filter_px,
+            pad0
         }
     );
     check!(s, GpuProbeRay { origin, direction });

@@ -428,6 +428,8 @@ fn a_sparser_lattice_reads_coarser_levels() {
                 spacing,
                 spp: 1,
                 denoise: 0,
+                filter_mar: 0.0,
+                filter_px: 0.0,
             }],
             blend_deg: 0.0,
             occlusion_deg: None,

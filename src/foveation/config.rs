@@ -44,12 +44,40 @@ pub struct Layer {
     /// guided by the temporal history's surfaces, so it needs history on.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub denoise: u32,
+    /// The lattice filter's width, in minimum angles of resolution of the eye at the lattice
+    /// point's eccentricity (Guenter et al. 2012's acuity line; 0, the default: none). The
+    /// filter (glsl/lattice_filter.comp) smooths the layer's traced points on their lattice,
+    /// before resolve, within the surface each point sees; it needs history on, whose
+    /// surfaces guide it.
+    #[serde(default, skip_serializing_if = "is_zero_f32")]
+    pub filter_mar: f32,
+    /// The lattice filter's width at least, in pixels, wherever the eye looks (0, the
+    /// default: none): the uniform filter, for regular frames to compare with.
+    #[serde(default, skip_serializing_if = "is_zero_f32")]
+    pub filter_px: f32,
+}
+
+impl Layer {
+    /// Whether the layer asks for the lattice filter.
+    pub fn filters(&self) -> bool {
+        self.filter_mar > 0.0 || self.filter_px > 0.0
+    }
 }
 
 /// serde's `skip_serializing_if = "..."` needs a function path.
 fn is_zero(n: &u32) -> bool {
     *n == 0
 }
+
+/// serde's `skip_serializing_if = "..."` needs a function path.
+fn is_zero_f32(x: &f32) -> bool {
+    *x == 0.0
+}
+
+/// The widest lattice filter a layer may ask for, in minimum angles of resolution and in
+/// pixels (the filter reaches two lattice steps, so wider ones only flatten its Gaussian).
+pub const MAX_FILTER_MAR: f32 = 16.0;
+pub const MAX_FILTER_PX: f32 = 64.0;
 
 /// The most denoiser iterations a layer may ask for (a reach of 125 pixels).
 pub const MAX_DENOISE: u32 = 5;
@@ -160,6 +188,8 @@ impl FoveationConfig {
             spacing,
             spp: DEFAULT_SPP,
             denoise: 0,
+            filter_mar: 0.0,
+            filter_px: 0.0,
         };
         Self {
             layers: vec![
@@ -181,6 +211,8 @@ impl FoveationConfig {
                 spacing: 1,
                 spp,
                 denoise: 0,
+                filter_mar: 0.0,
+                filter_px: 0.0,
             }],
             // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
             blend_deg: 0.0,
@@ -201,18 +233,25 @@ impl FoveationConfig {
         matches!(self.layers.as_slice(), [only] if only.spacing == 1)
     }
 
+    /// The most denoiser iterations any layer asks for (0: no denoising).
+    pub fn denoise_iterations(&self) -> u32 {
+        self.layers.iter().map(|l| l.denoise).max().unwrap_or(0)
+    }
+
+    /// Whether a layer asks for the lattice filter.
+    pub fn filters(&self) -> bool {
+        self.layers.iter().any(Layer::filters)
+    }
+
     /// Checks every rule the renderer relies on; the error names the layer (1-based) and field.
     ///
     /// Rules: 1..=[`MAX_LAYERS`] layers; exactly the last layer has no radius (the background
     /// layer, so the whole screen is covered); finite radii in (0, 180) degrees, strictly growing
     /// outward; `blend_deg` finite and >= 0, and no blend band overlapping the previous one or
     /// the gaze point; spacing in 1..=[`MAX_SPACING`], never decreasing outward; spp in
-    /// 1..=[`MAX_LAYER_SPP`]; `occlusion_deg`, if given, finite in (0, 180].
-    /// The most denoiser iterations any layer asks for (0: no denoising).
-    pub fn denoise_iterations(&self) -> u32 {
-        self.layers.iter().map(|l| l.denoise).max().unwrap_or(0)
-    }
-
+    /// 1..=[`MAX_LAYER_SPP`]; denoise up to [`MAX_DENOISE`]; filter_mar and filter_px in
+    /// 0..=[`MAX_FILTER_MAR`] and 0..=[`MAX_FILTER_PX`]; `occlusion_deg`, if given, finite in
+    /// (0, 180].
     pub fn validate(&self) -> Result<(), FoveationError> {
         self.check()
             .map_err(|problem| FoveationError::Invalid { problem })
@@ -271,6 +310,20 @@ impl FoveationConfig {
                 return Err(format!(
                     "layer {n}: denoise = {} must be in 0..={MAX_DENOISE} iterations",
                     layer.denoise
+                ));
+            }
+            if !(0.0..=MAX_FILTER_MAR).contains(&layer.filter_mar) {
+                return Err(format!(
+                    "layer {n}: filter_mar = {} must be in 0..={MAX_FILTER_MAR} minimum angles \
+                     of resolution (0: no lattice filter)",
+                    layer.filter_mar
+                ));
+            }
+            if !(0.0..=MAX_FILTER_PX).contains(&layer.filter_px) {
+                return Err(format!(
+                    "layer {n}: filter_px = {} must be in 0..={MAX_FILTER_PX} pixels (0: no \
+                     lattice filter)",
+                    layer.filter_px
                 ));
             }
             if !(1..=MAX_LAYER_SPP).contains(&layer.spp) {

@@ -3,6 +3,7 @@
 //! are traced (thesis §3.2.1). Also CPU references of the fill (eq. 3.17) and blend
 //! (eq. 3.18) that the GPU passes are tested against.
 
+pub mod acuity;
 pub mod blend;
 pub mod catmull_rom;
 pub mod config;

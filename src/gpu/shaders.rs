@@ -16,5 +16,6 @@ pub const PLAN_ARGS: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/plan_args
 pub const RESOLVE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/resolve.spv"));
 pub const ACCUMULATE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/accumulate.spv"));
 pub const TEMPORAL: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/temporal.spv"));
+pub const LATTICE_FILTER: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/lattice_filter.spv"));
 pub const DENOISE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/denoise.spv"));
 pub const DISPLAY: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/display.spv"));

@@ -122,6 +122,8 @@ pub fn eye_layers(
                 outer: l.outer.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32,
                 plan_runs: 0,
                 denoise: request.foveation.layers[k].denoise,
+                filter_mar: request.foveation.layers[k].filter_mar,
+                filter_px: request.foveation.layers[k].filter_px,
                 ..Default::default()
             }
         })

@@ -2,12 +2,14 @@
 //! samples traced at that pixel over the frames, and the surface they belong to, in two
 //! planes that frames take turns reading and writing; the lattice points' surfaces the trace
 //! writes for it; and, per frame slot and eye, the view of the frame before (its camera,
-//! whether the camera moved), written with the gaze right before submission. The history's
-//! frame count also shifts the sparse layers' lattices (`lattice_shift`).
+//! whether the camera moved), written with the gaze right before submission; the denoiser's
+//! second buffer of pixels and the lattice filter's values, which both follow the history's
+//! surfaces. The history's frame count also shifts the sparse layers' lattices
+//! (`lattice_shift`).
 
 use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
-use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation};
+use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, TexelView};
 use crate::shader_layout::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -53,6 +55,10 @@ impl HistoryKey {
             ),
             PlannedAllocation::host("history views", views_bytes(), true),
             PlannedAllocation::storage("denoiser pixels", plane),
+            PlannedAllocation::storage(
+                "filtered lattice values",
+                self.eyes as u64 * self.lattice_len * 16,
+            ),
         ]
     }
 }
@@ -74,6 +80,10 @@ pub struct History {
     /// BINDING_DENOISE: the denoiser's second buffer of pixels (it ping-pongs with the
     /// frame's).
     pub denoise: Buffer,
+    /// BINDING_LATTICE_FILTERED: the lattice filter's values (in the lattice's layout), and
+    /// the same as texels, which resolve then reads in place of the traced values.
+    pub filtered: Buffer,
+    pub filtered_texels: TexelView,
     /// Frames added since the history started (the lattice shift's frame).
     frame: u32,
     /// The plane the next frame reads (the one the frame before wrote).
@@ -106,6 +116,14 @@ impl History {
             )
         };
         let plan = key.allocations();
+        let filtered = Buffer::new(
+            ctx,
+            &plan[7].name,
+            plan[7].bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let filtered_texels = TexelView::new(&filtered, &plan[7].name)?;
         Ok(Self {
             key,
             settings,
@@ -132,6 +150,8 @@ impl History {
                 vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::GpuOnly,
             )?,
+            filtered,
+            filtered_texels,
             frame: 0,
             read_plane: 0,
             cameras: None,

@@ -1,8 +1,8 @@
 //! The frame's passes, each a short function that declares what it reads and writes and
 //! records its dispatches (graph.rs derives the bindings and barriers): counters zeroed, plan
 //! (which lattice points every layer traces, decided on the GPU, compacted into work lists),
-//! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), resolve
-//! (every pixel once), then with history temporal and denoise, and for whoever presents or
+//! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), the
+//! lattice filter (the same work lists, when a layer asks for it), resolve (every pixel once), then with history temporal and denoise, and for whoever presents or
 //! accumulates frames a copy of the pixels into an image; last the counters copied where the
 //! host reads them. Each pass records every eye's dispatch: the eyes have their own lattice
 //! values, work lists and halves of the output, so nothing orders one eye after the other and
@@ -22,6 +22,8 @@ pub struct FramePipelines<'a> {
     pub plan: &'a ComputePipeline,
     pub plan_args: &'a ComputePipeline,
     pub trace: &'a ComputePipeline,
+    /// With history on and a layer that asks for the lattice filter.
+    pub lattice_filter: Option<&'a ComputePipeline>,
     pub resolve: &'a ComputePipeline,
     /// With history on (render/history.rs).
     pub temporal: Option<&'a ComputePipeline>,
@@ -61,13 +63,15 @@ impl FramePasses<'_> {
         }
     }
 
-    /// Every timed pass this frame records: plan, dispatch sizes and trace when `traced`
-    /// (a test may give the lattice instead), resolve, temporal, each denoise iteration and
+    /// Every timed pass this frame records: plan, dispatch sizes, trace and the lattice
+    /// filter when `traced` (a test may give the lattice instead), resolve, temporal, each denoise iteration and
     /// its copy back, the output image. The timestamp pool is sized from it.
     pub fn timed_passes(&self, traced: bool) -> u32 {
         let eyes = self.eyes.len() as u32;
         let denoise = self.pipelines.denoise.map_or(0, |(_, n)| n);
+        let filter = traced && self.lattice_filter().is_some();
         let per_eye = 2 * traced as u32 // plan, trace
+            + filter as u32
             + 1 // resolve
             + self.pipelines.temporal.is_some() as u32
             + denoise;
@@ -153,14 +157,51 @@ impl FramePasses<'_> {
         });
     }
 
-    /// Resolve: per eye, every output pixel from its one or two layers.
-    pub fn resolve(&self, g: &mut FrameGraph) {
+    /// The lattice filter's pipeline and the history that holds its buffer, when the frame
+    /// filters.
+    fn lattice_filter(&self) -> Option<(&ComputePipeline, &History)> {
+        self.pipelines.lattice_filter.zip(self.history)
+    }
+
+    /// Lattice filter (when a layer asks for it; after trace): per eye, one thread per
+    /// work-list entry writes the point's filtered value, which resolve reads in place of the
+    /// traced one.
+    pub fn filter_lattice(&self, g: &mut FrameGraph) {
+        let Some((pipeline, h)) = self.lattice_filter() else {
+            return;
+        };
+        let (t, stats) = (self.targets, &self.counters.device);
+        g.pass()
+            .reads(BINDING_WORK, &t.work)
+            .reads(BINDING_LAYERS, &t.layers)
+            .reads(BINDING_VISIBILITY, self.visibility)
+            .reads(BINDING_LATTICE, &t.lattice)
+            .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+            .reads(BINDING_STATS, stats)
+            .writes(BINDING_LATTICE_FILTERED, &h.filtered)
+            .indirect_args(stats)
+            .record(|r| {
+                for (e, push) in self.eyes.iter().enumerate() {
+                    let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
+                    let name = self.name(e, "lattice filter");
+                    r.dispatch_indirect(&name, pipeline, push, stats, offset);
+                }
+            });
+    }
+
+    /// Resolve: per eye, every output pixel from its one or two layers, reading the lattice
+    /// filter's values when `filtered`, else the traced ones.
+    pub fn resolve(&self, g: &mut FrameGraph, filtered: bool) {
         let t = self.targets;
         let groups = self.pixel_groups(PIXELS_PER_INVOCATION);
+        let lattice = match self.lattice_filter() {
+            Some((_, h)) if filtered => &h.filtered_texels,
+            _ => &t.lattice_texels,
+        };
         g.pass()
             .reads(BINDING_LAYERS, &t.layers)
             .reads(BINDING_VISIBILITY, self.visibility)
-            .reads(BINDING_LATTICE_TEXELS, &t.lattice_texels)
+            .reads(BINDING_LATTICE_TEXELS, lattice)
             .writes(BINDING_PIXELS, &t.pixels)
             .record(|r| {
                 for (e, push) in self.eyes.iter().enumerate() {
@@ -183,6 +224,7 @@ impl FramePasses<'_> {
             .reads(BINDING_LAYERS, &t.layers)
             .reads(BINDING_VISIBILITY, self.visibility)
             .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+            .reads(BINDING_LATTICE_FILTERED, &h.filtered)
             .reads(BINDING_HISTORY_VIEWS, &h.views)
             .reads_writes(BINDING_PIXELS, &t.pixels)
             .reads_writes(BINDING_HISTORY, &h.pixels[0])

@@ -54,11 +54,12 @@ impl TraceKey {
     }
 }
 
-/// A pass made once: plan, dispatch sizes, resolve, temporal, denoise.
+/// A pass made once: plan, dispatch sizes, lattice filter, resolve, temporal, denoise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Fixed {
     Plan,
     DispatchSizes,
+    LatticeFilter,
     Resolve,
     Temporal,
     Denoise,
@@ -69,6 +70,7 @@ impl Fixed {
         match self {
             Fixed::Plan => ("plan", shaders::PLAN),
             Fixed::DispatchSizes => ("dispatch sizes", shaders::PLAN_ARGS),
+            Fixed::LatticeFilter => ("lattice filter", shaders::LATTICE_FILTER),
             Fixed::Resolve => ("resolve", shaders::RESOLVE),
             Fixed::Temporal => ("temporal", shaders::TEMPORAL),
             Fixed::Denoise => ("denoise", shaders::DENOISE),
@@ -120,7 +122,8 @@ impl Pipelines {
         ]
     }
 
-    /// Makes the pipelines a frame of `trace` needs (with history: temporal and denoise).
+    /// Makes the pipelines a frame of `trace` needs (with history: lattice filter, temporal
+    /// and denoise).
     pub fn ensure(&mut self, trace: TraceKey) -> Result<(), RenderError> {
         if trace.profile && trace.traversal == Traversal::RayQuery {
             return Err(RenderError::Settings(
@@ -138,7 +141,7 @@ impl Pipelines {
         }
         let mut wanted = vec![Fixed::Plan, Fixed::DispatchSizes, Fixed::Resolve];
         if trace.keeps_surfaces {
-            wanted.extend([Fixed::Temporal, Fixed::Denoise]);
+            wanted.extend([Fixed::LatticeFilter, Fixed::Temporal, Fixed::Denoise]);
         }
         for pass in wanted {
             if !self.fixed.contains_key(&pass) {
@@ -150,12 +153,14 @@ impl Pipelines {
         Ok(())
     }
 
-    /// A frame's pipelines (made by `ensure`): with `history`, temporal, and denoise when a
-    /// layer asks for `denoise_iterations` > 0; without, a trace that keeps no surfaces.
+    /// A frame's pipelines (made by `ensure`): with `history`, temporal, the lattice filter
+    /// when `filters`, and denoise when a layer asks for `denoise_iterations` > 0; without, a
+    /// trace that keeps no surfaces.
     pub fn frame(
         &self,
         trace: TraceKey,
         history: bool,
+        filters: bool,
         denoise_iterations: u32,
     ) -> FramePipelines<'_> {
         let fixed = |pass| &self.fixed[&pass];
@@ -163,6 +168,7 @@ impl Pipelines {
             plan: fixed(Fixed::Plan),
             plan_args: fixed(Fixed::DispatchSizes),
             trace: &self.trace[&trace],
+            lattice_filter: (history && filters).then(|| fixed(Fixed::LatticeFilter)),
             resolve: fixed(Fixed::Resolve),
             temporal: history.then(|| fixed(Fixed::Temporal)),
             denoise: (history && denoise_iterations > 0)

@@ -1,7 +1,7 @@
 //! The frame, as DESIGN.md draws it: record every pass for every eye into the next frame
-//! slot (counters zeroed → plan → dispatch sizes → trace → resolve → temporal → denoise →
-//! output image → the caller's copy → counters read back), then latch the gaze, plan each
-//! eye for it on the CPU (O(layers) numbers, eye_params.rs), write the layers where the
+//! slot (counters zeroed → plan → dispatch sizes → trace → lattice filter → resolve →
+//! temporal → denoise → output image → the caller's copy → counters read back), then latch
+//! the gaze, plan each eye for it on the CPU (O(layers) numbers, eye_params.rs), write the layers where the
 //! recorded commands read them, and submit. The frame is left in flight (in_flight.rs).
 
 use super::eye_params::{eye_layers, eye_push, EyeLayers};
@@ -95,7 +95,12 @@ impl Renderer {
         let iterations = request.foveation.denoise_iterations();
         let trace = self.trace_key(request);
         let passes = FramePasses {
-            pipelines: self.pipelines.frame(trace, history.is_some(), iterations),
+            pipelines: self.pipelines.frame(
+                trace,
+                history.is_some(),
+                request.foveation.filters(),
+                iterations,
+            ),
             scene: &self.scene,
             traversal: self.traversal,
             counters: &self.counters,
@@ -169,8 +174,9 @@ fn record_passes(passes: &FramePasses, g: &mut FrameGraph, traced: bool) {
         passes.plan(g);
         passes.dispatch_sizes(g);
         passes.trace(g);
+        passes.filter_lattice(g);
     }
-    passes.resolve(g);
+    passes.resolve(g, traced);
     passes.temporal(g);
     passes.denoise(g);
     passes.output_image(g);

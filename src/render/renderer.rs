@@ -288,6 +288,15 @@ impl Renderer {
                     k + 1
                 )));
             }
+            if let Some(k) = request.foveation.layers.iter().position(|l| l.filters()) {
+                return Err(RenderError::Settings(format!(
+                    "layer {} asks for the lattice filter (filter_mar or filter_px), which is \
+                     guided by the temporal history's surfaces: turn history on (fovea render \
+                     --camera-path, fovea xr --temporal on) or set the layer's filter_mar and \
+                     filter_px to 0",
+                    k + 1
+                )));
+            }
             return Ok(());
         };
         let targets = self.targets.current().expect("prepared");

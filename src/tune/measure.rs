@@ -321,10 +321,10 @@ impl TimedFrames {
 }
 
 /// Whether `config` is timed (and its still frames judged) with the temporal history: with
-/// `--objective motion`, which judges it with one, always; else when it denoises (the
-/// denoiser is guided by the history's surfaces).
+/// `--objective motion`, which judges it with one, always; else when it denoises or filters
+/// its lattices (both are guided by the history's surfaces).
 fn keeps_history(plan: &TunePlan, config: &FoveationConfig) -> bool {
-    plan.objective == Objective::Motion || config.denoise_iterations() > 0
+    plan.objective == Objective::Motion || config.denoise_iterations() > 0 || config.filters()
 }
 
 /// The settings of every frame of the plan (the layers carry the spp).

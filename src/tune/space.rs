@@ -99,6 +99,8 @@ impl Space {
                     spacing: self.spacings[spacing],
                     spp: self.spp[spp],
                     denoise: self.random_denoise(rng, self.spacings[spacing]),
+                    filter_mar: 0.0,
+                    filter_px: 0.0,
                 });
             }
             let config = self.config(layers);

@@ -228,13 +228,16 @@ impl Sequence {
     }
 
     /// The plan's layers as this sequence renders them: at its spp, and without the
-    /// periphery denoiser when the history is off (the denoiser is guided by the history's
-    /// surfaces, so a denoising config measures "off" as its layers unfiltered).
+    /// periphery denoiser and the lattice filter when the history is off (both are guided by
+    /// the history's surfaces, so a filtering config measures "off" as its layers
+    /// unfiltered).
     pub fn config(&self, layers: &FoveationConfig) -> FoveationConfig {
         let mut config = layers.clone().with_spp(self.spp);
         if !self.temporal {
             for layer in &mut config.layers {
                 layer.denoise = 0;
+                layer.filter_mar = 0.0;
+                layer.filter_px = 0.0;
             }
         }
         config

@@ -15,3 +15,29 @@ fn denoise_is_read_per_layer_defaults_to_none_and_is_bounded() {
         "{err}"
     );
 }
+
+#[test]
+fn the_lattice_filter_is_read_per_layer_defaults_to_none_and_is_bounded() {
+    let text =
+        "[[layer]]\nradius_deg = 5.0\nspacing = 1\n[[layer]]\nspacing = 2\nfilter_mar = 1.5\n";
+    let config = FoveationConfig::from_toml_str(text, "t.toml").unwrap();
+    assert_eq!(config.layers[0].filter_mar, 0.0);
+    assert_eq!(config.layers[1].filter_mar, 1.5);
+    assert!(config.filters() && !config.layers[0].filters());
+    assert!(!FoveationConfig::thesis().filters());
+    // A config without a filter writes no filter fields (older plans read the same).
+    let written = toml::to_string(&FoveationConfig::thesis()).unwrap();
+    assert!(!written.contains("filter"), "{written}");
+    for (bad, says) in [
+        ("filter_mar = -1.0", "filter_mar = -1 must be in 0..=16"),
+        ("filter_mar = nan", "filter_mar = NaN must be in 0..=16"),
+        (
+            "filter_px = 65.0",
+            "filter_px = 65 must be in 0..=64 pixels",
+        ),
+    ] {
+        let text = text.replace("filter_mar = 1.5", bad);
+        let err = FoveationConfig::from_toml_str(&text, "t.toml").unwrap_err();
+        assert!(err.to_string().contains(says), "{bad}: {err}");
+    }
+}

@@ -54,7 +54,9 @@ fn regular_validates_and_is_regular() {
             radius_deg: None,
             spacing: 1,
             spp: 4,
-            denoise: 0
+            denoise: 0,
+            filter_mar: 0.0,
+            filter_px: 0.0
         }]
     );
     // One layer that is coarser than 1 is not regular rendering.
@@ -136,6 +138,8 @@ fn rejects_layer_count() {
             spacing: 1,
             spp: 1,
             denoise: 0,
+            filter_mar: 0.0,
+            filter_px: 0.0,
         })
         .collect();
     many.layers.push(Layer {
@@ -143,6 +147,8 @@ fn rejects_layer_count() {
         spacing: 1,
         spp: 1,
         denoise: 0,
+        filter_mar: 0.0,
+        filter_px: 0.0,
     });
     assert_rejected(&many, &["9 layers", "8"]);
     // Exactly MAX_LAYERS is fine.
