@@ -46,6 +46,7 @@ const float MIN_WIDTH = 0.25;
 const float NORMAL_POWER = 64.0;
 const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap distance
+const float LOG2_E = 1.44269504;
 
 // The Gaussian's width at layer k's point at pixel p (direction u), in lattice steps.
 float width_in_steps(uint k, ivec2 p, vec3 u) {
@@ -62,11 +63,56 @@ float width_in_steps(uint k, ivec2 p, vec3 u) {
     return max(by_acuity, by_pixels);
 }
 
-// Was layer k's lattice point q traced this frame (the plan's own test)? The others hold
-// stale values.
-bool traced(uint k, ivec2 q, ivec2 box_lo, ivec2 box_hi, uint mask_words) {
-    if (any(lessThan(q, box_lo)) || any(greaterThan(q, box_hi))) return false;
-    return traced_point(k, lattice_pixel(k, q), mask_words);
+// Layer k's lattice as the filter walks it, read once from LAYERS (on lavapipe every buffer
+// read per tap costs about as much as the arithmetic).
+struct Lattice {
+    TracedRegion region;
+    ivec2 anchor;
+    int spacing;
+    ivec2 box_lo; // the points on the image
+    ivec2 box_hi;
+    ivec2 extent_min; // LATTICE[first + (j - extent_min.y) * cols + (i - extent_min.x)]
+    uint first;
+    uint cols;
+};
+
+Lattice lattice_of(uint k) {
+    Lattice l;
+    l.region = traced_region(k, visibility[0]);
+    l.anchor = ivec2(layers[k].anchor_x, layers[k].anchor_y);
+    l.spacing = layers[k].spacing;
+    l.box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    l.box_hi = l.box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    l.extent_min = ivec2(layers[k].col_min, layers[k].row_min);
+    l.first = layers[k].first;
+    l.cols = layers[k].cols;
+    return l;
+}
+
+// Was point q traced this frame (the plan's own test)? The others hold stale values.
+bool traced(Lattice l, ivec2 q) {
+    if (any(lessThan(q, l.box_lo)) || any(greaterThan(q, l.box_hi))) return false;
+    return traced_in(l.region, l.anchor + q * l.spacing);
+}
+
+uint index_of(Lattice l, ivec2 q) {
+    ivec2 c = q - l.extent_min;
+    return l.first + uint(c.y) * l.cols + uint(c.x);
+}
+
+// Point q's traced value (through the texel view: one vector load on lavapipe).
+vec3 value_at(Lattice l, ivec2 q) {
+    return uintBitsToFloat(texelFetch(lattice_texels, int(index_of(l, q))).rgb);
+}
+
+// n^64 by squaring (pow is exp(log) per tap).
+float power_64(float n) {
+    n *= n;
+    n *= n;
+    n *= n;
+    n *= n;
+    n *= n;
+    return n * n;
 }
 
 void main() {
@@ -76,34 +122,27 @@ void main() {
     uint item = work[pc.eye.index * pc.eye.work_stride + thread];
     uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
     uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u);
-    vec4 centre = lattice[entry];
+    vec4 centre = uintBitsToFloat(texelFetch(lattice_texels, int(entry)));
     if (layers[k].filter_mar <= 0.0 && layers[k].filter_px <= 0.0) {
         lattice_filtered[entry] = centre;
         return;
     }
-    uint local = entry - layers[k].first;
-    ivec2 ij = ivec2(layers[k].col_min + int(local % layers[k].cols), layers[k].row_min + int(local / layers[k].cols));
-    ivec2 pixel = lattice_pixel(k, ij);
-    vec3 u = tan_direction(layers[k].pixel_tan.xy + vec2(pixel) * layers[k].pixel_tan.zw);
+    Lattice l = lattice_of(k);
+    uint local = entry - l.first;
+    ivec2 ij = l.extent_min + ivec2(local % l.cols, local / l.cols);
+    ivec2 pixel = l.anchor + ij * l.spacing;
+    vec3 u = tan_direction(l.region.tan_map.xy + vec2(pixel) * l.region.tan_map.zw);
     float width = width_in_steps(k, pixel, u);
-    if (width < MIN_WIDTH) {
-        lattice_filtered[entry] = centre;
-        return;
-    }
     uvec4 sp = lattice_surface[entry];
     float dp = uintBitsToFloat(sp.x);
-    // A point that sees the sky: its rays that leave the scene see the environment itself,
-    // without noise, so filtering would only blur the environment and the edges against it.
-    if (dp < 0.0) {
+    // A point that sees the sky is copied too: its rays that leave the scene see the
+    // environment itself, without noise, so filtering would only blur the environment and
+    // the edges against it.
+    if (width < MIN_WIDTH || dp < 0.0) {
         lattice_filtered[entry] = centre;
         return;
     }
-    float falloff = -0.5 / (width * width);
     vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
-    float spacing = float(layers[k].spacing);
-    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
-    uint mask_words = visibility[0];
 
     // The local noise: the luminance's standard deviation over the traced 3x3 points around.
     float l_sum = 0.0;
@@ -111,32 +150,37 @@ void main() {
     float l_n = 0.0;
     for (int i = 0; i < 9; ++i) {
         ivec2 q = ij + ivec2(i % 3 - 1, i / 3 - 1);
-        if (!traced(k, q, box_lo, box_hi, mask_words)) continue;
-        float l = luminance(lattice[lattice_index(k, q)].rgb);
-        l_sum += l;
-        l_sq += l * l;
+        if (!traced(l, q)) continue;
+        float y = luminance(value_at(l, q));
+        l_sum += y;
+        l_sq += y * y;
         l_n += 1.0;
     }
     float sigma = sqrt(max(l_sq / l_n - (l_sum / l_n) * (l_sum / l_n), 0.0));
     float lp = luminance(centre.rgb);
 
+    // Each tap's weight is one exponential of the sum of its falloffs (in log2 units: the
+    // Gaussian, the distance and the luminance) times the normals' agreement.
+    float gauss = -0.5 * LOG2_E / (width * width);
+    float by_distance = -LOG2_E / (DISTANCE_SIGMA * dp * float(l.spacing));
+    float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     float squares = 0.0;
     for (int dy = -REACH; dy <= REACH; ++dy) {
         for (int dx = -REACH; dx <= REACH; ++dx) {
             ivec2 q = ij + ivec2(dx, dy);
-            if (!traced(k, q, box_lo, box_hi, mask_words)) continue;
-            uint e = lattice_index(k, q);
+            if (!traced(l, q)) continue;
+            uint e = index_of(l, q);
             uvec4 sq = lattice_surface[e];
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface (or the sky)
             vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
             float dq = uintBitsToFloat(sq.x);
-            float w = exp(falloff * float(dx * dx + dy * dy));
-            w *= pow(max(dot(np, nq), 0.0), NORMAL_POWER);
-            w *= exp(-abs(dp - dq) / (DISTANCE_SIGMA * dp * spacing * length(vec2(dx, dy)) + 1e-6));
-            vec3 c = lattice[e].rgb;
-            w *= exp(-abs(luminance(c) - lp) / (LUMINANCE_SIGMA * sigma + 1e-6));
+            vec3 c = value_at(l, q);
+            float r2 = float(dx * dx + dy * dy);
+            float exponent = gauss * r2 + by_distance * abs(dp - dq) * inversesqrt(max(r2, 1.0))
+                           + by_luminance * abs(luminance(c) - lp);
+            float w = exp2(exponent) * power_64(max(dot(np, nq), 0.0));
             sum += w * c;
             weights += w;
             squares += w * w;

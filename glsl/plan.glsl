@@ -20,23 +20,44 @@ bool visibility_bit(uint words, uint plane, ivec2 p) {
     return ((visibility[1u + plane * words + i / 32u] >> (i % 32u)) & 1u) != 0u;
 }
 
-// Does layer k (an index into LAYERS) trace its lattice point at pixel p (on the image)?
-// `mask_words` is VISIBILITY[0].
-bool traced_point(uint k, ivec2 p, uint mask_words) {
-    vec4 tan_map = layers[k].pixel_tan;
-    vec3 g = layers[k].gaze.xyz;
-    vec4 c = layers[k].plan_cos;
-    precise float tx = tan_map.x + float(p.x) * tan_map.z;
-    precise float ty = tan_map.y + float(p.y) * tan_map.w;
+// What decides which of a layer's lattice points are traced, read once from LAYERS.
+struct TracedRegion {
+    vec4 tan_map; // GpuLayer.pixel_tan
+    vec3 gaze;
+    vec4 cos; // GpuLayer.plan_cos
+    uint mask_plane;
+    uint mask_words; // VISIBILITY[0]
+};
+
+TracedRegion traced_region(uint k, uint mask_words) {
+    TracedRegion r;
+    r.tan_map = layers[k].pixel_tan;
+    r.gaze = layers[k].gaze.xyz;
+    r.cos = layers[k].plan_cos;
+    r.mask_plane = layers[k].mask_plane;
+    r.mask_words = mask_words;
+    return r;
+}
+
+// Is the lattice point at pixel p (on the image) inside region r?
+bool traced_in(TracedRegion r, ivec2 p) {
+    precise float tx = r.tan_map.x + float(p.x) * r.tan_map.z;
+    precise float ty = r.tan_map.y + float(p.y) * r.tan_map.w;
     // θ < limit ⇔ cos θ > cos limit; unnormalised dot products against cos·|t| need no
     // division and no trig.
     precise float norm = sqrt(tx * tx + ty * ty + 1.0);
-    precise float to_gaze = tx * g.x + ty * g.y + g.z;
-    precise float occlusion = c.x * norm;
-    precise float outer = c.y * norm;
-    precise float inner = c.z * norm;
+    precise float to_gaze = tx * r.gaze.x + ty * r.gaze.y + r.gaze.z;
+    precise float occlusion = r.cos.x * norm;
+    precise float outer = r.cos.y * norm;
+    precise float inner = r.cos.z * norm;
     return 1.0 > occlusion && to_gaze > outer && to_gaze <= inner
-        && visibility_bit(mask_words, layers[k].mask_plane, p);
+        && visibility_bit(r.mask_words, r.mask_plane, p);
+}
+
+// Does layer k (an index into LAYERS) trace its lattice point at pixel p (on the image)?
+// `mask_words` is VISIBILITY[0].
+bool traced_point(uint k, ivec2 p, uint mask_words) {
+    return traced_in(traced_region(k, mask_words), p);
 }
 
 // Thread t of this eye's plan: a run of up to PLAN_RUN points of one row of one layer's box

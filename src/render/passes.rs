@@ -175,7 +175,7 @@ impl FramePasses<'_> {
             .reads(BINDING_WORK, &t.work)
             .reads(BINDING_LAYERS, &t.layers)
             .reads(BINDING_VISIBILITY, self.visibility)
-            .reads(BINDING_LATTICE, &t.lattice)
+            .reads(BINDING_LATTICE_TEXELS, &t.lattice_texels)
             .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
             .reads(BINDING_STATS, stats)
             .writes(BINDING_LATTICE_FILTERED, &h.filtered)
