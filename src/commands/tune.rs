@@ -15,9 +15,11 @@ use std::path::PathBuf;
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum SpaceChoice {
     /// Up to 3 layers and a background: radii 3-40 deg, spacings 1-6, 1-16 spp, 0-3 denoiser
-    /// iterations; baselines at 1, 2 and 4 spp.
+    /// iterations, lattice filters 0.5-2 minimum angles of resolution; baselines at 1, 2 and
+    /// 4 spp, regular ones also with uniform lattice filters 1 and 2 pixels wide.
     Standard,
-    /// One layer and a background, radii 6/15 deg, spacings 1/2/4, 1-2 spp, no denoiser.
+    /// One layer and a background, radii 6/15 deg, spacings 1/2/4, 1-2 spp, no denoiser, no
+    /// lattice filter.
     Small,
 }
 

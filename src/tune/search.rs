@@ -148,16 +148,17 @@ mod tests {
     fn the_seed_decides_the_search_and_measurements_steer_it() {
         let (a, b) = (plan(1), plan(2));
         assert!(a.validate().is_ok());
-        // Baselines, then the included config, then seeded draws.
+        // Baselines (regular, regular with two uniform filters, thesis; at 3 spp each), then
+        // the included config, then seeded draws.
         let first = first_configs(&a);
-        assert_eq!(first.len(), 7);
+        assert_eq!(first.len(), 13);
         assert_eq!(
-            first[6],
+            first[12],
             (FoveationConfig::thesis().with_spp(8), "included")
         );
         assert_eq!(random_configs(&a), random_configs(&a));
         assert_ne!(random_configs(&a), random_configs(&b));
-        assert_eq!(random_configs(&a).len(), (20 - 7) / 2);
+        assert_eq!(random_configs(&a).len(), (20 - 13) / 2);
 
         // Measured so far: regular 1 spp (the budget) and two configs, one within it.
         let cheap = FoveationConfig::thesis().with_spp(2);

@@ -1,5 +1,5 @@
 //! What `fovea tune` searches: foveation configs built from a few layers (count, radii,
-//! lattice spacings, spp, denoising per layer), drawn at random from a seed and then mutated
+//! lattice spacings, spp, denoising and the lattice filter per layer), drawn at random from a seed and then mutated
 //! around the best ones found. Everything here is pure: the same seed and the same measured
 //! scores give the same candidates.
 
@@ -21,16 +21,30 @@ pub struct Space {
     pub baseline_spp: Vec<u32>,
     /// Denoiser iterations a sparse layer may take (0 = none), ascending.
     pub denoise: Vec<u32>,
+    /// Lattice filter widths a sparse layer may take, in minimum angles of resolution at the
+    /// eccentricity (0 = none), ascending. Plans from before the filter have none.
+    #[serde(default = "no_filter")]
+    pub filter_mar: Vec<f32>,
+    /// Uniform lattice filter widths (pixels) the regular baselines are measured with too,
+    /// beside none: the uniform renderer's own reconstruction at each strength.
+    #[serde(default)]
+    pub baseline_filter_px: Vec<f32>,
     /// Blend band width of every candidate, degrees.
     pub blend_deg: f32,
     /// Occlusion mask of every candidate (the headset's lens), degrees from the view axis.
     pub occlusion_deg: Option<f32>,
 }
 
+/// serde's `default = "..."` needs a function path.
+fn no_filter() -> Vec<f32> {
+    vec![0.0]
+}
+
 impl Space {
     /// The search `fovea tune` runs by default: up to three layers and a background, radii
-    /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations; baselines at 1, 2
-    /// and 4 spp.
+    /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations, lattice filters
+    /// 0.5–2 minimum angles of resolution wide; baselines at 1, 2 and 4 spp, regular ones
+    /// also with uniform lattice filters 1 and 2 pixels wide.
     pub fn standard() -> Self {
         Self {
             max_inner_layers: 3,
@@ -41,6 +55,8 @@ impl Space {
             spp: vec![1, 2, 4, 8, 16],
             baseline_spp: vec![1, 2, 4],
             denoise: vec![0, 1, 2, 3],
+            filter_mar: vec![0.0, 0.5, 1.0, 2.0],
+            baseline_filter_px: vec![1.0, 2.0],
             blend_deg: 1.0,
             occlusion_deg: Some(THESIS_OCCLUSION_DEG),
         }
@@ -55,22 +71,32 @@ impl Space {
             spp: vec![1, 2],
             baseline_spp: vec![1, 2],
             denoise: vec![0],
+            filter_mar: no_filter(),
+            baseline_filter_px: Vec::new(),
             ..Self::standard()
         }
     }
 
     /// The configs every search measures first, whatever the seed: regular rendering at each
-    /// baseline spp (the baseline curve) and the thesis' layers at each.
+    /// baseline spp (the baseline curve), then with each uniform lattice filter, and the
+    /// thesis' layers at each.
     pub fn baselines(&self) -> Vec<FoveationConfig> {
         let regular = self
             .baseline_spp
             .iter()
             .map(|&s| FoveationConfig::regular(s));
+        let filtered = self.baseline_filter_px.iter().flat_map(|&px| {
+            self.baseline_spp.iter().map(move |&s| {
+                let mut config = FoveationConfig::regular(s);
+                config.layers[0].filter_px = px;
+                config
+            })
+        });
         let thesis = self
             .baseline_spp
             .iter()
             .map(|&s| FoveationConfig::thesis().with_spp(s));
-        regular.chain(thesis).collect()
+        regular.chain(filtered).chain(thesis).collect()
     }
 
     /// A random config of the space, valid by construction.
@@ -99,7 +125,7 @@ impl Space {
                     spacing: self.spacings[spacing],
                     spp: self.spp[spp],
                     denoise: self.random_denoise(rng, self.spacings[spacing]),
-                    filter_mar: 0.0,
+                    filter_mar: self.random_filter(rng, self.spacings[spacing]),
                     filter_px: 0.0,
                 });
             }
@@ -118,24 +144,23 @@ impl Space {
         self.denoise[1 + rng.below(self.denoise.len() - 1)]
     }
 
-    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, a layer added
-    /// or removed), valid; the parent itself when no change the space allows is valid.
+    /// The lattice filter for a layer of `spacing`: only sparse layers, and one time in two.
+    fn random_filter(&self, rng: &mut Rng, spacing: u32) -> f32 {
+        if spacing == 1 || self.filter_mar.len() < 2 || rng.below(2) != 0 {
+            return 0.0;
+        }
+        self.filter_mar[1 + rng.below(self.filter_mar.len() - 1)]
+    }
+
+    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, a lattice
+    /// filter, a layer added or removed), valid; the parent itself when no change the space
+    /// allows is valid.
     pub fn mutate(&self, parent: &FoveationConfig, rng: &mut Rng) -> FoveationConfig {
         for _ in 0..64 {
             let mut layers = parent.layers.clone();
             let k = rng.below(layers.len());
-            let step = |values: &[u32], v: u32, up: bool| -> u32 {
-                let i = values
-                    .iter()
-                    .position(|&x| x >= v)
-                    .unwrap_or(values.len() - 1);
-                match up {
-                    true => values[(i + 1).min(values.len() - 1)],
-                    false => values[i.saturating_sub(1)],
-                }
-            };
             let up = rng.below(2) == 0;
-            match rng.below(6) {
+            match rng.below(7) {
                 0 => {
                     let Some(r) = layers[k].radius_deg else {
                         continue;
@@ -150,6 +175,7 @@ impl Space {
                 1 => layers[k].spacing = step(&self.spacings, layers[k].spacing, up),
                 2 => layers[k].spp = step(&self.spp, layers[k].spp, up),
                 3 => layers[k].denoise = step(&self.denoise, layers[k].denoise, up),
+                6 => layers[k].filter_mar = step(&self.filter_mar, layers[k].filter_mar, up),
                 4 if layers.len() <= self.max_inner_layers => {
                     // Split layer k at a radius inside it: the new inner part one spacing finer.
                     let outer = layers[k].radius_deg.unwrap_or(f32::INFINITY);
@@ -192,20 +218,40 @@ impl Space {
     }
 }
 
+/// The value next to `v` in the ascending `values`, up or down (the first at least `v` when
+/// `v` is not among them), staying at the ends.
+fn step<T: PartialOrd + Copy>(values: &[T], v: T, up: bool) -> T {
+    let i = values
+        .iter()
+        .position(|&x| x >= v)
+        .unwrap_or(values.len() - 1);
+    match up {
+        true => values[(i + 1).min(values.len() - 1)],
+        false => values[i.saturating_sub(1)],
+    }
+}
+
 /// A config in one short line, its identity in the tune's files: each layer as
-/// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, then the
-/// occlusion mask; e.g. `6:1x4 10:2x4 20:3x4d1 bg:4x4 occ56`.
+/// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, `fM` for
+/// an acuity lattice filter, `pP` for a uniform one, then the occlusion mask; e.g.
+/// `6:1x4 10:2x4 20:3x4d1f0.5 bg:4x4f1 occ56`.
 pub fn describe(config: &FoveationConfig) -> String {
     let mut parts: Vec<String> = config
         .layers
         .iter()
         .map(|l| {
             let radius = l.radius_deg.map_or("bg".to_string(), |r| format!("{r}"));
-            let denoise = match l.denoise {
-                0 => String::new(),
-                n => format!("d{n}"),
-            };
-            format!("{radius}:{}x{}{denoise}", l.spacing, l.spp)
+            let mut knobs = String::new();
+            if l.denoise > 0 {
+                knobs += &format!("d{}", l.denoise);
+            }
+            if l.filter_mar > 0.0 {
+                knobs += &format!("f{}", l.filter_mar);
+            }
+            if l.filter_px > 0.0 {
+                knobs += &format!("p{}", l.filter_px);
+            }
+            format!("{radius}:{}x{}{knobs}", l.spacing, l.spp)
         })
         .collect();
     if let Some(occ) = config.occlusion_deg {
@@ -236,6 +282,8 @@ mod tests {
             assert!(a.iter().any(|c| c.layers.len() == inner + 1), "{inner}");
         }
         assert!(a.iter().any(|c| c.layers.iter().any(|l| l.denoise > 0)));
+        assert!(a.iter().any(|c| c.layers.iter().any(|l| l.filter_mar > 0.0)));
+        assert!(a.iter().all(|c| !c.layers[0].filters() || c.layers[0].spacing > 1));
         assert!(a.iter().all(|c| c.layers[0].spacing <= 2));
         let distinct: std::collections::HashSet<String> = a.iter().map(describe).collect();
         assert!(distinct.len() > 150, "{}", distinct.len());
@@ -268,10 +316,15 @@ mod tests {
     fn descriptions_name_every_knob() {
         let mut config = FoveationConfig::thesis();
         config.layers[2].denoise = 2;
+        config.layers[2].filter_mar = 0.5;
+        config.layers[3].filter_mar = 1.0;
         assert_eq!(
             describe(&config),
-            "6:1x4 10:2x4 20:3x4d2 bg:4x4 occ56 blend1"
+            "6:1x4 10:2x4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
         );
-        assert_eq!(describe(&FoveationConfig::regular(2)), "bg:1x2");
+        let mut regular = FoveationConfig::regular(2);
+        assert_eq!(describe(&regular), "bg:1x2");
+        regular.layers[0].filter_px = 2.0;
+        assert_eq!(describe(&regular), "bg:1x2p2");
     }
 }
