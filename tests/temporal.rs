@@ -419,6 +419,7 @@ fn the_lattice_filter_smooths_flat_noise_and_keeps_edges_between_surfaces() {
         mse_at(plain, &reference, &smooth),
         mse_at(filtered, &reference, &smooth),
     );
+    eprintln!("flat regions: {before:.3e} before the lattice filter, {after:.3e} after");
     assert!(
         after < 0.25 * before,
         "flat regions: {before:.3e} before the lattice filter, {after:.3e} after"
@@ -441,6 +442,7 @@ fn the_lattice_filter_smooths_flat_noise_and_keeps_edges_between_surfaces() {
         .iter()
         .map(|&(x, y)| (filtered.pixel(x, y)[0] - reference.pixel(x, y)[0]).abs())
         .fold(0.0f32, f32::max);
+    eprintln!("the step: at worst {worst} off the reference");
     assert!(
         worst < 0.02 * 0.9,
         "the edge leaked: {worst} off the reference"
@@ -500,6 +502,12 @@ fn the_lattice_filter_follows_acuity_and_leaves_the_history_unbiased() {
         mse_at(&plain[0], &reference, &wide),
         mse_at(&filtered[0], &reference, &wide),
     );
+    eprintln!(
+        "{} pixels as traced; far out ({} flat pixels): {before:.3e} before the lattice \
+         filter, {after:.3e} after",
+        sharp.len(),
+        wide.len()
+    );
     assert!(
         after < 0.5 * before,
         "far out: {before:.3e} before the lattice filter, {after:.3e} after"
@@ -507,6 +515,7 @@ fn the_lattice_filter_follows_acuity_and_leaves_the_history_unbiased() {
     // The history takes the traced values, not the filtered ones: after 64 still frames the
     // filter's blur has given way to the unbiased mean.
     let (plain_64, filtered_64) = (mse(&plain[63], &reference), mse(&filtered[63], &reference));
+    eprintln!("after 64 frames: {filtered_64:.3e} filtered, {plain_64:.3e} not");
     assert!(
         filtered_64 < 1.1 * plain_64,
         "after 64 frames: {filtered_64:.3e} filtered, {plain_64:.3e} not"
