@@ -1197,3 +1197,28 @@ fn the_headset_shows_the_display_transform() {
         );
     }
 }
+
+#[test]
+fn the_headsets_shipped_config_is_the_default_and_a_given_one_wins() {
+    // The simulated headset reports itself as Vive Pro Eye-like: its shipped config, whose
+    // lattice filters need the history (on by default; off, they are left out and it says so).
+    let size = [("SIM_HEADSET_SIZE", "32x32")];
+    for (args, says) in [
+        (
+            &[][..],
+            "foveation: assets/foveation/vive-pro-eye.toml (the runtime reports a vive-pro-eye)\n",
+        ),
+        (
+            &["--temporal", "off"][..],
+            "(the runtime reports a vive-pro-eye), unfiltered: its filters need the temporal history",
+        ),
+        (&["--foveation", "thesis"][..], "foveation: as given\n"),
+    ] {
+        let dir = scratch(&format!("shipped-{}", args.len()));
+        let mut all = vec!["--simulated", "--frames", "2"];
+        all.extend_from_slice(args);
+        let (ok, out) = xr(&dir, &all, &size);
+        assert!(ok && out.contains(says), "{args:?}: {out}");
+        assert_clean_teardown(&dir);
+    }
+}

@@ -11,7 +11,9 @@ use fovea::foveation::gaze_filter::DEFAULT_HOLD_S;
 use fovea::foveation::FoveationConfig;
 use fovea::render::{DebugView, Integrator, RenderSettings};
 use fovea::scene;
-use fovea::xr::{self, RuntimeSource, SessionEnd, SessionRecorder, XrOptions, XrSummary};
+use fovea::xr::{
+    self, FoveationChoice, RuntimeSource, SessionEnd, SessionRecorder, XrOptions, XrSummary,
+};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -29,8 +31,10 @@ pub struct XrArgs {
     /// Per-eye image size WIDTHxHEIGHT (default: the runtime's recommended size).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<[u32; 2]>,
-    /// Foveation layers: thesis, off (regular rendering) or a TOML file.
-    #[arg(long, default_value = "thesis")]
+    /// Foveation layers: auto (the config fovea ships for the headset the runtime reports,
+    /// assets/foveation/vive-pro-eye.toml for a Vive Pro Eye; the thesis' layers for another),
+    /// thesis, off (regular rendering) or a TOML file.
+    #[arg(long, default_value = "auto")]
     pub foveation: String,
     /// Samples per target pixel, replacing every layer's.
     #[arg(long)]
@@ -94,7 +98,10 @@ pub fn run(args: &XrArgs) -> Result<()> {
     }
     let mut recorder = SessionRecorder::new(
         &scene.name,
-        foveation.layers.len() > 1 || foveation.layers[0].spacing > 1,
+        match &foveation {
+            FoveationChoice::Given(config) => !config.is_regular(),
+            FoveationChoice::ForHeadset { .. } => true, // a headset's config, or the thesis'
+        },
         args.session.as_deref(),
         args.record_gaze.as_deref(),
     )?;
@@ -155,7 +162,7 @@ pub fn run(args: &XrArgs) -> Result<()> {
 
 /// The frame settings and layers the options ask for, checked with the same ranges and
 /// messages as `fovea render`, before any session starts.
-fn frame_settings(args: &XrArgs) -> Result<(RenderSettings, FoveationConfig)> {
+fn frame_settings(args: &XrArgs) -> Result<(RenderSettings, FoveationChoice)> {
     RenderSettings {
         spp: args.spp.unwrap_or(1),
         max_bounces: args.max_bounces,
@@ -163,14 +170,20 @@ fn frame_settings(args: &XrArgs) -> Result<(RenderSettings, FoveationConfig)> {
     }
     .validate()
     .map_err(anyhow::Error::msg)?;
-    let mut foveation = match FoveationConfig::from_arg(&args.foveation)? {
-        Some(config) => config,
-        None => FoveationConfig::regular(args.spp.unwrap_or(4)),
+    let foveation = match args.foveation.as_str() {
+        "auto" => FoveationChoice::ForHeadset { spp: args.spp },
+        given => {
+            let mut foveation = match FoveationConfig::from_arg(given)? {
+                Some(config) => config,
+                None => FoveationConfig::regular(args.spp.unwrap_or(4)),
+            };
+            if let Some(spp) = args.spp {
+                foveation = foveation.with_spp(spp);
+            }
+            foveation.validate()?;
+            FoveationChoice::Given(foveation)
+        }
     };
-    if let Some(spp) = args.spp {
-        foveation = foveation.with_spp(spp);
-    }
-    foveation.validate()?;
     let settings = RenderSettings {
         seed: args.seed,
         integrator: args.integrator,
@@ -232,6 +245,7 @@ fn print_session(summary: &XrSummary) {
         },
         if summary.visibility_mask { "used" } else { "not used" },
     );
+    println!("foveation: {}", summary.foveation);
     println!(
         "session states: {}",
         summary

@@ -3,6 +3,7 @@
 //! eye sees (`--display`).
 
 use super::view::EyeFov;
+use super::FoveationConfig;
 use crate::render::FovChoice;
 
 /// A display's luminance range in cd/m²: what a display-encoded 1 and 0 emit.
@@ -98,6 +99,40 @@ impl DisplayProfile {
         }
     }
 
+    /// The headset an OpenXR runtime reports: by its system name (XrSystemProperties), or
+    /// failing that by its recommended per-eye image size being the panel's.
+    pub fn recognise(system_name: &str, eye_size: [u32; 2]) -> Option<Self> {
+        let name = system_name.to_lowercase();
+        let all = [DisplayProfile::ViveProEye, DisplayProfile::VarjoXr4];
+        let named = |p: &DisplayProfile| match p {
+            DisplayProfile::ViveProEye => name.contains("vive pro eye"),
+            DisplayProfile::VarjoXr4 => name.contains("xr-4") || name.contains("xr4"),
+        };
+        let sized = |p: &DisplayProfile| {
+            let (w, h) = p.eye_size();
+            eye_size == [w, h]
+        };
+        all.iter()
+            .copied()
+            .find(named)
+            .or(all.into_iter().find(sized))
+    }
+
+    /// The foveation config fovea ships for this headset (`assets/foveation/NAME.toml`,
+    /// built into the binary), which `fovea xr` uses unless told otherwise; None where none
+    /// was measured.
+    pub fn shipped_foveation(self) -> Option<(&'static str, FoveationConfig)> {
+        let (file, text) = match self {
+            DisplayProfile::ViveProEye => (
+                "assets/foveation/vive-pro-eye.toml",
+                include_str!("../../assets/foveation/vive-pro-eye.toml"),
+            ),
+            DisplayProfile::VarjoXr4 => return None,
+        };
+        let config = FoveationConfig::from_toml_str(text, file).expect("shipped configs are valid");
+        Some((file, config))
+    }
+
     /// One eye's mean horizontal density: its pixels over its horizontal field of view in
     /// degrees (the figure spec sheets and the "13 px/°" use). A flat image holds
     /// fewer pixels per degree at its centre than this, more at its edges.
@@ -118,5 +153,29 @@ mod tests {
         let varjo = DisplayProfile::VarjoXr4.pixels_per_degree();
         assert!((13.0..14.5).contains(&vive), "{vive}");
         assert!((varjo - 32.0).abs() < 0.01, "{varjo}");
+    }
+
+    #[test]
+    fn a_runtime_is_recognised_by_name_then_by_size() {
+        let vive = Some(DisplayProfile::ViveProEye);
+        assert_eq!(
+            DisplayProfile::recognise("HTC Vive Pro Eye", [2016, 2240]),
+            vive
+        );
+        assert_eq!(
+            DisplayProfile::recognise("SteamVR/OpenXR : lighthouse", [1440, 1600]),
+            vive
+        );
+        let varjo = DisplayProfile::recognise("Varjo XR-4", [2880, 2808]);
+        assert_eq!(varjo, Some(DisplayProfile::VarjoXr4));
+        assert_eq!(DisplayProfile::recognise("Quest 3", [2064, 2208]), None);
+    }
+
+    #[test]
+    fn the_shipped_configs_are_valid_and_foveated() {
+        let (file, config) = DisplayProfile::ViveProEye.shipped_foveation().unwrap();
+        assert!(file.ends_with("vive-pro-eye.toml"));
+        assert!(config.validate().is_ok() && !config.is_regular());
+        assert!(DisplayProfile::VarjoXr4.shipped_foveation().is_none());
     }
 }

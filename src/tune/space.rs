@@ -282,8 +282,12 @@ mod tests {
             assert!(a.iter().any(|c| c.layers.len() == inner + 1), "{inner}");
         }
         assert!(a.iter().any(|c| c.layers.iter().any(|l| l.denoise > 0)));
-        assert!(a.iter().any(|c| c.layers.iter().any(|l| l.filter_mar > 0.0)));
-        assert!(a.iter().all(|c| !c.layers[0].filters() || c.layers[0].spacing > 1));
+        assert!(a
+            .iter()
+            .any(|c| c.layers.iter().any(|l| l.filter_mar > 0.0)));
+        assert!(a
+            .iter()
+            .all(|c| !c.layers[0].filters() || c.layers[0].spacing > 1));
         assert!(a.iter().all(|c| c.layers[0].spacing <= 2));
         let distinct: std::collections::HashSet<String> = a.iter().map(describe).collect();
         assert!(distinct.len() > 150, "{}", distinct.len());

@@ -122,7 +122,20 @@ impl<'a> FrameLoop<'a> {
             EyeSwapchain::new(&session, format, size)?,
             EyeSwapchain::new(&session, format, size)?,
         ];
-        let renderer = HeadsetRenderer::new(ctx, options)?;
+        // The layers: the shipped config of the headset the runtime reports, unless given.
+        let system = xr_instance
+            .instance
+            .system_properties(xr_instance.system)
+            .xr("xrGetSystemProperties")?;
+        let recommended = [
+            views[0].recommended_image_rect_width,
+            views[0].recommended_image_rect_height,
+        ];
+        let (foveation, foveation_source) =
+            options
+                .foveation
+                .resolve(&system.system_name, recommended, options.temporal.is_some());
+        let renderer = HeadsetRenderer::new(ctx, options, foveation)?;
         let use_mask = options.visibility_mask && xr_instance.visibility_mask;
         let summary = XrSummary {
             frames: frames_before,
@@ -130,6 +143,7 @@ impl<'a> FrameLoop<'a> {
             swapchain_format: format!("{format:?}"),
             no_gaze: gaze.unavailable(),
             visibility_mask: use_mask,
+            foveation: foveation_source,
             ..XrSummary::new(xr_instance.runtime.clone())
         };
         Ok(Self {

@@ -10,7 +10,7 @@ use super::frame_record::{FrameRecord, Record};
 use super::options::XrOptions;
 use super::views::EyeViews;
 use crate::foveation::gaze_filter::FilteredGaze;
-use crate::foveation::{Gaze, ImageGeometry, VisibilityMask};
+use crate::foveation::{FoveationConfig, Gaze, ImageGeometry, VisibilityMask};
 use crate::gpu::{ExternalImage, GpuContext, SourceRect};
 use crate::render::FrameOptions;
 use crate::render::{FrameRequest, RenderSettings, Renderer};
@@ -25,6 +25,8 @@ pub(super) struct HeadsetRenderer<'a> {
     submitted: VecDeque<SubmittedFrame>,
     ctx: &'a Arc<GpuContext>,
     options: &'a XrOptions,
+    /// The layers every frame renders (options.foveation resolved for the runtime's headset).
+    foveation: FoveationConfig,
 }
 
 /// A frame submitted and handed to the runtime, whose GPU work may still be running.
@@ -45,7 +47,11 @@ pub(super) struct SubmittedFrame {
 impl<'a> HeadsetRenderer<'a> {
     /// A renderer of `options.scene` whose frames are copied from its output image into the
     /// swapchains, with `options.frames_in_flight` and temporal history as asked.
-    pub(super) fn new(ctx: &'a Arc<GpuContext>, options: &'a XrOptions) -> Result<Self, XrError> {
+    pub(super) fn new(
+        ctx: &'a Arc<GpuContext>,
+        options: &'a XrOptions,
+        foveation: FoveationConfig,
+    ) -> Result<Self, XrError> {
         let mut renderer = Renderer::new(ctx, &options.scene)?;
         renderer.set_output_image(true);
         renderer.set_frames_in_flight(options.frames_in_flight)?;
@@ -56,6 +62,7 @@ impl<'a> HeadsetRenderer<'a> {
             submitted: VecDeque::new(),
             ctx,
             options,
+            foveation,
         })
     }
 
@@ -78,13 +85,13 @@ impl<'a> HeadsetRenderer<'a> {
         let settings = RenderSettings {
             width: views.size[0],
             height: views.size[1],
-            spp: options.foveation.layers[0].spp,
+            spp: self.foveation.layers[0].spp,
             seed: options.settings.seed.wrapping_add(index as u32),
             ..options.settings
         };
         let request = FrameRequest {
             settings,
-            foveation: &options.foveation,
+            foveation: &self.foveation,
             eyes: &views.eyes,
             debug: options.debug,
         };

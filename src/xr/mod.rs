@@ -22,7 +22,7 @@ mod vulkan;
 pub use error::XrError;
 pub use frame_record::FrameRecord;
 pub use instance::RuntimeSource;
-pub use options::XrOptions;
+pub use options::{FoveationChoice, XrOptions};
 pub use probe::{ProbeReport, PROBE_FRAMES};
 pub use recording::SessionRecorder;
 pub use session::{run, SESSION_RETRIES};

@@ -1,7 +1,7 @@
 //! What a headset run is asked for.
 
 use super::instance::RuntimeSource;
-use crate::foveation::FoveationConfig;
+use crate::foveation::{DisplayProfile, FoveationConfig};
 use crate::gpu::GpuOptions;
 use crate::render::display::DisplayTransform;
 use crate::render::{DebugView, RenderSettings, TemporalSettings};
@@ -17,7 +17,7 @@ pub struct XrOptions {
     pub size: Option<[u32; 2]>,
     /// Seed, integrator and bounces (width and height come from the swapchains).
     pub settings: RenderSettings,
-    pub foveation: FoveationConfig,
+    pub foveation: FoveationChoice,
     pub debug: DebugView,
     /// End the session cleanly after this many rendered frames.
     pub frames: Option<u64>,
@@ -38,4 +38,58 @@ pub struct XrOptions {
     pub temporal: Option<TemporalSettings>,
     /// What the swapchains show of the scene-referred frames (exposure, tone mapper).
     pub display: DisplayTransform,
+}
+
+/// Which foveation layers a headset session renders.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FoveationChoice {
+    /// These layers (`--foveation thesis|off|FILE.toml`).
+    Given(FoveationConfig),
+    /// The config fovea ships for the headset the runtime reports
+    /// ([`DisplayProfile::recognise`], [`DisplayProfile::shipped_foveation`]), with every
+    /// layer at `spp` if given; the thesis' layers for a headset without one.
+    ForHeadset { spp: Option<u32> },
+}
+
+impl FoveationChoice {
+    /// The layers for a runtime that reports `system_name` and a recommended per-eye size
+    /// `eye_size`, and a line saying where they come from. Without `history` a shipped
+    /// config's lattice filters and denoisers are left out (both follow the history's
+    /// surfaces), and the line says so.
+    pub fn resolve(
+        &self,
+        system_name: &str,
+        eye_size: [u32; 2],
+        history: bool,
+    ) -> (FoveationConfig, String) {
+        let spp = match self {
+            FoveationChoice::Given(config) => return (config.clone(), "as given".into()),
+            FoveationChoice::ForHeadset { spp } => *spp,
+        };
+        let profile = DisplayProfile::recognise(system_name, eye_size);
+        let (mut config, mut source) = match profile.and_then(|p| Some((p, p.shipped_foveation()?)))
+        {
+            Some((p, (file, config))) => (
+                config,
+                format!("{file} (the runtime reports a {})", p.name()),
+            ),
+            None => (
+                FoveationConfig::thesis(),
+                format!(
+                    "the thesis' layers (no shipped config for '{system_name}' at {}x{} per eye)",
+                    eye_size[0], eye_size[1]
+                ),
+            ),
+        };
+        if let Some(spp) = spp {
+            config = config.with_spp(spp);
+        }
+        if !history && (config.filters() || config.denoise_iterations() > 0) {
+            for layer in &mut config.layers {
+                (layer.filter_mar, layer.filter_px, layer.denoise) = (0.0, 0.0, 0);
+            }
+            source += ", unfiltered: its filters need the temporal history";
+        }
+        (config, source)
+    }
 }

@@ -26,6 +26,8 @@ pub struct XrSummary {
     /// Why there was no eye gaze, if there was none.
     pub no_gaze: Option<&'static str>,
     pub visibility_mask: bool,
+    /// Where the foveation layers came from (given, or the headset's shipped config).
+    pub foveation: String,
     pub states: Vec<xr::SessionState>,
     pub end: SessionEnd,
     /// Validation messages, including those reported while the Vulkan device was destroyed.
@@ -47,6 +49,7 @@ impl XrSummary {
             swapchain_format: String::new(),
             no_gaze: None,
             visibility_mask: false,
+            foveation: String::new(),
             states: Vec::new(),
             end: SessionEnd::RuntimeExit,
             validation: Vec::new(),
