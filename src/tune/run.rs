@@ -65,10 +65,11 @@ pub fn run(
             Err(e) => Err(e),
         };
         let row = match measured {
-            // A drawn config the device cannot render (a buffer over its limits) is a
-            // measurement too: it is out of the search. A baseline that fails is not.
+            // A drawn or included config the device cannot render (a buffer over its
+            // limits) is a measurement too: it is out of the search, its row says why. A
+            // baseline that fails is not: without the baselines nothing can be chosen.
             Err(TuneError::Render { scene, problem })
-                if index as usize >= first_configs(plan).len() =>
+                if index as usize >= plan.space.baselines().len() =>
             {
                 unjudged(
                     index,
