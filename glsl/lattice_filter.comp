@@ -8,9 +8,9 @@
 // history) and weighted down by its difference in luminance against the local noise (the
 // standard deviation over the 3x3 points around, as denoise.comp estimates it; this keeps the
 // points an edge crosses, mixes of both sides on one side's surface by their centres, from
-// lending their mix to their neighbours). The Gaussian's width follows the eye's acuity: filter_mar times the minimum angle
-// of resolution at the point's eccentricity from the gaze (Guenter et al. 2012: 0.022 deg per
-// deg plus 1/48 deg), and at least filter_px pixels. So the periphery's noise becomes blur
+// lending their mix to their neighbours). The Gaussian's width follows the eye's acuity:
+// filter_mar times the minimum angle of resolution at the point's eccentricity from the gaze
+// (Guenter et al. 2012: 0.022 deg per deg plus 1/48 deg), and at least filter_px pixels. So the periphery's noise becomes blur
 // finer than the eye resolves there, and a blue-noise sampler's error (neighbouring lattice
 // points are neighbouring sampler points) mostly cancels.
 //
@@ -42,8 +42,7 @@ const int REACH = 2;
 // Below this width (in lattice steps) every tap but the centre weighs under e^-8: copied
 // (acuity.rs's MIN_FILTER_WIDTH).
 const float MIN_WIDTH = 0.25;
-// Edge-stopping strengths, as denoise.comp's.
-const float NORMAL_POWER = 64.0;
+// Edge-stopping strengths, as denoise.comp's (its normal power, 64, is power_64 below).
 const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap distance
 const float LOG2_E = 1.44269504;
