@@ -47,21 +47,6 @@ const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap distance
 const float LOG2_E = 1.44269504;
 
-// The Gaussian's width at layer k's point at pixel p (direction u), in lattice steps.
-float width_in_steps(uint k, ivec2 p, vec3 u) {
-    vec4 tan_map = layers[k].pixel_tan;
-    int spacing = layers[k].spacing;
-    // One lattice step's angle here: the chord to the direction one step to the right
-    // (the image's steps are square).
-    vec3 next = tan_direction(tan_map.xy + vec2(p + ivec2(spacing, 0)) * tan_map.zw);
-    float step_angle = max(length(next - u), 1e-9);
-    float eccentricity = angle_of(u, layers[k].gaze.xyz);
-    float mar = MAR_SLOPE * eccentricity + MAR_CENTRE;
-    float by_acuity = layers[k].filter_mar * mar / step_angle;
-    float by_pixels = layers[k].filter_px / float(spacing);
-    return max(by_acuity, by_pixels);
-}
-
 // Layer k's lattice as the filter walks it, read once from LAYERS (on lavapipe every buffer
 // read per tap costs about as much as the arithmetic).
 struct Lattice {
@@ -86,6 +71,21 @@ Lattice lattice_of(uint k) {
     l.first = layers[k].first;
     l.cols = layers[k].cols;
     return l;
+}
+
+// The Gaussian's width at layer k's point at pixel p (direction u) of lattice l, in lattice
+// steps.
+float width_in_steps(Lattice l, uint k, ivec2 p, vec3 u) {
+    vec4 tan_map = l.region.tan_map;
+    // One lattice step's angle here: the chord to the direction one step to the right
+    // (the image's steps are square).
+    vec3 next = tan_direction(tan_map.xy + vec2(p + ivec2(l.spacing, 0)) * tan_map.zw);
+    float step_angle = max(length(next - u), 1e-9);
+    float eccentricity = angle_of(u, l.region.gaze);
+    float mar = MAR_SLOPE * eccentricity + MAR_CENTRE;
+    float by_acuity = layers[k].filter_mar * mar / step_angle;
+    float by_pixels = layers[k].filter_px / float(l.spacing);
+    return max(by_acuity, by_pixels);
 }
 
 // Was point q traced this frame (the plan's own test)? The others hold stale values.
@@ -131,7 +131,7 @@ void main() {
     ivec2 ij = l.extent_min + ivec2(local % l.cols, local / l.cols);
     ivec2 pixel = l.anchor + ij * l.spacing;
     vec3 u = tan_direction(l.region.tan_map.xy + vec2(pixel) * l.region.tan_map.zw);
-    float width = width_in_steps(k, pixel, u);
+    float width = width_in_steps(l, k, pixel, u);
     uvec4 sp = lattice_surface[entry];
     float dp = uintBitsToFloat(sp.x);
     // A point that sees the sky is copied too: its rays that leave the scene see the

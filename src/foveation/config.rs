@@ -228,6 +228,20 @@ impl FoveationConfig {
         self
     }
 
+    /// The same layers without what follows the temporal history's surfaces (the denoiser
+    /// and the lattice filter): what a config renders as when the history is off.
+    pub fn without_history_filters(mut self) -> Self {
+        for layer in &mut self.layers {
+            (layer.denoise, layer.filter_mar, layer.filter_px) = (0, 0.0, 0.0);
+        }
+        self
+    }
+
+    /// Whether a layer denoises or filters its lattice, which need the history.
+    pub fn needs_history(&self) -> bool {
+        self.filters() || self.denoise_iterations() > 0
+    }
+
     /// True for exactly one layer with spacing 1 (what `regular` builds).
     pub fn is_regular(&self) -> bool {
         matches!(self.layers.as_slice(), [only] if only.spacing == 1)

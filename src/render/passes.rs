@@ -2,8 +2,9 @@
 //! records its dispatches (graph.rs derives the bindings and barriers): counters zeroed, plan
 //! (which lattice points every layer traces, decided on the GPU, compacted into work lists),
 //! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), the
-//! lattice filter (the same work lists, when a layer asks for it), resolve (every pixel once), then with history temporal and denoise, and for whoever presents or
-//! accumulates frames a copy of the pixels into an image; last the counters copied where the
+//! lattice filter (the same work lists, when a layer asks for it), resolve (every pixel
+//! once), then with history temporal and denoise, and for whoever presents or accumulates
+//! frames a copy of the pixels into an image; last the counters copied where the
 //! host reads them. Each pass records every eye's dispatch: the eyes have their own lattice
 //! values, work lists and halves of the output, so nothing orders one eye after the other and
 //! a GPU may run them side by side.
@@ -63,15 +64,15 @@ impl FramePasses<'_> {
         }
     }
 
-    /// Every timed pass this frame records: plan, dispatch sizes, trace and the lattice
-    /// filter when `traced` (a test may give the lattice instead), resolve, temporal, each denoise iteration and
-    /// its copy back, the output image. The timestamp pool is sized from it.
+    /// Every timed pass this frame records: plan, dispatch sizes and trace when `traced`
+    /// (a test may give the lattice instead), the lattice filter, resolve, temporal, each
+    /// denoise iteration and its copy back, the output image. The timestamp pool is sized
+    /// from it.
     pub fn timed_passes(&self, traced: bool) -> u32 {
         let eyes = self.eyes.len() as u32;
         let denoise = self.pipelines.denoise.map_or(0, |(_, n)| n);
-        let filter = traced && self.lattice_filter().is_some();
         let per_eye = 2 * traced as u32 // plan, trace
-            + filter as u32
+            + self.lattice_filter().is_some() as u32
             + 1 // resolve
             + self.pipelines.temporal.is_some() as u32
             + denoise;
@@ -158,7 +159,7 @@ impl FramePasses<'_> {
     }
 
     /// The lattice filter's pipeline and the history that holds its buffer, when the frame
-    /// filters.
+    /// filters (never when a test gives the lattice: such a frame has no history).
     fn lattice_filter(&self) -> Option<(&ComputePipeline, &History)> {
         self.pipelines.lattice_filter.zip(self.history)
     }
@@ -190,13 +191,13 @@ impl FramePasses<'_> {
     }
 
     /// Resolve: per eye, every output pixel from its one or two layers, reading the lattice
-    /// filter's values when `filtered`, else the traced ones.
-    pub fn resolve(&self, g: &mut FrameGraph, filtered: bool) {
+    /// filter's values when the frame filters, else the traced ones.
+    pub fn resolve(&self, g: &mut FrameGraph) {
         let t = self.targets;
         let groups = self.pixel_groups(PIXELS_PER_INVOCATION);
         let lattice = match self.lattice_filter() {
-            Some((_, h)) if filtered => &h.filtered_texels,
-            _ => &t.lattice_texels,
+            Some((_, h)) => &h.filtered_texels,
+            None => &t.lattice_texels,
         };
         g.pass()
             .reads(BINDING_LAYERS, &t.layers)

@@ -176,7 +176,7 @@ fn record_passes(passes: &FramePasses, g: &mut FrameGraph, traced: bool) {
         passes.trace(g);
         passes.filter_lattice(g);
     }
-    passes.resolve(g, traced);
+    passes.resolve(g);
     passes.temporal(g);
     passes.denoise(g);
     passes.output_image(g);

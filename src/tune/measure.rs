@@ -324,7 +324,7 @@ impl TimedFrames {
 /// `--objective motion`, which judges it with one, always; else when it denoises or filters
 /// its lattices (both are guided by the history's surfaces).
 fn keeps_history(plan: &TunePlan, config: &FoveationConfig) -> bool {
-    plan.objective == Objective::Motion || config.denoise_iterations() > 0 || config.filters()
+    plan.objective == Objective::Motion || config.needs_history()
 }
 
 /// The settings of every frame of the plan (the layers carry the spp).

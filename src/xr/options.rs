@@ -84,10 +84,8 @@ impl FoveationChoice {
         if let Some(spp) = spp {
             config = config.with_spp(spp);
         }
-        if !history && (config.filters() || config.denoise_iterations() > 0) {
-            for layer in &mut config.layers {
-                (layer.filter_mar, layer.filter_px, layer.denoise) = (0.0, 0.0, 0);
-            }
+        if !history && config.needs_history() {
+            config = config.without_history_filters();
             source += ", unfiltered: its filters need the temporal history";
         }
         (config, source)

@@ -232,15 +232,11 @@ impl Sequence {
     /// the history's surfaces, so a filtering config measures "off" as its layers
     /// unfiltered).
     pub fn config(&self, layers: &FoveationConfig) -> FoveationConfig {
-        let mut config = layers.clone().with_spp(self.spp);
-        if !self.temporal {
-            for layer in &mut config.layers {
-                layer.denoise = 0;
-                layer.filter_mar = 0.0;
-                layer.filter_px = 0.0;
-            }
+        let config = layers.clone().with_spp(self.spp);
+        match self.temporal {
+            true => config,
+            false => config.without_history_filters(),
         }
-        config
     }
 }
 
