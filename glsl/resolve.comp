@@ -7,10 +7,12 @@
 // the bicubic Catmull-Rom value (eq. 3.17, fig. 3.10) of the 4x4 points around it, taps
 // clamped to the points on the image; the plan traces a margin of two lattice steps (plus
 // slack) around everything shown, so every tap read was traced this frame. Each invocation
-// resolves a run of PIXELS_PER_INVOCATION pixels of one row. Where v is 1 and
-// the pixel is a lattice point the output is the traced value itself (the cubic at t = 0 is
-// its middle value exactly), so the fovea of a foveated frame is bit-identical to a regular
-// frame.
+// resolves a run of PIXELS_PER_INVOCATION pixels of one row. A sparse layer's cubics weigh
+// each point by 1 / (1 + luminance) (colour.glsl's hdr_weighted), each pixel within its 2x2
+// nearest lattice points' range, so that a lamp's edge neither bleeds its radiance into the
+// pixels around it nor rings. A spacing-1 layer needs no interpolation and stays linear: where v is 1 the
+// output is the traced value itself (the cubic at t = 0 is its middle value exactly), so
+// the fovea of a foveated frame is bit-identical to a regular frame.
 //
 // Shaped for SIMD CPUs (lavapipe) as much as for GPUs: on lavapipe an `if` whose condition
 // differs between lanes runs its body for every lane (masked), while a loop runs until its
@@ -46,10 +48,10 @@ const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1),
 
 // Eq. 3.17: the value between v1 (t = 0) and v2 (t = 1); the operations of
 // src/foveation/catmull_rom.rs.
-vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
-    vec3 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
-    vec3 b = v0 - 2.5 * v1 + 2.0 * v2 - 0.5 * v3;
-    vec3 c = -0.5 * v0 + 0.5 * v2;
+vec4 cubic(vec4 v0, vec4 v1, vec4 v2, vec4 v3, float t) {
+    vec4 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
+    vec4 b = v0 - 2.5 * v1 + 2.0 * v2 - 0.5 * v3;
+    vec4 c = -0.5 * v0 + 0.5 * v2;
     return ((a * t + b) * t + c) * t + v1;
 }
 
@@ -71,7 +73,11 @@ struct Columns {
     int cy; // the lattice row at or above this pixel row, and the row's fraction of a step
     float ty;
     int cx; // col[1] is lattice column cx
-    vec3 col[4];
+    vec4 col[4]; // (weighted radiance, weight): see tap
+    // Per column, the range of its two lattice points next to this row: a pixel's value is
+    // clamped to its 2x2 nearest points' range (pixel_value).
+    vec4 near_lo[4];
+    vec4 near_hi[4];
 };
 
 // Starts using layer k's columns on pixel row y.
@@ -91,37 +97,59 @@ void use_layer(inout Columns w, uint k, int y) {
     w.cx = -0x40000000; // no column loaded
 }
 
-// The layer's lattice value at point ij, clamped to its points on the image.
-vec3 tap(Columns w, ivec2 ij) {
+// The layer's lattice value at point ij, clamped to its points on the image, with its
+// interpolation weight: in a sparse layer 1 / (1 + luminance) (colour.glsl's hdr_weighted:
+// cubics between a lamp and a dim wall would bleed the lamp's radiance and ring), divided
+// out again per pixel by pixel_value. Spacing 1 keeps weight 1, so every pixel is its traced
+// value exactly.
+vec4 tap(Columns w, ivec2 ij) {
     ivec2 c = clamp(ij, w.lo, w.hi) - w.extent_min;
-    return uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
+    vec3 v = uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
+    return w.d > 1 ? hdr_weighted(v) : vec4(v, 1.0);
 }
 
-// Lattice column c's vertical cubic at this row (on a lattice row, ty = 0, its value there:
-// the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway).
-vec3 column(Columns w, int c) {
-    return cubic(tap(w, ivec2(c, w.cy - 1)), tap(w, ivec2(c, w.cy)), tap(w, ivec2(c, w.cy + 1)),
-                 tap(w, ivec2(c, w.cy + 2)), w.ty);
+// The pixel at fraction tx of a lattice step right of column w.cx: the horizontal cubic of
+// the four columns' vertical ones; in a sparse layer kept within the range of the pixel's
+// 2x2 nearest lattice points (a cubic overshoots at an edge, and the weight must stay above
+// 0) and divided by its weight.
+vec3 pixel_value(Columns w, float tx) {
+    vec4 c = cubic(w.col[0], w.col[1], w.col[2], w.col[3], tx);
+    if (w.d == 1) return c.rgb;
+    c = clamp(c, min(w.near_lo[1], w.near_lo[2]), max(w.near_hi[1], w.near_hi[2]));
+    return hdr_unweighted(c);
+}
+
+// Lattice column i's vertical cubic at this row (on a lattice row, ty = 0, its value there:
+// the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway)
+// into slot `slot`, and the range of its two points next to the row.
+void column(inout Columns w, uint slot, int i) {
+    vec4 v1 = tap(w, ivec2(i, w.cy));
+    vec4 v2 = tap(w, ivec2(i, w.cy + 1));
+    w.col[slot] = cubic(tap(w, ivec2(i, w.cy - 1)), v1, v2, tap(w, ivec2(i, w.cy + 2)), w.ty);
+    w.near_lo[slot] = min(v1, v2);
+    w.near_hi[slot] = max(v1, v2);
 }
 
 // Loads the four columns around lattice column cx (col[1] is cx).
 void load_columns(inout Columns w, int cx) {
-    for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
+    for (int i = 0; i < 4; ++i) column(w, uint(i), cx - 1 + i);
     w.cx = cx;
 }
 
 // Moves the window one lattice column right: one new column's vertical cubic.
 void next_column(inout Columns w) {
-    w.col[0] = w.col[1];
-    w.col[1] = w.col[2];
-    w.col[2] = w.col[3];
-    w.col[3] = column(w, w.cx + 3);
+    for (int i = 0; i < 3; ++i) {
+        w.col[i] = w.col[i + 1];
+        w.near_lo[i] = w.near_lo[i + 1];
+        w.near_hi[i] = w.near_hi[i + 1];
+    }
+    column(w, 3u, w.cx + 3);
     w.cx++;
 }
 
 // Layer k's value at pixel p (on row y of the run), through the run's columns w of that
-// layer. At a lattice point the cubic at t = 0 returns the traced value exactly:
-// bit-identical to a regular frame.
+// layer. At a lattice point of a spacing-1 layer the cubic at t = 0 returns the traced value
+// exactly: bit-identical to a regular frame.
 vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     if (w.k != k) use_layer(w, k, p.y);
     int rel = p.x - w.anchor.x;
@@ -141,7 +169,7 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     } else if (cx != w.cx) {
         load_columns(w, cx);
     }
-    return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d);
+    return pixel_value(w, float(tx) * w.inv_d);
 }
 
 // A layer's value as shown: itself, or tinted by its layer in the layers debug view.
@@ -170,7 +198,7 @@ void resolve_run_in_layer(uint k, uint depth, int x0, int x1, int y, uint mask_w
         // At least one pixel per column: a corrupt spacing (0) must not stall the loop.
         for (int end = min(x1, x + max(w.d - tx, 1)); x < end; ++x, ++tx) {
             ivec2 p = ivec2(x, y);
-            vec3 c = tint(cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d), depth);
+            vec3 c = tint(pixel_value(w, float(tx) * w.inv_d), depth);
             if (!visibility_bit(mask_words, lens_plane, p)) c = vec3(0.0);
             store_pixel(p, c);
         }
