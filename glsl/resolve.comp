@@ -7,12 +7,11 @@
 // the bicubic Catmull-Rom value (eq. 3.17, fig. 3.10) of the 4x4 points around it, taps
 // clamped to the points on the image; the plan traces a margin of two lattice steps (plus
 // slack) around everything shown, so every tap read was traced this frame. Each invocation
-// resolves a run of PIXELS_PER_INVOCATION pixels of one row. A sparse layer's cubics weigh
-// each point by 1 / (1 + luminance) (colour.glsl's hdr_weighted), each pixel within its 2x2
-// nearest lattice points' range, so that a lamp's edge neither bleeds its radiance into the
-// pixels around it nor rings. A spacing-1 layer needs no interpolation and stays linear: where v is 1 the
-// output is the traced value itself (the cubic at t = 0 is its middle value exactly), so
-// the fovea of a foveated frame is bit-identical to a regular frame.
+// resolves a run of PIXELS_PER_INVOCATION pixels of one row. A sparse layer's pixel stays
+// within its 2x2 nearest lattice points' range, so that an edge (a lamp against a dim
+// ceiling) does not ring. Where v is 1 and the pixel is a lattice point the output is the
+// traced value itself (the cubic at t = 0 is its middle value exactly, within its own
+// range), so the fovea of a foveated frame is bit-identical to a regular frame.
 //
 // Shaped for SIMD CPUs (lavapipe) as much as for GPUs: on lavapipe an `if` whose condition
 // differs between lanes runs its body for every lane (masked), while a loop runs until its
@@ -48,10 +47,10 @@ const vec3 LAYER_COLOURS[8] = vec3[8](vec3(1.0, 0.25, 0.2), vec3(1.0, 0.7, 0.1),
 
 // Eq. 3.17: the value between v1 (t = 0) and v2 (t = 1); the operations of
 // src/foveation/catmull_rom.rs.
-vec4 cubic(vec4 v0, vec4 v1, vec4 v2, vec4 v3, float t) {
-    vec4 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
-    vec4 b = v0 - 2.5 * v1 + 2.0 * v2 - 0.5 * v3;
-    vec4 c = -0.5 * v0 + 0.5 * v2;
+vec3 cubic(vec3 v0, vec3 v1, vec3 v2, vec3 v3, float t) {
+    vec3 a = -0.5 * v0 + 1.5 * v1 - 1.5 * v2 + 0.5 * v3;
+    vec3 b = v0 - 2.5 * v1 + 2.0 * v2 - 0.5 * v3;
+    vec3 c = -0.5 * v0 + 0.5 * v2;
     return ((a * t + b) * t + c) * t + v1;
 }
 
@@ -73,11 +72,11 @@ struct Columns {
     int cy; // the lattice row at or above this pixel row, and the row's fraction of a step
     float ty;
     int cx; // col[1] is lattice column cx
-    vec4 col[4]; // (weighted radiance, weight): see tap
-    // Per column, the range of its two lattice points next to this row: a pixel's value is
-    // clamped to its 2x2 nearest points' range (pixel_value).
-    vec4 near_lo[4];
-    vec4 near_hi[4];
+    vec3 col[4];
+    // Per column, the range of its two lattice points next to this row: a sparse layer's
+    // pixel is clamped to its 2x2 nearest points' range (pixel_value).
+    vec3 near_lo[4];
+    vec3 near_hi[4];
 };
 
 // Starts using layer k's columns on pixel row y.
@@ -97,34 +96,30 @@ void use_layer(inout Columns w, uint k, int y) {
     w.cx = -0x40000000; // no column loaded
 }
 
-// The layer's lattice value at point ij, clamped to its points on the image, with its
-// interpolation weight: in a sparse layer 1 / (1 + luminance) (colour.glsl's hdr_weighted:
-// cubics between a lamp and a dim wall would bleed the lamp's radiance and ring), divided
-// out again per pixel by pixel_value. Spacing 1 keeps weight 1, so every pixel is its traced
-// value exactly.
-vec4 tap(Columns w, ivec2 ij) {
+// The layer's lattice value at point ij, clamped to its points on the image.
+vec3 tap(Columns w, ivec2 ij) {
     ivec2 c = clamp(ij, w.lo, w.hi) - w.extent_min;
-    vec3 v = uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
-    return w.d > 1 ? hdr_weighted(v) : vec4(v, 1.0);
+    return uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
 }
 
 // The pixel at fraction tx of a lattice step right of column w.cx: the horizontal cubic of
-// the four columns' vertical ones; in a sparse layer kept within the range of the pixel's
-// 2x2 nearest lattice points (a cubic overshoots at an edge, and the weight must stay above
-// 0) and divided by its weight.
+// the four columns' vertical ones, in a sparse layer within the range of the pixel's 2x2
+// nearest lattice points. Between a lamp and a dim ceiling a cubic overshoots the lamp and
+// undershoots the ceiling (below zero) by up to a tenth of the step, a ring a lattice step
+// wide around the lamp; clamped, the lamp's radiance reaches no further than its nearest
+// points (the same linear blur, no ring). Smooth signals lie within the range: unchanged.
 vec3 pixel_value(Columns w, float tx) {
-    vec4 c = cubic(w.col[0], w.col[1], w.col[2], w.col[3], tx);
-    if (w.d == 1) return c.rgb;
-    c = clamp(c, min(w.near_lo[1], w.near_lo[2]), max(w.near_hi[1], w.near_hi[2]));
-    return hdr_unweighted(c);
+    vec3 c = cubic(w.col[0], w.col[1], w.col[2], w.col[3], tx);
+    if (w.d == 1) return c;
+    return clamp(c, min(w.near_lo[1], w.near_lo[2]), max(w.near_hi[1], w.near_hi[2]));
 }
 
 // Lattice column i's vertical cubic at this row (on a lattice row, ty = 0, its value there:
 // the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway)
 // into slot `slot`, and the range of its two points next to the row.
 void column(inout Columns w, uint slot, int i) {
-    vec4 v1 = tap(w, ivec2(i, w.cy));
-    vec4 v2 = tap(w, ivec2(i, w.cy + 1));
+    vec3 v1 = tap(w, ivec2(i, w.cy));
+    vec3 v2 = tap(w, ivec2(i, w.cy + 1));
     w.col[slot] = cubic(tap(w, ivec2(i, w.cy - 1)), v1, v2, tap(w, ivec2(i, w.cy + 2)), w.ty);
     w.near_lo[slot] = min(v1, v2);
     w.near_hi[slot] = max(v1, v2);

@@ -286,8 +286,8 @@ fn an_uncovered_background_keeps_no_ghost_of_what_covered_it() {
 /// surface test keeps taps whose object is anywhere in the pixel's 3x3 lattice neighbourhood
 /// (a lattice shift moves which one is nearest), and the box must still leave no ghost in the
 /// sky beyond that neighbourhood. The step is twice the regular test's: the band it uncovers
-/// must reach beyond that neighbourhood (80 pixels; at 0.25 the only ones were the sky the
-/// box's cubic ringed into, which resolve no longer does).
+/// must reach beyond that neighbourhood (at 0.25 the only pixels were the sky the box's
+/// cubic rang into, which resolve no longer does).
 #[test]
 fn an_uncovered_background_keeps_no_ghost_in_a_sparse_layer() {
     const SPACING: i32 = 4;

@@ -44,48 +44,26 @@ impl Lattice {
         cubic(rows, ty)
     }
 
-    /// Bicubic value of an RGB lattice at pixel `(x, y)` as resolve.comp shows it: on a
-    /// sparse lattice (spacing > 1) the cubics run on [`hdr_weighted`] values, the result is
-    /// clamped to the range of the pixel's 2x2 nearest lattice points and divided by its
-    /// weight ([`hdr_unweighted`]); spacing 1 stays linear.
-    pub fn interpolate_rgb(&self, x: i32, y: i32, at: impl Fn(i32, i32) -> [f32; 3]) -> [f32; 3] {
+    /// Bicubic value at pixel `(x, y)` as resolve.comp shows it: on a sparse lattice
+    /// (spacing > 1) within the range of the pixel's 2x2 nearest lattice points, so that an
+    /// edge does not ring; spacing 1 as it is.
+    pub fn interpolate_clamped(&self, x: i32, y: i32, at: impl Fn(i32, i32) -> f32) -> f32 {
+        let value = self.interpolate(x, y, &at);
         if self.spacing == 1 {
-            return std::array::from_fn(|c| self.interpolate(x, y, |x, y| at(x, y)[c]));
+            return value;
         }
-        let value = |x, y| hdr_weighted(at(x, y));
         let d = self.spacing;
         let (cx, cy) = (
             (x - self.anchor[0]).div_euclid(d),
             (y - self.anchor[1]).div_euclid(d),
         );
         let tap = |c: i32, k: usize| (self.anchor[k] + c * d).clamp(self.min[k], self.max[k]);
-        let near: Vec<[f32; 4]> = (0..4)
-            .map(|i| value(tap(cx + i % 2, 0), tap(cy + i / 2, 1)))
-            .collect();
-        hdr_unweighted(std::array::from_fn(|c| {
-            let lo = near.iter().map(|v| v[c]).fold(f32::INFINITY, f32::min);
-            let hi = near.iter().map(|v| v[c]).fold(f32::NEG_INFINITY, f32::max);
-            self.interpolate(x, y, |x, y| value(x, y)[c]).clamp(lo, hi)
-        }))
+        let near = (0..4).map(|i| at(tap(cx + i % 2, 0), tap(cy + i / 2, 1)));
+        let (lo, hi) = near.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        value.clamp(lo, hi)
     }
-}
-
-/// Relative luminance of linear Rec. 709 RGB (colour.glsl's `luminance`).
-pub fn luminance(x: [f32; 3]) -> f32 {
-    0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2]
-}
-
-/// colour.glsl's `hdr_weighted`: `(x, 1) / (1 + luminance(x))`, what sparse layers are
-/// interpolated on, so that a lamp's edge neither bleeds nor rings.
-pub fn hdr_weighted(x: [f32; 3]) -> [f32; 4] {
-    let w = 1.0 / (1.0 + luminance(x).max(0.0));
-    [x[0] * w, x[1] * w, x[2] * w, w]
-}
-
-/// colour.glsl's `hdr_unweighted`: an interpolated [`hdr_weighted`] value's radiance.
-pub fn hdr_unweighted(y: [f32; 4]) -> [f32; 3] {
-    let w = y[3].max(1e-6);
-    [y[0], y[1], y[2]].map(|v| v.max(0.0) / w)
 }
 
 #[cfg(test)]
@@ -127,31 +105,12 @@ mod tests {
         assert!(lattice.contains(5, 7) && !lattice.contains(6, 7));
     }
 
+    /// A lamp (radiance 20) over a dim ceiling (0.5) on a spacing-4 lattice: the plain cubic
+    /// overshoots the lamp and rings below zero beside it; clamped, every pixel stays within
+    /// its nearest points' range, and the lamp's radiance reaches no pixel whose nearest
+    /// points are all ceiling.
     #[test]
-    fn weighting_round_trips() {
-        for x in [
-            [0.0, 0.0, 0.0],
-            [0.01, 0.5, 0.2],
-            [18.7, 15.0, 9.0],
-            [1e4, 0.0, 3.0],
-        ] {
-            let back = hdr_unweighted(hdr_weighted(x));
-            for c in 0..3 {
-                assert!(
-                    (back[c] - x[c]).abs() <= 1e-6 * x[c].max(1.0),
-                    "{x:?} -> {back:?}"
-                );
-            }
-        }
-        assert_eq!(hdr_unweighted([-0.2, 0.3, -1e-3, 0.5]), [0.0, 0.6, 0.0]);
-    }
-
-    /// A lamp (radiance 20) over a dim ceiling (0.5) on a spacing-4 lattice: interpolated
-    /// linearly the lamp's radiance bleeds into the ceiling's pixels next to it (the lamp
-    /// looks bigger) and the cubic rings beyond; weighted and clamped, the pixels between
-    /// stay near the display's blend of the two and none leaves the two's range.
-    #[test]
-    fn a_lamp_edge_neither_bleeds_nor_rings_on_a_sparse_lattice() {
+    fn a_lamp_edge_does_not_ring_on_a_sparse_lattice() {
         let lattice = Lattice {
             anchor: [0, 0],
             spacing: 4,
@@ -159,27 +118,22 @@ mod tests {
             max: [40, 40],
         };
         let lamp = |x: i32, _y: i32| if x >= 20 { 20.0 } else { 0.5 };
-        let linear: Vec<f32> = (8..32).map(|x| lattice.interpolate(x, 8, lamp)).collect();
-        let rgb: Vec<f32> = (8..32)
-            .map(|x| lattice.interpolate_rgb(x, 8, |x, y| [lamp(x, y); 3])[0])
+        let plain: Vec<f32> = (8..32).map(|x| lattice.interpolate(x, 8, lamp)).collect();
+        let clamped: Vec<f32> = (8..32)
+            .map(|x| lattice.interpolate_clamped(x, 8, lamp))
             .collect();
-        // The ceiling's pixel half a step from the lamp's first lattice point.
-        let half = (18 - 8) as usize;
-        assert!(linear[half] > 9.0, "linear bleeds: {}", linear[half]);
-        assert!(rgb[half] < 2.5, "weighted: {}", rgb[half]);
         assert!(
-            linear.iter().any(|&v| v < 0.45),
-            "the linear cubic undershoots"
+            plain.iter().any(|&v| v < 0.0),
+            "the plain cubic rings below zero"
         );
-        assert!(linear.iter().any(|&v| v > 21.0), "and overshoots");
+        assert!(plain.iter().any(|&v| v > 20.5), "and overshoots the lamp");
         assert!(
-            rgb.iter().all(|&v| (0.5..=20.0 + 1e-3).contains(&v)),
-            "{rgb:?}"
+            clamped.iter().all(|&v| (0.5..=20.0).contains(&v)),
+            "{clamped:?}"
         );
-        // Lattice points keep their values (to rounding), on both sides.
-        assert!(
-            (rgb[(16 - 8) as usize] - 0.5).abs() < 1e-5
-                && (rgb[(24 - 8) as usize] - 20.0).abs() < 1e-3
-        );
+        // Pixels 8..16 have only ceiling points nearest: exactly the ceiling.
+        assert!(clamped[..8].iter().all(|&v| v == 0.5), "{clamped:?}");
+        // The lattice points themselves are untouched.
+        assert_eq!((clamped[16 - 8], clamped[24 - 8]), (0.5, 20.0));
     }
 }
