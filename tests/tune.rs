@@ -269,11 +269,16 @@ fn the_motion_objective_judges_a_video_with_the_history() {
     let dir = temp_dir("motion");
     let out = dir.join("m.toml");
     let out = out.to_str().unwrap();
+    // Cost in traced paths, as in the search test above: the fifth config is drawn, and
+    // whether a drawn config is over budget (then not judged) must not hang on the machine's
+    // load; timed, it once was on a loaded machine, and its row had no JOD.
     let mut args = tune_args(
         out,
         &[
             "--budget-of-regular",
             "2",
+            "--cost",
+            "samples",
             "--objective",
             "motion",
             "--fov",

@@ -143,6 +143,7 @@ impl TuneArgs {
             display: self.display.choice(),
             environment: fovea::scene::env_choice::chosen().cloned(),
             sampler: fovea::render::Sampler::chosen(),
+            motion_warm_up: fovea::tune::motion::WARM_UP,
         })
     }
 }

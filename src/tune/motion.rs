@@ -3,10 +3,10 @@
 //! each frame's fixation) against each frame's converged reference.
 //!
 //! The sequence follows the bench's motion script (`MotionScript::head_and_saccades`: the head
-//! turning up to 31°/s, saccades of 10–23° between fixations of 250 ms). Its window starts
-//! [`WARM_UP`] frames before the first saccade's start and is scored from the frame before
-//! the saccade for [`SCORED`] frames: the history has had time to build up, and the video holds
-//! a fixation, a saccade and the landing after it. Every config gets the history, the
+//! turning up to 31°/s, saccades of 10–23° between fixations of 250 ms). It is rendered from
+//! [`WARM_UP`] frames before the first scored one, which is the frame before a saccade
+//! starts, and scored for [`SCORED`] frames: the history has had time to build up, and the
+//! video holds a fixation, a saccade and the landing after it. Every config gets the history, the
 //! uniform baselines too, so foveation is compared with the best uniform frame at each cost.
 
 use super::error::TuneError;
@@ -24,8 +24,17 @@ use crate::render::{
 use crate::scene::Scene;
 use std::path::Path;
 
-/// Frames rendered (not scored) before the scored ones, so that the history has built up.
-pub const WARM_UP: u32 = 8;
+/// Frames rendered (not scored) before the scored ones, so that the history has built up:
+/// the script's whole first fixation (250 ms), as on a headset that has been running. Eight,
+/// as before, scored histories still growing, which flattered sparse layers (theirs stop
+/// growing sooner): from 8 to 22 frames regular 1 spp gained 0.23 JOD on cornell at 720x800,
+/// the thesis' layers 0.11-0.20.
+pub const WARM_UP: u32 = 22;
+
+/// The warm-up of plans written before it was a plan field.
+pub fn warm_up_before_the_field() -> u32 {
+    8
+}
 /// Frames scored: about 130 ms at 90 Hz, holding the end of a fixation, a saccade and the
 /// landing.
 pub const SCORED: u32 = 12;
@@ -35,6 +44,8 @@ pub const SCORED: u32 = 12;
 pub struct MotionJudge {
     name: String,
     frames: Vec<EyeView>,
+    /// How many of `frames` come before the scored ones.
+    warm_up: u32,
     references: Vec<Vec<f32>>,
     fixations: Vec<[f64; 2]>,
     /// The script's frame rate, which the video plays at.
@@ -54,13 +65,14 @@ impl MotionJudge {
         visible: &[bool],
     ) -> Result<Self, TuneError> {
         let script = MotionScript::head_and_saccades();
-        let first = first_scored_frame(&script);
-        let frames: Vec<EyeView> = (first - WARM_UP..first + SCORED)
+        let warm_up = plan.motion_warm_up;
+        let first = first_scored_frame(&script, warm_up);
+        let frames: Vec<EyeView> = (first - warm_up..first + SCORED)
             .map(|k| frame_eye(scene, plan, &script, k))
             .collect();
         let mut references = Vec::new();
         let mut fixations = Vec::new();
-        for eye in &frames[WARM_UP as usize..] {
+        for eye in &frames[warm_up as usize..] {
             let eyes = std::slice::from_ref(eye);
             let path = quality::ReferenceKey::new(renderer, bench, name, eyes).path(cache);
             let rgb = quality::reference_image(renderer, bench, name, eyes, &path, &mut |_, _| {})?;
@@ -73,6 +85,7 @@ impl MotionJudge {
         Ok(Self {
             name: name.to_string(),
             frames,
+            warm_up,
             references,
             fixations,
             fps: script.frame_rate_hz,
@@ -113,7 +126,7 @@ impl MotionJudge {
                 .frame(&request, FrameOptions::pixels())
                 .map(Option::unwrap)
                 .map_err(TuneError::render(name))?;
-            if k >= WARM_UP as usize {
+            if k >= self.warm_up as usize {
                 tests.push(hidden_black(frame.rgb, visible));
             }
         }
@@ -130,12 +143,13 @@ impl MotionJudge {
     }
 }
 
-/// The first scored frame: the one before the script's first saccade starts.
-fn first_scored_frame(script: &MotionScript) -> u32 {
-    let saccade = (0..10 * WARM_UP + 1000)
-        .find(|&k| script.gaze_deg(k).1)
-        .expect("the script has saccades");
-    saccade.max(WARM_UP + 1) - 1
+/// The first scored frame: the one before the first saccade that starts at least
+/// `warm_up` + 1 frames into the script.
+fn first_scored_frame(script: &MotionScript, warm_up: u32) -> u32 {
+    (warm_up + 1..warm_up + 10_000)
+        .find(|&k| script.gaze_deg(k).1 && !script.gaze_deg(k - 1).1)
+        .expect("the script has saccades")
+        - 1
 }
 
 /// One eye (the left, mono) at frame `k`: the scene camera turned by the script's head, the
@@ -163,13 +177,23 @@ mod tests {
     #[test]
     fn the_scored_window_holds_a_saccade_after_a_fixation() {
         let script = MotionScript::head_and_saccades();
-        let first = first_scored_frame(&script);
-        assert!(first >= WARM_UP);
-        assert!(!script.gaze_deg(first).1, "the window starts fixating");
-        assert!(script.gaze_deg(first + 1).1, "then the saccade");
-        let landed = (first..first + SCORED)
-            .filter(|&k| !script.gaze_deg(k).1)
-            .count();
-        assert!(landed >= 3, "{landed} fixating frames in the window");
+        for warm_up in [warm_up_before_the_field(), WARM_UP, 40] {
+            let first = first_scored_frame(&script, warm_up);
+            assert!(first >= warm_up, "{warm_up}: {first}");
+            assert!(!script.gaze_deg(first).1, "the window starts fixating");
+            assert!(script.gaze_deg(first + 1).1, "then the saccade");
+            let landed = (first..first + SCORED)
+                .filter(|&k| !script.gaze_deg(k).1)
+                .count();
+            assert!(landed >= 3, "{landed} fixating frames in the window");
+        }
+        // The plans before the field and now score the same frames: only the warm-up grew,
+        // from the script's first frame on (the whole first fixation).
+        let first = first_scored_frame(&script, WARM_UP);
+        assert_eq!(
+            first,
+            first_scored_frame(&script, warm_up_before_the_field())
+        );
+        assert_eq!(first, WARM_UP);
     }
 }

@@ -123,6 +123,10 @@ pub struct TunePlan {
     /// `--objective`. Absent from older plans: still.
     #[serde(default)]
     pub objective: Objective,
+    /// `--objective motion`: frames rendered before the scored ones (tune/motion.rs's
+    /// WARM_UP). Plans written before the field rendered 8.
+    #[serde(default = "crate::tune::motion::warm_up_before_the_field")]
+    pub motion_warm_up: u32,
     /// `--sampler`. Plans written before the flag ran with the independent sampler.
     #[serde(default = "crate::render::Sampler::before_the_flag")]
     pub sampler: crate::render::Sampler,

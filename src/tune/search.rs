@@ -123,6 +123,7 @@ mod tests {
             display: Default::default(),
             environment: None,
             sampler: Default::default(),
+            motion_warm_up: crate::tune::motion::WARM_UP,
         }
     }
 
@@ -142,6 +143,17 @@ mod tests {
             scenes_json: String::new(),
             config_json: serde_json::to_string(config).unwrap(),
         }
+    }
+
+    /// A plan written before the motion warm-up was a field reads as the 8 frames it was
+    /// measured with, so it resumes only as what it was (a new run's plan differs).
+    #[test]
+    fn a_plan_from_before_the_warm_up_field_reads_as_eight_frames() {
+        let mut json = serde_json::to_value(plan(1)).unwrap();
+        json.as_object_mut().unwrap().remove("motion_warm_up");
+        let old: TunePlan = serde_json::from_value(json).unwrap();
+        assert_eq!(old.motion_warm_up, 8);
+        assert_ne!(old, plan(1));
     }
 
     #[test]
