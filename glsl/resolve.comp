@@ -7,11 +7,10 @@
 // the bicubic Catmull-Rom value (eq. 3.17, fig. 3.10) of the 4x4 points around it, taps
 // clamped to the points on the image; the plan traces a margin of two lattice steps (plus
 // slack) around everything shown, so every tap read was traced this frame. Each invocation
-// resolves a run of PIXELS_PER_INVOCATION pixels of one row. A sparse layer's pixel stays
-// within its 2x2 nearest lattice points' range, so that an edge (a lamp against a dim
-// ceiling) does not ring. Where v is 1 and the pixel is a lattice point the output is the
-// traced value itself (the cubic at t = 0 is its middle value exactly, within its own
-// range), so the fovea of a foveated frame is bit-identical to a regular frame.
+// resolves a run of PIXELS_PER_INVOCATION pixels of one row. Where v is 1 and
+// the pixel is a lattice point the output is the traced value itself (the cubic at t = 0 is
+// its middle value exactly), so the fovea of a foveated frame is bit-identical to a regular
+// frame.
 //
 // Shaped for SIMD CPUs (lavapipe) as much as for GPUs: on lavapipe an `if` whose condition
 // differs between lanes runs its body for every lane (masked), while a loop runs until its
@@ -73,10 +72,6 @@ struct Columns {
     float ty;
     int cx; // col[1] is lattice column cx
     vec3 col[4];
-    // Per column, the range of its two lattice points next to this row: a sparse layer's
-    // pixel is clamped to its 2x2 nearest points' range (pixel_value).
-    vec3 near_lo[4];
-    vec3 near_hi[4];
 };
 
 // Starts using layer k's columns on pixel row y.
@@ -102,49 +97,31 @@ vec3 tap(Columns w, ivec2 ij) {
     return uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
 }
 
-// The pixel at fraction tx of a lattice step right of column w.cx: the horizontal cubic of
-// the four columns' vertical ones, in a sparse layer within the range of the pixel's 2x2
-// nearest lattice points. Between a lamp and a dim ceiling a cubic overshoots the lamp and
-// undershoots the ceiling (below zero) by up to a tenth of the step, a ring a lattice step
-// wide around the lamp; clamped, the lamp's radiance reaches no further than its nearest
-// points (the same linear blur, no ring). Smooth signals lie within the range: unchanged.
-vec3 pixel_value(Columns w, float tx) {
-    vec3 c = cubic(w.col[0], w.col[1], w.col[2], w.col[3], tx);
-    if (w.d == 1) return c;
-    return clamp(c, min(w.near_lo[1], w.near_lo[2]), max(w.near_hi[1], w.near_hi[2]));
-}
-
-// Lattice column i's vertical cubic at this row (on a lattice row, ty = 0, its value there:
-// the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway)
-// into slot `slot`, and the range of its two points next to the row.
-void column(inout Columns w, uint slot, int i) {
-    vec3 v1 = tap(w, ivec2(i, w.cy));
-    vec3 v2 = tap(w, ivec2(i, w.cy + 1));
-    w.col[slot] = cubic(tap(w, ivec2(i, w.cy - 1)), v1, v2, tap(w, ivec2(i, w.cy + 2)), w.ty);
-    w.near_lo[slot] = min(v1, v2);
-    w.near_hi[slot] = max(v1, v2);
+// Lattice column c's vertical cubic at this row (on a lattice row, ty = 0, its value there:
+// the cubic at 0 is its second value exactly, so no branch, which lavapipe would run anyway).
+vec3 column(Columns w, int c) {
+    return cubic(tap(w, ivec2(c, w.cy - 1)), tap(w, ivec2(c, w.cy)), tap(w, ivec2(c, w.cy + 1)),
+                 tap(w, ivec2(c, w.cy + 2)), w.ty);
 }
 
 // Loads the four columns around lattice column cx (col[1] is cx).
 void load_columns(inout Columns w, int cx) {
-    for (int i = 0; i < 4; ++i) column(w, uint(i), cx - 1 + i);
+    for (int i = 0; i < 4; ++i) w.col[i] = column(w, cx - 1 + i);
     w.cx = cx;
 }
 
 // Moves the window one lattice column right: one new column's vertical cubic.
 void next_column(inout Columns w) {
-    for (int i = 0; i < 3; ++i) {
-        w.col[i] = w.col[i + 1];
-        w.near_lo[i] = w.near_lo[i + 1];
-        w.near_hi[i] = w.near_hi[i + 1];
-    }
-    column(w, 3u, w.cx + 3);
+    w.col[0] = w.col[1];
+    w.col[1] = w.col[2];
+    w.col[2] = w.col[3];
+    w.col[3] = column(w, w.cx + 3);
     w.cx++;
 }
 
 // Layer k's value at pixel p (on row y of the run), through the run's columns w of that
-// layer. At a lattice point of a spacing-1 layer the cubic at t = 0 returns the traced value
-// exactly: bit-identical to a regular frame.
+// layer. At a lattice point the cubic at t = 0 returns the traced value exactly:
+// bit-identical to a regular frame.
 vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     if (w.k != k) use_layer(w, k, p.y);
     int rel = p.x - w.anchor.x;
@@ -164,7 +141,7 @@ vec3 layer_value(inout Columns w, uint k, ivec2 p) {
     } else if (cx != w.cx) {
         load_columns(w, cx);
     }
-    return pixel_value(w, float(tx) * w.inv_d);
+    return cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d);
 }
 
 // A layer's value as shown: itself, or tinted by its layer in the layers debug view.
@@ -193,7 +170,7 @@ void resolve_run_in_layer(uint k, uint depth, int x0, int x1, int y, uint mask_w
         // At least one pixel per column: a corrupt spacing (0) must not stall the loop.
         for (int end = min(x1, x + max(w.d - tx, 1)); x < end; ++x, ++tx) {
             ivec2 p = ivec2(x, y);
-            vec3 c = tint(pixel_value(w, float(tx) * w.inv_d), depth);
+            vec3 c = tint(cubic(w.col[0], w.col[1], w.col[2], w.col[3], float(tx) * w.inv_d), depth);
             if (!visibility_bit(mask_words, lens_plane, p)) c = vec3(0.0);
             store_pixel(p, c);
         }

@@ -385,8 +385,7 @@ fn lens_mask(image: &ImageGeometry) -> VisibilityMask {
 
 /// What the CPU says resolve writes at pixel (x, y) of one eye: eq. 3.18's blend of the
 /// innermost layer containing the pixel with the next one out, each layer's value the
-/// Catmull-Rom of eq. 3.17 over its lattice (a sparse one's clamped to the range of the
-/// pixel's 2x2 nearest points, `Lattice::interpolate_clamped`); black outside the occlusion mask and where the
+/// Catmull-Rom of eq. 3.17 over its lattice; black outside the occlusion mask and where the
 /// lens hides the pixel. `None` within a hair of an edge where f32 and f64 may choose
 /// differently. Also returns the blend's own uncertainty: |F1 - F0| times the error of the
 /// GPU's f32 angle (pixel tangent, normalisation and atan2 together: 2e-6 rad bounds it at
@@ -428,7 +427,7 @@ fn expected_pixel(
             return None;
         }
     }
-    let layer_value = |k: usize| {
+    let layer_value = |k: usize, c: usize| {
         let p = &plan.layers[k];
         let lattice = Lattice {
             anchor: p.anchor,
@@ -436,21 +435,20 @@ fn expected_pixel(
             min: p.lattice_min,
             max: p.lattice_max,
         };
-        let channel = |c| lattice.interpolate_clamped(x, y, |x, y| value(k, x, y, c));
-        [channel(0), channel(1), channel(2)]
+        lattice.interpolate(x, y, |x, y| value(k, x, y, c))
     };
     let v = weight(theta, radius(k), band) as f32;
-    let inner = layer_value(k);
-    let outer = (v < 1.0 && k < last).then(|| layer_value(k + 1));
     let mut rgb = [0.0f32; 3];
     let mut spread = 0.0f32;
     for (c, out) in rgb.iter_mut().enumerate() {
-        *out = match outer {
-            Some(outer) => {
-                spread = spread.max((inner[c] - outer[c]).abs() * (2e-6 / band) as f32);
-                outer[c] * (1.0 - v) + inner[c] * v
+        let inner = layer_value(k, c);
+        *out = match v < 1.0 && k < last {
+            true => {
+                let outer = layer_value(k + 1, c);
+                spread = spread.max((inner - outer).abs() * (2e-6 / band) as f32);
+                outer * (1.0 - v) + inner * v
             }
-            None => inner[c],
+            false => inner,
         };
     }
     Some((rgb, spread))
@@ -644,8 +642,7 @@ fn gpu_resolve_equals_the_cpu_blend_of_catmull_rom_layers() {
 
         // A linear gradient on every layer's lattice: Catmull-Rom reproduces it and blending
         // equal layers changes nothing, so every shown pixel two lattice steps from the
-        // image's border is the gradient itself (no CPU interpolation involved; a gradient
-        // lies within every pixel's nearest points, so the clamp leaves it alone).
+        // image's border is the gradient itself (no CPU interpolation involved).
         let coefficients = [
             [0.011, 0.004, 0.5],
             [-0.003, 0.009, 1.5],

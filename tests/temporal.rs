@@ -285,9 +285,9 @@ fn an_uncovered_background_keeps_no_ghost_of_what_covered_it() {
 /// The same in a sparse layer: there a pixel's surface is its nearest lattice point's, the
 /// surface test keeps taps whose object is anywhere in the pixel's 3x3 lattice neighbourhood
 /// (a lattice shift moves which one is nearest), and the box must still leave no ghost in the
-/// sky beyond that neighbourhood. The step is twice the regular test's: the band it uncovers
-/// must reach beyond that neighbourhood (at 0.25 the only pixels were the sky the box's
-/// cubic rang into, which resolve no longer does).
+/// sky beyond that neighbourhood. The step is twice the regular test's, so that the band it
+/// uncovers reaches beyond that neighbourhood: at 0.25 the pixels it checked were only the
+/// sky next to the box that the box's cubic rings into (a ring clamped away, it found none).
 #[test]
 fn an_uncovered_background_keeps_no_ghost_in_a_sparse_layer() {
     const SPACING: i32 = 4;

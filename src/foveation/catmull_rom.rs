@@ -43,27 +43,6 @@ impl Lattice {
         });
         cubic(rows, ty)
     }
-
-    /// Bicubic value at pixel `(x, y)` as resolve.comp shows it: on a sparse lattice
-    /// (spacing > 1) within the range of the pixel's 2x2 nearest lattice points, so that an
-    /// edge does not ring; spacing 1 as it is.
-    pub fn interpolate_clamped(&self, x: i32, y: i32, at: impl Fn(i32, i32) -> f32) -> f32 {
-        let value = self.interpolate(x, y, &at);
-        if self.spacing == 1 {
-            return value;
-        }
-        let d = self.spacing;
-        let (cx, cy) = (
-            (x - self.anchor[0]).div_euclid(d),
-            (y - self.anchor[1]).div_euclid(d),
-        );
-        let tap = |c: i32, k: usize| (self.anchor[k] + c * d).clamp(self.min[k], self.max[k]);
-        let near = (0..4).map(|i| at(tap(cx + i % 2, 0), tap(cy + i / 2, 1)));
-        let (lo, hi) = near.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
-        value.clamp(lo, hi)
-    }
 }
 
 #[cfg(test)]
@@ -103,37 +82,5 @@ mod tests {
             }
         }
         assert!(lattice.contains(5, 7) && !lattice.contains(6, 7));
-    }
-
-    /// A lamp (radiance 20) over a dim ceiling (0.5) on a spacing-4 lattice: the plain cubic
-    /// overshoots the lamp and rings below zero beside it; clamped, every pixel stays within
-    /// its nearest points' range, and the lamp's radiance reaches no pixel whose nearest
-    /// points are all ceiling.
-    #[test]
-    fn a_lamp_edge_does_not_ring_on_a_sparse_lattice() {
-        let lattice = Lattice {
-            anchor: [0, 0],
-            spacing: 4,
-            min: [0, 0],
-            max: [40, 40],
-        };
-        let lamp = |x: i32, _y: i32| if x >= 20 { 20.0 } else { 0.5 };
-        let plain: Vec<f32> = (8..32).map(|x| lattice.interpolate(x, 8, lamp)).collect();
-        let clamped: Vec<f32> = (8..32)
-            .map(|x| lattice.interpolate_clamped(x, 8, lamp))
-            .collect();
-        assert!(
-            plain.iter().any(|&v| v < 0.0),
-            "the plain cubic rings below zero"
-        );
-        assert!(plain.iter().any(|&v| v > 20.5), "and overshoots the lamp");
-        assert!(
-            clamped.iter().all(|&v| (0.5..=20.0).contains(&v)),
-            "{clamped:?}"
-        );
-        // Pixels 8..16 have only ceiling points nearest: exactly the ceiling.
-        assert!(clamped[..8].iter().all(|&v| v == 0.5), "{clamped:?}");
-        // The lattice points themselves are untouched.
-        assert_eq!((clamped[16 - 8], clamped[24 - 8]), (0.5, 20.0));
     }
 }
