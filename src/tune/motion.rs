@@ -6,8 +6,9 @@
 //! turning up to 31°/s, saccades of 10–23° between fixations of 250 ms). It is rendered from
 //! [`WARM_UP`] frames before the first scored one, which is the frame before a saccade
 //! starts, and scored for [`SCORED`] frames: the history has had time to build up, and the
-//! video holds a fixation, a saccade and the landing after it. Every config gets the history, the
-//! uniform baselines too, so foveation is compared with the best uniform frame at each cost.
+//! video holds a fixation, a saccade and the landing after it. Every config gets the history,
+//! the uniform baselines too, so foveation is compared with the best uniform frame at each
+//! cost.
 
 use super::error::TuneError;
 use super::plan::TunePlan;
@@ -35,6 +36,7 @@ pub const WARM_UP: u32 = 22;
 pub fn warm_up_before_the_field() -> u32 {
     8
 }
+
 /// Frames scored: about 130 ms at 90 Hz, holding the end of a fixation, a saccade and the
 /// landing.
 pub const SCORED: u32 = 12;
