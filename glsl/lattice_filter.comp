@@ -10,9 +10,10 @@
 // points an edge crosses, mixes of both sides on one side's surface by their centres, from
 // lending their mix to their neighbours). The Gaussian's width follows the eye's acuity:
 // filter_mar times the minimum angle of resolution at the point's eccentricity from the gaze
-// (Guenter et al. 2012: 0.022 deg per deg plus 1/48 deg), and at least filter_px pixels. So the periphery's noise becomes blur
-// finer than the eye resolves there, and a blue-noise sampler's error (neighbouring lattice
-// points are neighbouring sampler points) mostly cancels.
+// (Guenter et al. 2012: 0.022 deg per deg plus 1/48 deg), and at least filter_px pixels. So
+// the periphery's noise becomes blur finer than the eye resolves there, and a blue-noise
+// sampler's error (neighbouring lattice points are neighbouring sampler points) mostly
+// cancels.
 //
 // Resolve reads what this writes (LATTICE_FILTERED, bound as its LATTICE_TEXELS) in place of
 // the traced values; the temporal pass still adds the traced values themselves to the

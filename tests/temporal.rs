@@ -287,7 +287,8 @@ fn an_uncovered_background_keeps_no_ghost_of_what_covered_it() {
 /// (a lattice shift moves which one is nearest), and the box must still leave no ghost in the
 /// sky beyond that neighbourhood. The step is twice the regular test's, so that the band it
 /// uncovers reaches beyond that neighbourhood: at 0.25 the pixels it checked were only the
-/// sky next to the box that the box's cubic rings into (a ring clamped away, it found none).
+/// sky next to the box that the box's cubic rings into (with resolve's 2x2 clamp, tried and
+/// reverted, it found none at all).
 #[test]
 fn an_uncovered_background_keeps_no_ghost_in_a_sparse_layer() {
     const SPACING: i32 = 4;
