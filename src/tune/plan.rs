@@ -185,8 +185,8 @@ impl TunePlan {
         if self.candidates < first {
             return Err(format!(
                 "--candidates {} is fewer than the {baselines} baselines every search measures \
-                 (regular and the thesis' layers at each spp) and the {} --include config(s); \
-                 give at least {first}",
+                 (regular, the thesis' layers and full-resolution foveae at each spp) and the {} \
+                 --include config(s); give at least {first}",
                 self.candidates,
                 self.include.len()
             ));

@@ -29,6 +29,13 @@ pub struct Space {
     /// beside none: the uniform renderer's own reconstruction at each strength.
     #[serde(default)]
     pub baseline_filter_px: Vec<f32>,
+    /// Radii of the full-resolution foveae measured as baselines: at each radius and each
+    /// baseline spp above 1, a fovea at that spp inside a regular 1-spp frame. They foveate
+    /// samples, not pixels, which random draws seldom reach (every layer at spacing 1, the
+    /// fovea wide); on cornell in motion 30° at 4 spp matched regular 4 spp. Plans from
+    /// before them have none.
+    #[serde(default)]
+    pub spp_fovea_radii_deg: Vec<f32>,
     /// Blend band width of every candidate, degrees.
     pub blend_deg: f32,
     /// Occlusion mask of every candidate (the headset's lens), degrees from the view axis.
@@ -57,6 +64,7 @@ impl Space {
             denoise: vec![0, 1, 2, 3],
             filter_mar: vec![0.0, 0.5, 1.0, 2.0],
             baseline_filter_px: vec![1.0, 2.0],
+            spp_fovea_radii_deg: vec![20.0, 30.0],
             blend_deg: 1.0,
             occlusion_deg: Some(THESIS_OCCLUSION_DEG),
         }
@@ -73,13 +81,14 @@ impl Space {
             denoise: vec![0],
             filter_mar: no_filter(),
             baseline_filter_px: Vec::new(),
+            spp_fovea_radii_deg: Vec::new(),
             ..Self::standard()
         }
     }
 
     /// The configs every search measures first, whatever the seed: regular rendering at each
-    /// baseline spp (the baseline curve), then with each uniform lattice filter, and the
-    /// thesis' layers at each.
+    /// baseline spp (the baseline curve), then with each uniform lattice filter, the thesis'
+    /// layers at each, and the full-resolution foveae.
     pub fn baselines(&self) -> Vec<FoveationConfig> {
         let regular = self
             .baseline_spp
@@ -96,7 +105,26 @@ impl Space {
             .baseline_spp
             .iter()
             .map(|&s| FoveationConfig::thesis().with_spp(s));
-        regular.chain(filtered).chain(thesis).collect()
+        regular
+            .chain(filtered)
+            .chain(thesis)
+            .chain(self.spp_foveae())
+            .collect()
+    }
+
+    /// A fovea of each radius at each baseline spp above 1, every pixel traced at 1 spp
+    /// outside it (`R:1xS bg:1x1`).
+    fn spp_foveae(&self) -> impl Iterator<Item = FoveationConfig> + '_ {
+        let spp = self.baseline_spp.iter().filter(|&&s| s > 1);
+        spp.flat_map(move |&s| {
+            self.spp_fovea_radii_deg.iter().map(move |&radius| {
+                let mut fovea = FoveationConfig::regular(1).layers[0].clone();
+                fovea.radius_deg = Some(radius);
+                fovea.spp = s;
+                let background = FoveationConfig::regular(1).layers[0].clone();
+                self.config(vec![fovea, background])
+            })
+        })
     }
 
     /// A random config of the space, valid by construction.
@@ -314,6 +342,33 @@ mod tests {
             }
         }
         assert_eq!(layer_counts.len(), 3, "{layer_counts:?}");
+    }
+
+    #[test]
+    fn full_resolution_foveae_are_baselines_of_the_standard_space_only() {
+        let names: Vec<String> = Space::standard().baselines().iter().map(describe).collect();
+        let foveae = [
+            "20:1x2 bg:1x1",
+            "30:1x2 bg:1x1",
+            "20:1x4 bg:1x1",
+            "30:1x4 bg:1x1",
+        ];
+        for fovea in foveae {
+            let name = format!("{fovea} occ56 blend1");
+            assert_eq!(names.iter().filter(|n| **n == name).count(), 1, "{names:?}");
+        }
+        assert_eq!(names.len(), 9 + 3 + foveae.len());
+        assert!(Space::standard()
+            .baselines()
+            .iter()
+            .all(|c| c.validate().is_ok()));
+        // A plan written before them reads as a space without them: it resumes with the
+        // candidates it had.
+        let mut old = serde_json::to_value(Space::standard()).unwrap();
+        old.as_object_mut().unwrap().remove("spp_fovea_radii_deg");
+        let old: Space = serde_json::from_value(old).unwrap();
+        assert_eq!(old.baselines().len(), 9 + 3);
+        assert_eq!(Space::small().baselines().len(), 2 + 2);
     }
 
     #[test]
