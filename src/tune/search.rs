@@ -111,7 +111,7 @@ mod tests {
             objective: Default::default(),
             budget: Budget::Regular(1),
             cost: Cost::GpuTime,
-            candidates: 20,
+            candidates: 24,
             seed,
             frames: 1,
             reference_spp: 256,
@@ -160,17 +160,17 @@ mod tests {
     fn the_seed_decides_the_search_and_measurements_steer_it() {
         let (a, b) = (plan(1), plan(2));
         assert!(a.validate().is_ok());
-        // Baselines (regular, regular with two uniform filters, thesis; at 3 spp each), then
-        // the included config, then seeded draws.
+        // Baselines (regular, regular with two uniform filters, thesis; at 3 spp each; four
+        // full-resolution foveae), then the included config, then seeded draws.
         let first = first_configs(&a);
-        assert_eq!(first.len(), 13);
+        assert_eq!(first.len(), 17);
         assert_eq!(
-            first[12],
+            first[16],
             (FoveationConfig::thesis().with_spp(8), "included")
         );
         assert_eq!(random_configs(&a), random_configs(&a));
         assert_ne!(random_configs(&a), random_configs(&b));
-        assert_eq!(random_configs(&a).len(), (20 - 13) / 2);
+        assert_eq!(random_configs(&a).len(), (24 - 17) / 2);
 
         // Measured so far: regular 1 spp (the budget) and two configs, one within it.
         let cheap = FoveationConfig::thesis().with_spp(2);
@@ -185,7 +185,7 @@ mod tests {
         assert_eq!(points[1].cost_ms, 50.0);
         // A mutation's parent is the best within the budget (regular or cheap), never dear;
         // the same seed and rows give the same child.
-        let index = 19;
+        let index = 23;
         let (child, origin) = candidate(&a, index, &random_configs(&a), &rows);
         assert_eq!(candidate(&a, index, &random_configs(&a), &rows).0, child);
         assert!(

@@ -152,7 +152,7 @@ impl Space {
                     radius_deg: radii.get(k).map(|&r| self.radii_deg[r]),
                     spacing: self.spacings[spacing],
                     spp: self.spp[spp],
-                    denoise: self.random_denoise(rng, self.spacings[spacing]),
+                    denoise: self.random_denoise(rng, k, self.spacings[spacing]),
                     filter_mar: self.random_filter(rng, self.spacings[spacing]),
                     filter_px: 0.0,
                 });
@@ -164,9 +164,11 @@ impl Space {
         }
     }
 
-    /// Denoising for a layer of `spacing`: only sparse layers, and only one time in three.
-    fn random_denoise(&self, rng: &mut Rng, spacing: u32) -> u32 {
-        if spacing == 1 || self.denoise.len() < 2 || rng.below(3) != 0 {
+    /// Denoising for layer `k` of `spacing`: sparse layers and full-resolution layers outside
+    /// the innermost (the fovea stays sharp), one time in three. On cornell in motion, two
+    /// iterations outside a 10° fovea, every pixel at 1 spp, gained 0.09 JOD.
+    fn random_denoise(&self, rng: &mut Rng, k: usize, spacing: u32) -> u32 {
+        if (spacing == 1 && k == 0) || self.denoise.len() < 2 || rng.below(3) != 0 {
             return 0;
         }
         self.denoise[1 + rng.below(self.denoise.len() - 1)]
@@ -310,6 +312,16 @@ mod tests {
             assert!(a.iter().any(|c| c.layers.len() == inner + 1), "{inner}");
         }
         assert!(a.iter().any(|c| c.layers.iter().any(|l| l.denoise > 0)));
+        // The fovea is never denoised when it is at full resolution; a full-resolution layer
+        // outside it may be.
+        assert!(a
+            .iter()
+            .all(|c| c.layers[0].spacing > 1 || c.layers[0].denoise == 0));
+        assert!(a.iter().any(|c| c
+            .layers
+            .iter()
+            .skip(1)
+            .any(|l| l.spacing == 1 && l.denoise > 0)));
         assert!(a
             .iter()
             .any(|c| c.layers.iter().any(|l| l.filter_mar > 0.0)));
