@@ -11,6 +11,7 @@ pub mod error;
 pub mod flicker;
 pub mod flip;
 pub mod jod;
+pub mod jod_inputs;
 pub mod visible;
 
 pub use bands::{band_errors, band_masks, eccentricity_deg, Band, BandError, BANDS, BANDS_DEG};
