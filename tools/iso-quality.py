@@ -7,8 +7,9 @@ target JOD (those of regular 1, 2 and 4 spp), the cheapest config that reaches i
 S = the cost regular rendering needs for that JOD / the cheapest config's cost. Cost is GPU
 time as `pace_ratio` (each config's time over the budget's regular frame timed interleaved
 with it: robust to the machine's speed drifting during the run; shown in ms as that ratio
-times the budget config's own median) and, beside it, camera paths per pixel (what the trace
-pays on any machine). JOD is the run's objective (`jod`: in motion with `--objective motion`) and, as
+times the budget config's own median) and, beside it, camera paths per pixel and, in runs
+that counted them, all rays per pixel (what a GPU, whose per-pixel passes cost little, pays
+most closely; the same on any machine). JOD is the run's objective (`jod`: in motion with `--objective motion`) and, as
 the worst case, the first frame after the eye lands looking ahead (`jod_forward`).
 
     python3 tools/iso-quality.py reports/tune-motion-filter-lavapipe-720x800/*-candidates.csv
@@ -37,25 +38,31 @@ def report(path, jod_column):
     regular.sort(key=lambda r: int(r["config"][5:]))
     # ms per unit of pace: the budget config's (pace 1) median, from any row's ms / pace.
     ms = float(regular[-1]["gpu_ms"]) / float(regular[-1]["pace_ratio"])
+    counts = ["paths_per_pixel"]
+    if all(r.get("rays_per_pixel", "") not in ("", "NaN", "nan") for r in judged):
+        counts.append("rays_per_pixel")
+    names = {"paths_per_pixel": "paths", "rays_per_pixel": "rays"}
     print(f"\n{path} ({jod_column})")
-    print("| target | regular ms | cheapest config | its JOD | its ms | S (GPU ms) | S (paths) |")
-    print("|---|---:|---|---:|---:|---:|---:|")
+    print("| target | regular ms | cheapest config | its JOD | its ms | S (GPU ms) | "
+          + " | ".join(f"S ({names[c]})" for c in counts) + " |")
+    print("|---|---:|---|---:|---:|---:|" + "---:|" * len(counts))
     for target_row in regular:
         target = float(target_row[jod_column])
         reach = [r for r in judged if float(r[jod_column]) >= target - 1e-9]
         by_ms = min(reach, key=lambda r: float(r["pace_ratio"]))
-        by_paths = min(reach, key=lambda r: float(r["paths_per_pixel"]))
         curve_ms = [(float(r["pace_ratio"]), float(r[jod_column])) for r in regular]
-        curve_paths = [(float(r["paths_per_pixel"]), float(r[jod_column])) for r in regular]
         need_ms = regular_cost(curve_ms, target)
-        need_paths = regular_cost(curve_paths, target)
         s_ms = need_ms / float(by_ms["pace_ratio"])
-        s_paths = need_paths / float(by_paths["paths_per_pixel"])
+        by_count = []
+        for c in counts:
+            cheapest = min(reach, key=lambda r: float(r[c]))
+            need = regular_cost([(float(r[c]), float(r[jod_column])) for r in regular], target)
+            by_count.append(f"{need / float(cheapest[c]):.2f} (`{cheapest['config']}`)")
         print(
             f"| regular {target_row['config'][5:]} spp: {target:.3f} | {need_ms * ms:.1f} | "
             f"`{by_ms['config']}` | {float(by_ms[jod_column]):.3f} | "
             f"{float(by_ms['pace_ratio']) * ms:.1f} | "
-            f"{s_ms:.2f} | {s_paths:.2f} (`{by_paths['config']}`) |"
+            f"{s_ms:.2f} | " + " | ".join(by_count) + " |"
         )
 
 

@@ -47,6 +47,7 @@ pub struct SceneScore {
     pub motion_jod: f64,
     pub timing: Timing,
     pub paths_per_pixel: f64,
+    pub rays_per_pixel: f64,
 }
 
 /// A config's timed frames: the medians of its GPU time and traced paths per frame, and of
@@ -173,7 +174,7 @@ impl SceneJudge {
             .map_err(TuneError::render(&name))?;
         let settings = settings(plan);
         let mut jod = Vec::new();
-        let mut paths_per_pixel = f64::NAN;
+        let (mut paths_per_pixel, mut rays_per_pixel) = (f64::NAN, f64::NAN);
         let mut timed = TimedFrames::default();
         let display = plan.display.transform(&name);
         let eyes = self.eyes.clone();
@@ -192,8 +193,10 @@ impl SceneJudge {
                 .map_err(TuneError::render(&name))?;
             if g == 0 {
                 let visible = self.visible.iter().filter(|v| **v).count().max(1);
-                let paths = frame.stats.eyes.first().map_or(0, |c| c.paths);
-                paths_per_pixel = paths as f64 / visible as f64;
+                let eye = frame.stats.eyes.first();
+                let per_pixel = |n: u64| n as f64 / visible as f64;
+                paths_per_pixel = per_pixel(eye.map_or(0, |c| c.paths));
+                rays_per_pixel = per_pixel(eye.map_or(0, |c| c.rays));
             }
             let test = hidden_black(frame.rgb, &self.visible);
             let gaze = frame.gazes[0].0;
@@ -209,6 +212,7 @@ impl SceneJudge {
             motion_jod,
             timing: timed.medians(),
             paths_per_pixel,
+            rays_per_pixel,
         })
     }
 

@@ -193,6 +193,7 @@ fn unjudged(
         jod_off_axis: f64::NAN,
         jod_corner: f64::NAN,
         paths_per_pixel: f64::NAN,
+        rays_per_pixel: f64::NAN,
         scenes_json: String::new(),
         config_json: serde_json::to_string(config).unwrap_or_default(),
     }
@@ -212,7 +213,7 @@ fn judge(
     let mut per_gaze = vec![0.0; TuneGaze::ALL.len()];
     let mut motion = 0.0;
     let mut timings = Vec::new();
-    let mut paths_per_pixel = f64::NAN;
+    let (mut paths_per_pixel, mut rays_per_pixel) = (f64::NAN, f64::NAN);
     let mut scenes = serde_json::Map::new();
     for (s, judge) in judges.iter_mut().enumerate() {
         let score = judge.judge(plan, config, pace.as_ref(), metric)?;
@@ -233,7 +234,7 @@ fn judge(
         }
         timings.push(score.timing);
         if s == 0 {
-            paths_per_pixel = score.paths_per_pixel;
+            (paths_per_pixel, rays_per_pixel) = (score.paths_per_pixel, score.rays_per_pixel);
         }
     }
     // Over the scenes together, as a session mixing them would spend it: a ratio per scene
@@ -255,6 +256,7 @@ fn judge(
         jod_off_axis: per_gaze[1],
         jod_corner: per_gaze[2],
         paths_per_pixel,
+        rays_per_pixel,
         scenes_json: serde_json::Value::Object(scenes).to_string(),
         config_json: serde_json::to_string(config).unwrap_or_default(),
     })

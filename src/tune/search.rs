@@ -140,6 +140,7 @@ mod tests {
             jod_off_axis: jod,
             jod_corner: jod,
             paths_per_pixel: 1.0,
+            rays_per_pixel: 3.0,
             scenes_json: String::new(),
             config_json: serde_json::to_string(config).unwrap(),
         }
