@@ -37,8 +37,8 @@ pub struct CandidateRow {
     /// Every ray traced (camera, bounce and shadow rays) per visible pixel, as
     /// `paths_per_pixel`: what a GPU, whose per-pixel passes cost little, pays for most
     /// closely. A path into the black beyond a scene is one ray; one into a room is many.
-    /// Runs from before it read as NaN.
-    #[serde(default = "no_score")]
+    /// (A candidates file from before it lacks the column: resuming on one stops and names
+    /// the columns it needs; tools/iso-quality.py reads such files without it.)
     pub rays_per_pixel: f64,
     /// Per scene, its median GPU ms and JOD per gaze, as JSON:
     /// `{"cornell": {"gpu_ms": 310.2, "jod": [8.1, 8.3, 8.9]}, ...}`.
