@@ -244,7 +244,12 @@ impl Fvvdp {
             "black_cd_m2": self.photometry.black_cd_m2,
             "fov_horizontal_deg": fov_horizontal_deg(image),
         });
-        super::jod_inputs::keep_if_asked(&request, test, reference)?;
+        super::jod_inputs::keep_if_asked(&request, test, reference).map_err(|e| {
+            JodError::File {
+                path: e.path,
+                source: e.source,
+            }
+        })?;
         let line = format!("{request}\n");
         if let Err(e) = self.stdin.write_all(line.as_bytes()) {
             return Err(self.failed(format!("it stopped reading requests ({e})")));

@@ -4,19 +4,25 @@
 //! × RGB) and the request, pointing at those copies, as JSON. `tools/foveated-blur.py` reads
 //! them to score what a reconstruction would do to the same frames without rendering again.
 
-use super::jod::JodError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The environment variable that names the folder.
 pub const KEEP_ENV: &str = "FOVEA_KEEP_JOD_INPUTS";
+
+/// A file that could not be kept, and why.
+#[derive(Debug)]
+pub struct KeepError {
+    pub path: PathBuf,
+    pub source: std::io::Error,
+}
 
 /// Copies a request's frames into the folder `KEEP_ENV` names, when it names one.
 pub fn keep_if_asked(
     request: &serde_json::Value,
     test: &Path,
     reference: &Path,
-) -> Result<(), JodError> {
+) -> Result<(), KeepError> {
     match std::env::var_os(KEEP_ENV) {
         Some(dir) if !dir.is_empty() => keep_in(Path::new(&dir), request, test, reference),
         _ => Ok(()),
@@ -30,7 +36,7 @@ pub fn keep_in(
     request: &serde_json::Value,
     test: &Path,
     reference: &Path,
-) -> Result<(), JodError> {
+) -> Result<(), KeepError> {
     static KEPT: AtomicU32 = AtomicU32::new(0);
     let name = format!(
         "{}-{}",
@@ -39,7 +45,7 @@ pub fn keep_in(
     );
     let file_error = |path: &Path| {
         let path = path.to_path_buf();
-        move |source| JodError::File { path, source }
+        move |source| KeepError { path, source }
     };
     std::fs::create_dir_all(dir).map_err(file_error(dir))?;
     let mut kept = request.clone();
@@ -81,6 +87,6 @@ mod tests {
         // A folder that cannot be made is an error that names it, not a silent skip.
         let blocked = test.join("inside-a-file");
         let err = keep_in(&blocked, &request, &test, &reference).unwrap_err();
-        assert!(err.to_string().contains("inside-a-file"), "{err}");
+        assert!(err.path.ends_with("inside-a-file"), "{:?}", err.path);
     }
 }
