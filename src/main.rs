@@ -103,7 +103,7 @@ fn main() {
         if closed_pipe {
             return;
         }
-        eprintln!("error: {e:#}");
+        eprintln!("error: {}", commands::error_text(&e));
         std::process::exit(1);
     }
 }

@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod check;
 mod environment;
+mod error_text;
 pub mod gpu_report;
 pub mod render;
 pub mod scenes;
@@ -13,6 +14,7 @@ pub mod view;
 pub mod xr;
 
 pub use environment::EnvArgs;
+pub use error_text::error_text;
 
 use anyhow::{bail, Result};
 use clap::Args;
