@@ -186,8 +186,10 @@ layout(std430, set = 0, binding = BINDING_PIXELS) writeonly buffer PixelsBuf { v
 // Temporal history (temporal.comp; trace writes the lattice points' surfaces while it is on).
 #ifdef WRITES_LATTICE
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) writeonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
+layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) writeonly buffer LatticeAlbedoBuf { uint lattice_albedo[]; };
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
+layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) readonly buffer LatticeAlbedoBuf { uint lattice_albedo[]; };
 #endif
 layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf0 { vec4 history0[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_1) buffer HistoryBuf1 { vec4 history1[]; };

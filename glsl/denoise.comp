@@ -9,13 +9,25 @@
 // around, as SVGF estimates it where history is short). So flat noisy regions are smoothed
 // and edges between surfaces are not crossed.
 //
-// DenoisePush says which iteration this is and which way it goes (PIXELS to DENOISE or back).
+// A layer's denoise_mar limits the blur by the eye's acuity: iteration i runs at a pixel only
+// while the filter's width after it (the B3 kernel's standard deviation is its tap spacing,
+// so after iterations 0..i it is sqrt((4^(i+1) - 1) / 3) pixels: 1, 2.2, 4.6, 9.2) stays
+// within denoise_mar minimum angles of resolution at the pixel's eccentricity (acuity.glsl).
+// So the gaze stays sharp and the periphery is smoothed only as far as it cannot resolve.
+//
+// It filters the illumination: temporal.comp showed the frame divided by each pixel's albedo
+// and the last iteration multiplies it back (albedo.glsl), so textures stay sharp.
+//
+// DenoisePush says which iteration this is, which way it goes (PIXELS to DENOISE or back) and
+// whether it is the last.
 #extension GL_GOOGLE_include_directive : require
 #define READS_PIXELS
 #define PASS_PUSH DenoisePush
 #include "plan.glsl"
 #include "surface.glsl"
 #include "colour.glsl"
+#include "albedo.glsl"
+#include "acuity.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -30,6 +42,28 @@ uint pixel_index(ivec2 p) {
 
 vec4 read_input(ivec2 p) {
     return pc.reads_denoise == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
+}
+
+// The filter's width, in pixels, after iterations 0..i (see above).
+float width_after(uint i) {
+    return sqrt((float(1u << (2u * i + 2u)) - 1.0) / 3.0);
+}
+
+// Whether iteration i keeps layer k's blur at pixel p (direction u) within its acuity limit.
+bool within_acuity(uint k, ivec2 p, vec3 u, uint i) {
+    float limit_mar = layers[k].denoise_mar;
+    if (limit_mar <= 0.0) return true;
+    uint base = eye_layer_base();
+    vec3 right = tan_direction(layers[base].pixel_tan.xy + vec2(p + ivec2(1, 0)) * layers[base].pixel_tan.zw);
+    float pixel_angle = max(length(right - u), 1e-9);
+    float eccentricity = angle_of(u, layers[base].gaze.xyz);
+    return width_after(i) * pixel_angle <= limit_mar * minimum_angle_of_resolution(eccentricity);
+}
+
+// The pixel's albedo (its shown layer k's nearest lattice point's), which the last iteration
+// multiplies back.
+vec3 pixel_albedo(uint k, ivec2 p) {
+    return unpack_albedo(lattice_albedo[lattice_index(k, nearest_lattice_point(k, p))]);
 }
 
 void write_output(ivec2 p, vec4 c) {
@@ -51,9 +85,14 @@ void main() {
     uint base = eye_layer_base();
     uint iteration = pc.iteration;
     vec3 u = tan_direction(layers[base].pixel_tan.xy + vec2(p) * layers[base].pixel_tan.zw);
-    uint depth = shown_depth(u, base);
-    if (iteration >= layers[base + depth].denoise || pc.eye.debug == DEBUG_LAYERS) {
+    uint k = base + shown_depth(u, base);
+    if (pc.eye.debug == DEBUG_LAYERS) { // the layer tints stay as resolve made them
         write_output(p, centre);
+        return;
+    }
+    vec3 albedo = pc.last != 0u ? pixel_albedo(k, p) : vec3(1.0);
+    if (iteration >= layers[k].denoise || !within_acuity(k, p, u, iteration)) {
+        write_output(p, vec4(centre.rgb * albedo, centre.a));
         return;
     }
     // This frame's per-pixel surfaces: the history plane the temporal pass just wrote.
@@ -99,5 +138,5 @@ void main() {
         }
     }
     // The centre tap always counts (weight 9/64), so weights > 0.
-    write_output(p, vec4(sum / weights, centre.a));
+    write_output(p, vec4(sum / weights * albedo, centre.a));
 }

@@ -30,14 +30,10 @@
 #include "view.glsl"
 #include "surface.glsl"
 #include "colour.glsl"
+#include "acuity.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
 
-// The minimum angle of resolution against eccentricity (radians against radians): Guenter et
-// al. 2012's fit, 0.022 deg per deg of eccentricity plus 1/48 deg at the centre (the host's
-// copy, with tests: src/foveation/acuity.rs).
-const float MAR_SLOPE = 0.022;
-const float MAR_CENTRE = (1.0 / 48.0) * 3.14159265 / 180.0;
 // Taps within this many lattice steps of the point, on each axis (a 5 x 5 window).
 const int REACH = 2;
 // Below this width (in lattice steps) every tap but the centre weighs under e^-8: copied
@@ -83,7 +79,7 @@ float width_in_steps(Lattice l, uint k, ivec2 p, vec3 u) {
     vec3 next = tan_direction(tan_map.xy + vec2(p + ivec2(l.spacing, 0)) * tan_map.zw);
     float step_angle = max(length(next - u), 1e-9);
     float eccentricity = angle_of(u, l.region.gaze);
-    float mar = MAR_SLOPE * eccentricity + MAR_CENTRE;
+    float mar = minimum_angle_of_resolution(eccentricity);
     float by_acuity = layers[k].filter_mar * mar / step_angle;
     float by_pixels = layers[k].filter_px / float(l.spacing);
     return max(by_acuity, by_pixels);

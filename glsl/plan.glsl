@@ -100,4 +100,14 @@ uint lattice_index(uint k, ivec2 ij) {
          + uint(ij.x - layers[k].col_min);
 }
 
+// Layer k's lattice point nearest pixel p, within the layer's box (temporal.comp takes a
+// pixel's surface from it, denoise.comp its albedo).
+ivec2 nearest_lattice_point(uint k, ivec2 p) {
+    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    int spacing = layers[k].spacing;
+    ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
+    return clamp(floor_div(rel + spacing / 2, spacing), box_lo, box_hi);
+}
+
 #endif

@@ -67,10 +67,14 @@
 #define BINDING_LATTICE_FILTERED 30 // vec4[] in LATTICE's layout: lattice_filter.comp's values (rgb)
                                    // and how many points each is worth (a), which resolve then
                                    // reads (as its LATTICE_TEXELS) in place of LATTICE
-#define BINDING_COUNT 31
+#define BINDING_LATTICE_ALBEDO 31 // uint[] per LATTICE entry, written by trace while a layer
+                                 // denoises: the albedo at the point's pixel centre that the
+                                 // denoiser filters without (packUnorm4x8 of its square root;
+                                 // 1 for the sky and for emitters)
+#define BINDING_COUNT 32
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 31
+#define BINDING_TLAS 32
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -324,7 +328,8 @@ struct PushEye {
 struct EyePush {
     PushCamera cam;
     PushEye eye;
-    uint pad0;
+    uint albedo; // 1 while a layer denoises: trace writes LATTICE_ALBEDO, temporal shows the
+                 // frame divided by it, denoise.comp's last iteration multiplies it back
     uint pad1;
     uint pad2;
 };
@@ -335,7 +340,7 @@ struct DenoisePush {
     PushEye eye;
     uint iteration; // taps 2^iteration pixels apart
     uint reads_denoise; // 0: reads PIXELS and writes DENOISE; 1: the other way round
-    uint pad0;
+    uint last; // 1: the last iteration, which multiplies the albedo back (EyePush.albedo)
 };
 
 // accumulate.comp: one eye's pixels added to a running mean.
@@ -401,7 +406,9 @@ struct GpuLayer {
     // resolution at the point's eccentricity, and at least filter_px pixels (both 0: none)
     float filter_mar;
     float filter_px;
-    uint pad0;
+    // denoise.comp's width limit: an iteration runs at a pixel only while the filter's width
+    // stays within denoise_mar minimum angles of resolution at its eccentricity (0: no limit)
+    float denoise_mar;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------

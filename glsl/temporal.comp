@@ -26,6 +26,7 @@
 #include "plan.glsl"
 #include "view.glsl"
 #include "surface.glsl"
+#include "albedo.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -137,9 +138,8 @@ void main() {
     ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
     ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
     int spacing = layers[k].spacing;
-    ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
-    ivec2 nearest = clamp(floor_div(rel + spacing / 2, spacing), box_lo, box_hi);
-    bool own_here = nearest * spacing == rel;
+    ivec2 nearest = nearest_lattice_point(k, p);
+    bool own_here = lattice_pixel(k, nearest) == p;
     uint own_spp = own_here ? layers[k].spp : 0u;
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
     uint own_entry = lattice_index(k, nearest);
@@ -255,5 +255,9 @@ void main() {
     float worth = shown_spp;
     if (layers[k].filter_mar > 0.0 || layers[k].filter_px > 0.0) worth *= max(lattice_filtered[own_entry].a, 1.0);
     float w_spatial = worth * exp2(-n / worth);
-    pixels[out_index] = vec4((mean * n + spatial * w_spatial) / (n + w_spatial), 1.0);
+    vec3 shows = (mean * n + spatial * w_spatial) / (n + w_spatial);
+    // While a layer denoises, the denoiser filters the illumination: what is shown is divided
+    // by the albedo here and multiplied back by its last iteration (albedo.glsl).
+    if (pc.albedo != 0u) shows /= unpack_albedo(lattice_albedo[own_entry]);
+    pixels[out_index] = vec4(shows, 1.0);
 }

@@ -13,6 +13,7 @@
 #include "plan.glsl"
 #include "view.glsl"
 #include "surface.glsl"
+#include "albedo.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
 
@@ -37,12 +38,26 @@ Path camera_path(vec2 pixel, vec2 jitter, float pixel_angle) {
     return p;
 }
 
-// The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding).
-uvec4 centre_surface(ivec2 p, inout uint overflows) {
+// What a material reflects at most, which the denoiser filters without (albedo.glsl): the
+// thesis model's k_d + k_s; glTF's diffuse part (the textured base colour of what is not
+// metal) plus its specular one at normal incidence (gltf_f0: 0.04 for a dielectric, so a
+// black plastic's reflection is not divided by the albedo floor); 1 for an emitter, whose
+// radiance is not reflected light.
+vec3 material_albedo(GpuMaterial m) {
+    if (any(greaterThan(m.emission.xyz, vec3(0.0)))) return vec3(1.0);
+    if (is_metallic_roughness(m)) return min(m.base_color.rgb * (1.0 - m.metallic) + gltf_f0(m), vec3(1.0));
+    return min(m.kd.xyz + m.ks.xyz, vec3(1.0));
+}
+
+// The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding), and
+// while a layer denoises its albedo, textures seen at the ray cone of `pixel_angle` (1: none).
+uvec4 centre_surface(ivec2 p, float pixel_angle, inout uint overflows, out vec3 albedo) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
     Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
+    albedo = vec3(1.0);
     if (h.overflow) overflows++;
     if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
+    if (pc.albedo != 0u) albedo = material_albedo(surface(h, pc.cam.position.xyz, d, pixel_angle * h.t).m);
     vec3 n = hit_normal(h, pc.cam.position.xyz + h.t * d);
     if (dot(n, d) > 0.0) n = -n;
     return uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(n)), h.object, load_object_ids(h.object).y);
@@ -109,9 +124,12 @@ void main() {
     lattice[entry] = vec4(sum / float(spp), 1.0);
 #ifdef KEEPS_SURFACES
     // History on: the surface at the point's pixel centre, which temporal.comp reprojects
-    // and tests history against. One more camera ray (counted), traced after the samples.
+    // and tests history against, and its albedo while a layer denoises. One more camera ray
+    // (counted), traced after the samples.
     rays++;
-    lattice_surface[entry] = centre_surface(pixel, overflows);
+    vec3 albedo;
+    lattice_surface[entry] = centre_surface(pixel, pixel_angle, overflows, albedo);
+    if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(albedo);
 #endif
     if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
     if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);

@@ -172,7 +172,9 @@ pub struct PushEye {
 pub struct EyePush {
     pub cam: PushCamera,
     pub eye: PushEye,
-    pub pad0: u32,
+    /// 1 while a layer denoises: trace writes each point's albedo, temporal shows the frame
+    /// divided by it, the denoiser's last iteration multiplies it back.
+    pub albedo: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -187,7 +189,8 @@ pub struct DenoisePush {
     pub iteration: u32,
     /// 0: reads PIXELS, writes DENOISE; 1: the other way round.
     pub reads_denoise: u32,
-    pub pad0: u32,
+    /// 1: the last iteration, which multiplies the albedo back.
+    pub last: u32,
 }
 
 /// Push constants of accumulate.comp: one eye's pixels added to a running mean.
@@ -277,7 +280,9 @@ pub struct GpuLayer {
     /// eccentricity, and at least `filter_px` pixels.
     pub filter_mar: f32,
     pub filter_px: f32,
-    pub pad0: u32,
+    /// denoise.comp's width limit: iterations run at a pixel while the filter stays within
+    /// this many minimum angles of resolution at its eccentricity (0: no limit).
+    pub denoise_mar: f32,
 }
 
 #[repr(C)]

@@ -194,7 +194,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
         EyePush {
             cam,
             eye,
-            pad0,
+            albedo,
             pad1,
             pad2
         }
@@ -206,7 +206,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             eye,
             iteration,
             reads_denoise,
-            pad0
+            last
         }
     );
     check!(
@@ -276,7 +276,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             denoise,
             filter_mar,
             filter_px,
-            pad0
+            denoise_mar
         }
     );
     check!(s, GpuProbeRay { origin, direction });

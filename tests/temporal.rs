@@ -5,6 +5,7 @@
 
 mod common;
 
+use fovea::foveation::acuity::denoise_width_after;
 use fovea::foveation::{FoveationConfig, Gaze};
 use fovea::render::accumulate::frame_seed;
 use fovea::render::{regular_frame, FrameOptions};
@@ -491,6 +492,62 @@ fn the_lattice_filter_follows_acuity_and_leaves_the_history_unbiased() {
     assert!(
         filtered_64 < 1.1 * plain_64,
         "after 64 frames: {filtered_64:.3e} filtered, {plain_64:.3e} not"
+    );
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn the_denoisers_acuity_limit_keeps_the_gaze_sharp_and_smooths_the_periphery() {
+    // Regular 2 spp with 3 denoiser iterations limited to 8 minimum angles of resolution
+    // (wide, so that this small image's periphery reaches two iterations): an iteration runs
+    // at a pixel only while the filter's width after it (1, 2.2, 4.6 px) stays within the
+    // limit (`acuity_width` of 8 MAR). Where not even the first fits, the pixel is shown as
+    // without the denoiser (up to the rounding of dividing by the albedo and multiplying it
+    // back); where two fit, flat regions' error falls at least 2-fold.
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let reference = regular(&mut renderer, &scene.camera, 1024, 99);
+    let mut limited = denoised(2, 3);
+    limited.layers[0].denoise_mar = 8.0;
+    let plain = sequence(&mut renderer, &scene, &denoised(2, 0), &still(1), true);
+    let limited = sequence(&mut renderer, &scene, &limited, &still(1), true);
+    let width = |&(x, y): &(u32, u32)| acuity_width(&scene.camera, 8.0, x, y);
+    let pixels: Vec<_> = (0..SIZE)
+        .flat_map(|y| (0..SIZE).map(move |x| (x, y)))
+        .collect();
+    let sharp: Vec<_> = pixels
+        .iter()
+        .filter(|p| width(p) < 0.95 * denoise_width_after(0))
+        .collect();
+    assert!(sharp.len() > 20, "{} pixels near the gaze", sharp.len());
+    for &&(x, y) in &sharp {
+        let (a, b) = (limited[0].pixel(x, y), plain[0].pixel(x, y));
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-5 * b[c].abs().max(1e-3),
+                "pixel ({x}, {y}) near the gaze: {a:?} denoised, {b:?} not"
+            );
+        }
+    }
+    let wide: Vec<_> = smooth_pixels(&reference)
+        .into_iter()
+        .filter(|p| width(p) > 1.05 * denoise_width_after(1))
+        .collect();
+    assert!(wide.len() > 300, "{} flat pixels far out", wide.len());
+    let (before, after) = (
+        mse_at(&plain[0], &reference, &wide),
+        mse_at(&limited[0], &reference, &wide),
+    );
+    eprintln!(
+        "{} pixels kept; far out ({} flat pixels): {before:.3e} before the denoiser, \
+         {after:.3e} after",
+        sharp.len(),
+        wide.len()
+    );
+    assert!(
+        after < 0.5 * before,
+        "far out: {before:.3e} before the denoiser, {after:.3e} after"
     );
     common::assert_no_validation_messages(&ctx);
 }

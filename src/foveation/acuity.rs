@@ -30,6 +30,13 @@ pub fn filter_width(
     by_acuity.max(filter_px / spacing as f64)
 }
 
+/// The denoiser's width, in pixels, after its iterations 0..=`i` (glsl/denoise.comp's
+/// `width_after`, which a layer's `denoise_mar` limits): iteration i's B3-spline kernel has
+/// a standard deviation of its tap spacing, 2^i pixels, and the iterations add in variance.
+pub fn denoise_width_after(i: u32) -> f64 {
+    ((4f64.powi(i as i32 + 1) - 1.0) / 3.0).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -50,5 +57,19 @@ mod tests {
         assert!((at_30 - (0.66 + 1.0 / 48.0) / (4.0 / 13.7)).abs() < 1e-6);
         assert_eq!(filter_width(0.0, 2.0, 4, 0.5, step), 0.5);
         assert_eq!(filter_width(0.0, 0.0, 4, 0.5, step), 0.0);
+    }
+
+    #[test]
+    fn the_denoisers_width_adds_its_iterations_in_variance() {
+        // The B3 spline's taps (1, 4, 6, 4, 1) / 16 at -2..=2 have variance 1 tap spacing^2.
+        let taps = [1.0, 4.0, 6.0, 4.0, 1.0].map(|w: f64| w / 16.0);
+        let variance: f64 = (0..5).map(|j| taps[j] * (j as f64 - 2.0).powi(2)).sum();
+        assert!((variance - 1.0).abs() < 1e-12);
+        let mut summed = 0.0;
+        for i in 0..5 {
+            summed += 4f64.powi(i as i32);
+            assert!((denoise_width_after(i) - summed.sqrt()).abs() < 1e-9);
+        }
+        assert!((denoise_width_after(2) - 21f64.sqrt()).abs() < 1e-12);
     }
 }

@@ -44,6 +44,13 @@ pub struct Layer {
     /// guided by the temporal history's surfaces, so it needs history on.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub denoise: u32,
+    /// The denoiser's width limit, in minimum angles of resolution of the eye at the pixel's
+    /// eccentricity (Guenter et al. 2012's acuity line; 0, the default: no limit): an
+    /// iteration runs at a pixel only while the filter's width (each iteration widens it,
+    /// 1 → 2.2 → 4.6 → 9.2 px) stays within it, so the blur is finer than the eye resolves
+    /// there and the fovea stays sharp.
+    #[serde(default, skip_serializing_if = "is_zero_f32")]
+    pub denoise_mar: f32,
     /// The lattice filter's width, in minimum angles of resolution of the eye at the lattice
     /// point's eccentricity (Guenter et al. 2012's acuity line; 0, the default: none). The
     /// filter (glsl/lattice_filter.comp) smooths the layer's traced points on their lattice,
@@ -190,6 +197,7 @@ impl FoveationConfig {
             denoise: 0,
             filter_mar: 0.0,
             filter_px: 0.0,
+            denoise_mar: 0.0,
         };
         Self {
             layers: vec![
@@ -213,6 +221,7 @@ impl FoveationConfig {
                 denoise: 0,
                 filter_mar: 0.0,
                 filter_px: 0.0,
+                denoise_mar: 0.0,
             }],
             // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
             blend_deg: 0.0,
@@ -232,7 +241,8 @@ impl FoveationConfig {
     /// and the lattice filter): what a config renders as when the history is off.
     pub fn without_history_filters(mut self) -> Self {
         for layer in &mut self.layers {
-            (layer.denoise, layer.filter_mar, layer.filter_px) = (0, 0.0, 0.0);
+            (layer.denoise, layer.denoise_mar) = (0, 0.0);
+            (layer.filter_mar, layer.filter_px) = (0.0, 0.0);
         }
         self
     }
@@ -324,6 +334,13 @@ impl FoveationConfig {
                 return Err(format!(
                     "layer {n}: denoise = {} must be in 0..={MAX_DENOISE} iterations",
                     layer.denoise
+                ));
+            }
+            if !(0.0..=MAX_FILTER_MAR).contains(&layer.denoise_mar) {
+                return Err(format!(
+                    "layer {n}: denoise_mar = {} must be in 0..={MAX_FILTER_MAR} minimum angles \
+                     of resolution (0: no limit to the denoiser's width)",
+                    layer.denoise_mar
                 ));
             }
             if !(0.0..=MAX_FILTER_MAR).contains(&layer.filter_mar) {
@@ -500,6 +517,18 @@ impl FoveationConfig {
             }
             lines.push(format!("spacing = {}", layer.spacing));
             lines.push(format!("spp = {}", layer.spp));
+            // What follows the history's surfaces, where the layer asks for it.
+            if layer.denoise > 0 {
+                lines.push(format!("denoise = {}", layer.denoise));
+            }
+            let widths = [
+                ("denoise_mar", layer.denoise_mar),
+                ("filter_mar", layer.filter_mar),
+                ("filter_px", layer.filter_px),
+            ];
+            for (name, value) in widths.into_iter().filter(|&(_, v)| v != 0.0) {
+                lines.push(format!("{name} = {}", toml_float(value)));
+            }
         }
         lines.push(String::new());
         lines.join("\n")

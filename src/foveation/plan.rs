@@ -329,6 +329,7 @@ mod tests {
                     denoise: 0,
                     filter_mar: 0.0,
                     filter_px: 0.0,
+                    denoise_mar: 0.0,
                 },
                 Layer {
                     radius_deg: None,
@@ -337,6 +338,7 @@ mod tests {
                     denoise: 0,
                     filter_mar: 0.0,
                     filter_px: 0.0,
+                    denoise_mar: 0.0,
                 },
             ],
             blend_deg: 3.0,

@@ -48,6 +48,7 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush
             debug: request.debug.id(),
             ..Default::default()
         },
+        albedo: (request.foveation.denoise_iterations() > 0) as u32,
         ..Default::default()
     }
 }
@@ -124,7 +125,7 @@ pub fn eye_layers(
                 denoise: request.foveation.layers[k].denoise,
                 filter_mar: request.foveation.layers[k].filter_mar,
                 filter_px: request.foveation.layers[k].filter_px,
-                ..Default::default()
+                denoise_mar: request.foveation.layers[k].denoise_mar,
             }
         })
         .collect();

@@ -59,6 +59,7 @@ impl HistoryKey {
                 "filtered lattice values",
                 self.eyes as u64 * self.lattice_len * 16,
             ),
+            PlannedAllocation::storage("lattice albedos", self.eyes as u64 * self.lattice_len * 4),
         ]
     }
 }
@@ -84,6 +85,9 @@ pub struct History {
     /// the same as texels, which resolve then reads in place of the traced values.
     pub filtered: Buffer,
     pub filtered_texels: TexelView,
+    /// BINDING_LATTICE_ALBEDO: the albedo at every lattice point traced this frame, while a
+    /// layer denoises.
+    pub lattice_albedos: Buffer,
     /// Frames added since the history started (the lattice shift's frame).
     frame: u32,
     /// The plane the next frame reads (the one the frame before wrote).
@@ -152,6 +156,7 @@ impl History {
             )?,
             filtered,
             filtered_texels,
+            lattice_albedos: device(&plan[8].name, plan[8].bytes)?,
             frame: 0,
             read_plane: 0,
             cameras: None,

@@ -147,7 +147,9 @@ impl FramePasses<'_> {
             .reads_writes(BINDING_STATS, stats)
             .indirect_args(stats);
         if let Some(h) = self.history {
-            pass = pass.writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces);
+            pass = pass
+                .writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+                .writes(BINDING_LATTICE_ALBEDO, &h.lattice_albedos);
         }
         pass.record(|r| {
             for (e, push) in self.eyes.iter().enumerate() {
@@ -226,6 +228,7 @@ impl FramePasses<'_> {
             .reads(BINDING_VISIBILITY, self.visibility)
             .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
             .reads(BINDING_LATTICE_FILTERED, &h.filtered)
+            .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
             .reads(BINDING_HISTORY_VIEWS, &h.views)
             .reads_writes(BINDING_PIXELS, &t.pixels)
             .reads_writes(BINDING_HISTORY, &h.pixels[0])
@@ -258,6 +261,7 @@ impl FramePasses<'_> {
                 .reads(BINDING_LAYERS, &t.layers)
                 .reads(BINDING_HISTORY_SURFACE, &h.surfaces[0])
                 .reads(BINDING_HISTORY_SURFACE_1, &h.surfaces[1])
+                .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
                 .reads(from.0, from.1)
                 .writes(into.0, into.1)
                 .record(|r| {
@@ -267,7 +271,7 @@ impl FramePasses<'_> {
                             eye: push.eye,
                             iteration: i,
                             reads_denoise,
-                            ..Default::default()
+                            last: (i + 1 == iterations) as u32,
                         };
                         r.dispatch(&self.name(e, "denoise"), pipeline, &push, groups);
                     }

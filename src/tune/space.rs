@@ -155,6 +155,7 @@ impl Space {
                     denoise: self.random_denoise(rng, k, self.spacings[spacing]),
                     filter_mar: self.random_filter(rng, self.spacings[spacing]),
                     filter_px: 0.0,
+                    denoise_mar: 0.0,
                 });
             }
             let config = self.config(layers);
@@ -262,8 +263,8 @@ fn step<T: PartialOrd + Copy>(values: &[T], v: T, up: bool) -> T {
 }
 
 /// A config in one short line, its identity in the tune's files: each layer as
-/// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, `fM` for
-/// an acuity lattice filter, `pP` for a uniform one, then the occlusion mask; e.g.
+/// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, `mW` for
+/// their acuity limit, `fM` for an acuity lattice filter, `pP` for a uniform one, then the occlusion mask; e.g.
 /// `6:1x4 10:2x4 20:3x4d1f0.5 bg:4x4f1 occ56`.
 pub fn describe(config: &FoveationConfig) -> String {
     let mut parts: Vec<String> = config
@@ -274,6 +275,9 @@ pub fn describe(config: &FoveationConfig) -> String {
             let mut knobs = String::new();
             if l.denoise > 0 {
                 knobs += &format!("d{}", l.denoise);
+            }
+            if l.denoise_mar > 0.0 {
+                knobs += &format!("m{}", l.denoise_mar);
             }
             if l.filter_mar > 0.0 {
                 knobs += &format!("f{}", l.filter_mar);

@@ -41,3 +41,26 @@ fn the_lattice_filter_is_read_per_layer_defaults_to_none_and_is_bounded() {
         assert!(err.to_string().contains(says), "{bad}: {err}");
     }
 }
+
+#[test]
+fn the_denoisers_acuity_limit_is_read_per_layer_defaults_to_none_and_is_bounded() {
+    let text = "[[layer]]\nradius_deg = 5.0\nspacing = 1\n[[layer]]\nspacing = 1\ndenoise = 3\n\
+                denoise_mar = 2.0\n";
+    let config = FoveationConfig::from_toml_str(text, "t.toml").unwrap();
+    assert_eq!(config.layers[0].denoise_mar, 0.0);
+    assert_eq!(config.layers[1].denoise_mar, 2.0);
+    let written = toml::to_string(&FoveationConfig::thesis()).unwrap();
+    assert!(!written.contains("denoise_mar"), "{written}");
+    let round_trip = FoveationConfig::from_toml_str(&config.to_toml(), "t.toml");
+    assert_eq!(round_trip.unwrap(), config);
+    // Without history a config renders without the denoiser, its limit too.
+    assert_eq!(config.without_history_filters().layers[1].denoise_mar, 0.0);
+    for (bad, says) in [
+        ("denoise_mar = -1.0", "denoise_mar = -1 must be in 0..=16"),
+        ("denoise_mar = inf", "denoise_mar = inf must be in 0..=16"),
+    ] {
+        let text = text.replace("denoise_mar = 2.0", bad);
+        let err = FoveationConfig::from_toml_str(&text, "t.toml").unwrap_err();
+        assert!(err.to_string().contains(says), "{bad}: {err}");
+    }
+}

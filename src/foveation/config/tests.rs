@@ -56,7 +56,8 @@ fn regular_validates_and_is_regular() {
             spp: 4,
             denoise: 0,
             filter_mar: 0.0,
-            filter_px: 0.0
+            filter_px: 0.0,
+            denoise_mar: 0.0
         }]
     );
     // One layer that is coarser than 1 is not regular rendering.
@@ -99,6 +100,9 @@ fn to_toml_round_trips() {
     odd.blend_deg = 0.1;
     odd.occlusion_deg = Some(55.3);
     odd.layers[0].radius_deg = Some(1.0e-1 + 6.0);
+    // What follows the history (a tuned config may ask for any of it) is written too.
+    (odd.layers[1].denoise, odd.layers[1].denoise_mar) = (2, 1.5);
+    (odd.layers[2].filter_mar, odd.layers[3].filter_px) = (0.5, 2.0);
     for config in [
         FoveationConfig::thesis(),
         FoveationConfig::regular(1),
@@ -140,6 +144,7 @@ fn rejects_layer_count() {
             denoise: 0,
             filter_mar: 0.0,
             filter_px: 0.0,
+            denoise_mar: 0.0,
         })
         .collect();
     many.layers.push(Layer {
@@ -149,6 +154,7 @@ fn rejects_layer_count() {
         denoise: 0,
         filter_mar: 0.0,
         filter_px: 0.0,
+        denoise_mar: 0.0,
     });
     assert_rejected(&many, &["9 layers", "8"]);
     // Exactly MAX_LAYERS is fine.
