@@ -21,6 +21,11 @@ pub struct Space {
     pub baseline_spp: Vec<u32>,
     /// Denoiser iterations a sparse layer may take (0 = none), ascending.
     pub denoise: Vec<u32>,
+    /// Acuity limits a denoised layer may take, in minimum angles of resolution (0 = none),
+    /// ascending. A limited denoiser keeps the gaze sharp, so the fovea may take one too.
+    /// Plans from before the limit have none.
+    #[serde(default = "no_filter")]
+    pub denoise_mar: Vec<f32>,
     /// Lattice filter widths a sparse layer may take, in minimum angles of resolution at the
     /// eccentricity (0 = none), ascending. Plans from before the filter have none.
     #[serde(default = "no_filter")]
@@ -49,7 +54,8 @@ fn no_filter() -> Vec<f32> {
 
 impl Space {
     /// The search `fovea tune` runs by default: up to three layers and a background, radii
-    /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations, lattice filters
+    /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations (limited to 2 or 4
+    /// minimum angles of resolution, or not), lattice filters
     /// 0.5–2 minimum angles of resolution wide; baselines at 1, 2 and 4 spp, regular ones
     /// also with uniform lattice filters 1 and 2 pixels wide.
     pub fn standard() -> Self {
@@ -62,6 +68,7 @@ impl Space {
             spp: vec![1, 2, 4, 8, 16],
             baseline_spp: vec![1, 2, 4],
             denoise: vec![0, 1, 2, 3],
+            denoise_mar: vec![0.0, 2.0, 4.0],
             filter_mar: vec![0.0, 0.5, 1.0, 2.0],
             baseline_filter_px: vec![1.0, 2.0],
             spp_fovea_radii_deg: vec![20.0, 30.0],
@@ -79,6 +86,7 @@ impl Space {
             spp: vec![1, 2],
             baseline_spp: vec![1, 2],
             denoise: vec![0],
+            denoise_mar: no_filter(),
             filter_mar: no_filter(),
             baseline_filter_px: Vec::new(),
             spp_fovea_radii_deg: Vec::new(),
@@ -148,14 +156,15 @@ impl Space {
                     _ => (spacing + rng.below(3)).min(self.spacings.len() - 1),
                 };
                 spp = rng.below(spp + 1);
+                let (denoise, denoise_mar) = self.random_denoise(rng, k, self.spacings[spacing]);
                 layers.push(Layer {
                     radius_deg: radii.get(k).map(|&r| self.radii_deg[r]),
                     spacing: self.spacings[spacing],
                     spp: self.spp[spp],
-                    denoise: self.random_denoise(rng, k, self.spacings[spacing]),
+                    denoise,
                     filter_mar: self.random_filter(rng, self.spacings[spacing]),
                     filter_px: 0.0,
-                    denoise_mar: 0.0,
+                    denoise_mar,
                 });
             }
             let config = self.config(layers);
@@ -165,14 +174,27 @@ impl Space {
         }
     }
 
-    /// Denoising for layer `k` of `spacing`: sparse layers and full-resolution layers outside
-    /// the innermost (the fovea stays sharp), one time in three. On cornell in motion, two
-    /// iterations outside a 10° fovea, every pixel at 1 spp, gained 0.09 JOD.
-    fn random_denoise(&self, rng: &mut Rng, k: usize, spacing: u32) -> u32 {
-        if (spacing == 1 && k == 0) || self.denoise.len() < 2 || rng.below(3) != 0 {
-            return 0;
+    /// Denoising for layer `k` of `spacing`, one time in three: iterations and their acuity
+    /// limit (0: none). A full-resolution fovea is denoised only with a limit, which keeps
+    /// the gaze sharp. On cornell in motion, two unlimited iterations outside a 10° fovea,
+    /// every pixel at 1 spp, gained 0.09 JOD; three limited to 2 minimum angles of resolution
+    /// over a regular 1-spp frame gained 0.11. A space without limits draws as before it had
+    /// them (a plan from then resumes with the same draws).
+    fn random_denoise(&self, rng: &mut Rng, k: usize, spacing: u32) -> (u32, f32) {
+        let limits = self.denoise_mar.len() > 1;
+        let fovea = spacing == 1 && k == 0;
+        if (fovea && !limits) || self.denoise.len() < 2 || rng.below(3) != 0 {
+            return (0, 0.0);
         }
-        self.denoise[1 + rng.below(self.denoise.len() - 1)]
+        let iterations = self.denoise[1 + rng.below(self.denoise.len() - 1)];
+        let limit = match limits {
+            true => self.denoise_mar[rng.below(self.denoise_mar.len())],
+            false => 0.0,
+        };
+        match fovea && limit == 0.0 {
+            true => (0, 0.0),
+            false => (iterations, limit),
+        }
     }
 
     /// The lattice filter for a layer of `spacing`: only sparse layers, and one time in two.
@@ -183,15 +205,17 @@ impl Space {
         self.filter_mar[1 + rng.below(self.filter_mar.len() - 1)]
     }
 
-    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, a lattice
-    /// filter, a layer added or removed), valid; the parent itself when no change the space
+    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser or its limit, a
+    /// lattice filter, a layer added or removed), valid; the parent itself when no change the space
     /// allows is valid.
     pub fn mutate(&self, parent: &FoveationConfig, rng: &mut Rng) -> FoveationConfig {
         for _ in 0..64 {
             let mut layers = parent.layers.clone();
             let k = rng.below(layers.len());
             let up = rng.below(2) == 0;
-            match rng.below(7) {
+            // A space without denoiser limits mutates as before it had them.
+            let changes = if self.denoise_mar.len() > 1 { 8 } else { 7 };
+            match rng.below(changes) {
                 0 => {
                     let Some(r) = layers[k].radius_deg else {
                         continue;
@@ -207,6 +231,9 @@ impl Space {
                 2 => layers[k].spp = step(&self.spp, layers[k].spp, up),
                 3 => layers[k].denoise = step(&self.denoise, layers[k].denoise, up),
                 6 => layers[k].filter_mar = step(&self.filter_mar, layers[k].filter_mar, up),
+                7 if layers[k].denoise > 0 => {
+                    layers[k].denoise_mar = step(&self.denoise_mar, layers[k].denoise_mar, up)
+                }
                 4 if layers.len() <= self.max_inner_layers => {
                     // Split layer k at a radius inside it: the new inner part one spacing finer.
                     let outer = layers[k].radius_deg.unwrap_or(f32::INFINITY);
@@ -316,11 +343,18 @@ mod tests {
             assert!(a.iter().any(|c| c.layers.len() == inner + 1), "{inner}");
         }
         assert!(a.iter().any(|c| c.layers.iter().any(|l| l.denoise > 0)));
-        // The fovea is never denoised when it is at full resolution; a full-resolution layer
-        // outside it may be.
+        // A full-resolution fovea is denoised only with an acuity limit (so its gaze stays
+        // sharp); a full-resolution layer outside it may be without.
+        assert!(a.iter().all(|c| c.layers[0].spacing > 1
+            || c.layers[0].denoise == 0
+            || c.layers[0].denoise_mar > 0.0));
         assert!(a
             .iter()
-            .all(|c| c.layers[0].spacing > 1 || c.layers[0].denoise == 0));
+            .any(|c| c.layers[0].spacing == 1 && c.layers[0].denoise_mar > 0.0));
+        assert!(a.iter().all(|c| c
+            .layers
+            .iter()
+            .all(|l| l.denoise > 0 || l.denoise_mar == 0.0)));
         assert!(a.iter().any(|c| c
             .layers
             .iter()
@@ -384,6 +418,17 @@ mod tests {
         old.as_object_mut().unwrap().remove("spp_fovea_radii_deg");
         let old: Space = serde_json::from_value(old).unwrap();
         assert_eq!(old.baselines().len(), 9 + 3);
+        // And without denoiser limits: it draws none.
+        let mut old = serde_json::to_value(Space::standard()).unwrap();
+        old.as_object_mut().unwrap().remove("denoise_mar");
+        let old: Space = serde_json::from_value(old).unwrap();
+        assert_eq!(old.denoise_mar, [0.0]);
+        let mut rng = Rng::new(3);
+        assert!((0..200).all(|_| old
+            .random(&mut rng)
+            .layers
+            .iter()
+            .all(|l| l.denoise_mar == 0.0)));
         assert_eq!(Space::small().baselines().len(), 2 + 2);
     }
 
@@ -393,9 +438,10 @@ mod tests {
         config.layers[2].denoise = 2;
         config.layers[2].filter_mar = 0.5;
         config.layers[3].filter_mar = 1.0;
+        (config.layers[0].denoise, config.layers[0].denoise_mar) = (3, 2.0);
         assert_eq!(
             describe(&config),
-            "6:1x4 10:2x4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
+            "6:1x4d3m2 10:2x4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
         );
         let mut regular = FoveationConfig::regular(2);
         assert_eq!(describe(&regular), "bg:1x2");
