@@ -31,10 +31,11 @@
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
-// Edge-stopping strengths (SVGF's defaults where it has them).
-const float NORMAL_POWER = 64.0;
+// Edge-stopping strengths (SVGF's defaults where it has them; the normals' power, 64, is
+// power_64 below).
 const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
+const float LOG2_E = 1.44269504;
 
 uint pixel_index(ivec2 p) {
     return eye_pixel_index(p);
@@ -42,6 +43,16 @@ uint pixel_index(ivec2 p) {
 
 vec4 read_input(ivec2 p) {
     return pc.reads_denoise == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
+}
+
+// n^64 by squaring (pow is exp(log) per tap, which lavapipe pays per lane).
+float power_64(float n) {
+    n *= n;
+    n *= n;
+    n *= n;
+    n *= n;
+    n *= n;
+    return n * n;
 }
 
 // The filter's width, in pixels, after iterations 0..i (see above).
@@ -116,6 +127,10 @@ void main() {
 
     const float KERNEL[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
     int step = 1 << iteration;
+    // Each tap's falloffs in distance and luminance add in one exp2 (log2 units); the
+    // distance's is per unit of the tap's distance in pixels.
+    float by_distance = dp > 0.0 ? -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6) : 0.0;
+    float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     for (int dy = -2; dy <= 2; ++dy) {
@@ -126,13 +141,14 @@ void main() {
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
             vec3 c = read_input(q).rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];
+            float exponent = by_luminance * abs(luminance(c) - lp);
             if (dp > 0.0) {
                 vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
                 float dq = uintBitsToFloat(sq.x);
-                w *= pow(max(dot(np, nq), 0.0), NORMAL_POWER);
-                w *= exp(-abs(dp - dq) / (DISTANCE_SIGMA * dp * float(step) * length(vec2(dx, dy)) + 1e-6));
+                w *= power_64(max(dot(np, nq), 0.0));
+                exponent += by_distance * abs(dp - dq) * inversesqrt(max(float(dx * dx + dy * dy), 1.0));
             }
-            w *= exp(-abs(luminance(c) - lp) / (LUMINANCE_SIGMA * sigma + 1e-6));
+            w *= exp2(exponent);
             sum += w * c;
             weights += w;
         }
