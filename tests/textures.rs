@@ -24,7 +24,15 @@ fn textured_quad() -> Mesh {
     fovea::scene::shapes::quad()
 }
 
-/// 2 × 2 texels, read exactly: nearest filtering, no mipmaps.
+/// Texels read exactly: nearest filtering, no mipmaps.
+const EXACT: TextureSampler = TextureSampler {
+    mag_linear: false,
+    min_linear: false,
+    mipmaps: false,
+    ..TextureSampler::DEFAULT
+};
+
+/// 2 × 2 texels, read exactly.
 fn texture(texels: [[u8; 4]; 4], encoding: TexelEncoding) -> Texture {
     Texture {
         name: "2x2".into(),
@@ -32,12 +40,7 @@ fn texture(texels: [[u8; 4]; 4], encoding: TexelEncoding) -> Texture {
         height: 2,
         rgba8: texels.concat(),
         encoding,
-        sampler: TextureSampler {
-            mag_linear: false,
-            min_linear: false,
-            mipmaps: false,
-            ..TextureSampler::DEFAULT
-        },
+        sampler: EXACT,
     }
 }
 
@@ -299,14 +302,15 @@ fn texture_transform_test_reads_correct() {
     );
 }
 
-/// A 1-texel checkerboard of black and white, `n × n` texels.
-fn checkerboard(n: u32, mipmaps: bool) -> Texture {
+/// A 1-texel checkerboard of two sRGB greys, `n × n` texels: `light` where a texel's row
+/// and column add up to an even number, `dark` elsewhere.
+fn checker_texture(n: u32, dark: u8, light: u8, sampler: TextureSampler) -> Texture {
     let rgba8 = (0..n * n)
         .flat_map(|i| {
             let v = if (i % n + i / n).is_multiple_of(2) {
-                255
+                light
             } else {
-                0
+                dark
             };
             [v, v, v, 255]
         })
@@ -317,11 +321,17 @@ fn checkerboard(n: u32, mipmaps: bool) -> Texture {
         height: n,
         rgba8,
         encoding: TexelEncoding::Srgb,
-        sampler: TextureSampler {
-            mipmaps,
-            ..TextureSampler::DEFAULT
-        },
+        sampler,
     }
+}
+
+/// A 1-texel checkerboard of black and white, `n × n` texels.
+fn checkerboard(n: u32, mipmaps: bool) -> Texture {
+    let sampler = TextureSampler {
+        mipmaps,
+        ..TextureSampler::DEFAULT
+    };
+    checker_texture(n, 0, 255, sampler)
 }
 
 /// A floor with a checkerboard of 64² texels repeated `repeats` times across, seen at a
@@ -642,33 +652,6 @@ fn a_scene_reports_its_gpu_memory_textures_with_every_mip_level() {
     assert!(memory.buffers >= 12 * 48, "{memory:?}");
 }
 
-/// An `n × n` checkerboard of two sRGB greys, read exactly (nearest, no mipmaps).
-fn grey_checkerboard(n: u32, dark: u8, light: u8) -> Texture {
-    let rgba8 = (0..n * n)
-        .flat_map(|i| {
-            let v = if (i % n + i / n).is_multiple_of(2) {
-                light
-            } else {
-                dark
-            };
-            [v, v, v, 255]
-        })
-        .collect();
-    Texture {
-        name: "grey checkerboard".into(),
-        width: n,
-        height: n,
-        rgba8,
-        encoding: TexelEncoding::Srgb,
-        sampler: TextureSampler {
-            mag_linear: false,
-            min_linear: false,
-            mipmaps: false,
-            ..TextureSampler::DEFAULT
-        },
-    }
-}
-
 /// The first frame with history of `scene` at 2 spp, its layer denoised `denoise` times.
 fn first_frame_with_history(
     ctx: &std::sync::Arc<fovea::gpu::GpuContext>,
@@ -716,7 +699,7 @@ fn the_denoiser_filters_the_illumination_not_the_texture() {
         },
         ..MetallicRoughness::factors(Vec3::ONE, 0.0, 1.0, Vec3::ZERO)
     };
-    let scene = scene(plastic, grey_checkerboard(4, 60, 220));
+    let scene = scene(plastic, checker_texture(4, 60, 220, EXACT));
     let reference = common::render(
         &ctx,
         &scene,
