@@ -66,9 +66,7 @@ bool within_acuity(uint k, ivec2 p, vec3 u, uint i) {
     if (limit_mar <= 0.0) return true;
     uint base = eye_layer_base();
     vec3 right = tan_direction(layers[base].pixel_tan.xy + vec2(p + ivec2(1, 0)) * layers[base].pixel_tan.zw);
-    float pixel_angle = max(length(right - u), 1e-9);
-    float eccentricity = angle_of(u, layers[base].gaze.xyz);
-    return width_after(i) * pixel_angle <= limit_mar * minimum_angle_of_resolution(eccentricity);
+    return width_after(i) <= limit_mar * acuity_in_steps(u, right, layers[base].gaze.xyz);
 }
 
 // The pixel's albedo (its shown layer k's nearest lattice point's), which the last iteration

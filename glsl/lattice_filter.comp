@@ -74,13 +74,9 @@ Lattice lattice_of(uint k) {
 // steps.
 float width_in_steps(Lattice l, uint k, ivec2 p, vec3 u) {
     vec4 tan_map = l.region.tan_map;
-    // One lattice step's angle here: the chord to the direction one step to the right
-    // (the image's steps are square).
+    // The direction one lattice step to the right.
     vec3 next = tan_direction(tan_map.xy + vec2(p + ivec2(l.spacing, 0)) * tan_map.zw);
-    float step_angle = max(length(next - u), 1e-9);
-    float eccentricity = angle_of(u, l.region.gaze);
-    float mar = minimum_angle_of_resolution(eccentricity);
-    float by_acuity = layers[k].filter_mar * mar / step_angle;
+    float by_acuity = layers[k].filter_mar * acuity_in_steps(u, next, l.region.gaze);
     float by_pixels = layers[k].filter_px / float(l.spacing);
     return max(by_acuity, by_pixels);
 }
