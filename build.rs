@@ -49,6 +49,11 @@ fn main() {
         // The trace that also writes each point's surface for the temporal history: a
         // module of its own, so that without history the trace does not use (and no pass
         // binds) the surfaces' buffer at all.
+        // The fill that also fills the skipped points' surfaces, for the same reason.
+        if stem == "lattice_fill" {
+            let spv = out.join("lattice_fill_surfaces.spv");
+            compile(&glslc, glsl, &path, &spv, &["-DKEEPS_SURFACES"]);
+        }
         if stem == "trace" {
             let surfaces = ["-DKEEPS_SURFACES"];
             compile(

@@ -162,10 +162,13 @@ layout(std430, set = 0, binding = BINDING_BRDF_QUERIES) readonly buffer BrdfQuer
 layout(std430, set = 0, binding = BINDING_BRDF_ANSWERS) writeonly buffer BrdfAnswers { GpuBrdfAnswer brdf_answers[]; };
 
 layout(set = 0, binding = BINDING_LAYER_IMAGES, rgba32f) uniform image2DArray layer_images;
-// Only trace.comp writes LATTICE (it defines WRITES_LATTICE); read-only everywhere else, so
-// the validation layer's synchronization checks see the other passes as its readers.
+// Only trace.comp writes LATTICE (it defines WRITES_LATTICE), and lattice_fill.comp fills the
+// points it skipped from those it traced (FILLS_LATTICE); read-only everywhere else, so the
+// validation layer's synchronization checks see the other passes as its readers.
 #ifdef WRITES_LATTICE
 layout(std430, set = 0, binding = BINDING_LATTICE) writeonly buffer LatticeBuf { vec4 lattice[]; };
+#elif defined(FILLS_LATTICE)
+layout(std430, set = 0, binding = BINDING_LATTICE) buffer LatticeBuf { vec4 lattice[]; };
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE) readonly buffer LatticeBuf { vec4 lattice[]; };
 #endif
@@ -187,6 +190,9 @@ layout(std430, set = 0, binding = BINDING_PIXELS) writeonly buffer PixelsBuf { v
 #ifdef WRITES_LATTICE
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) writeonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
 layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) writeonly buffer LatticeAlbedoBuf { uint lattice_albedo[]; };
+#elif defined(FILLS_LATTICE)
+layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
+layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) buffer LatticeAlbedoBuf { uint lattice_albedo[]; };
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
 layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) readonly buffer LatticeAlbedoBuf { uint lattice_albedo[]; };

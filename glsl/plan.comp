@@ -3,7 +3,8 @@
 // (the layer's lattice points on the image) of one eye. The thread decides which of its
 // points are traced this frame (plan.glsl), reserves their slots in the eye's dense work list
 // with one atomic and writes them in row order (neighbouring rays stay neighbours: coherent
-// traversals). The per-layer counts are the frame's traced samples.
+// traversals). The per-layer counts are the frame's traced samples. A fractional layer's
+// points that this frame skips go to the eye's fill list instead (fraction.glsl).
 //
 // Compaction rather than "dispatch every box and let each trace thread plan its own point":
 // on lavapipe (8-wide SIMD per invocation batch) the early exits of a ring layer's box leave
@@ -18,8 +19,21 @@
 #extension GL_GOOGLE_include_directive : require
 #define PASS_PUSH EyePush
 #include "plan.glsl"
+#include "fraction.glsl"
 
 layout(local_size_x = PLAN_WORKGROUP_SIZE) in;
+
+// Does fractional layer k skip its point ij (inside its region) this frame? Only when its
+// pattern skips it and its owner is traced too (inside the layer's box and region), so that
+// every skipped point has a traced neighbour to be filled from.
+bool skips(uint k, ivec2 ij, uint mask_words) {
+    if (fraction_traces(k, ij)) return false;
+    ivec2 owner = fraction_owner(k, ij);
+    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
+    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    if (any(lessThan(owner, box_lo)) || any(greaterThan(owner, box_hi))) return false;
+    return traced_point(k, lattice_pixel(k, owner), mask_words);
+}
 
 void main() {
     uint t = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * PLAN_WORKGROUP_SIZE)
@@ -29,24 +43,43 @@ void main() {
     uint n;
     if (!plan_run(t, k, ij, n)) return;
     uint traced = 0u; // bit i: point ij + (i, 0) is traced
+    uint filled = 0u; // bit i: point ij + (i, 0) is skipped this frame but needed (fraction)
     uint mask_words = visibility[0];
+    bool fractional = layers[k].fraction > 1u;
     bool everything = layers[k].plan_cos.xyz == vec3(-2.0, -2.0, 2.0) && mask_words == 0u;
-    if (everything) {
+    if (everything && !fractional) {
         traced = n == 32u ? ~0u : (1u << n) - 1u; // regular rendering: no limit, no mask
     } else {
         for (uint i = 0u; i < n; ++i) {
-            if (traced_point(k, lattice_pixel(k, ij + ivec2(i, 0)), mask_words)) traced |= 1u << i;
+            ivec2 point = ij + ivec2(i, 0);
+            if (!traced_point(k, lattice_pixel(k, point), mask_words)) continue;
+            if (fractional && skips(k, point, mask_words)) {
+                filled |= 1u << i;
+            } else {
+                traced |= 1u << i;
+            }
         }
     }
-    uint count = bitCount(traced);
-    if (count == 0u) return;
     uint layer = k - eye_layer_base();
-    uint slot = pc.eye.index * pc.eye.work_stride
-              + atomicAdd(stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], count);
-    atomicAdd(stats[STAT_LAYER_POINTS + pc.eye.index * MAX_LAYERS + layer], count);
     // A row's points are consecutive lattice entries.
     uint first = lattice_index(k, ij) | (layer << WORK_LAYER_SHIFT);
-    for (; traced != 0u; traced &= traced - 1u) {
-        work[slot++] = first + uint(findLSB(traced));
+    uint count = bitCount(traced);
+    if (count > 0u) {
+        uint slot = pc.eye.index * pc.eye.work_stride
+                  + atomicAdd(stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], count);
+        atomicAdd(stats[STAT_LAYER_POINTS + pc.eye.index * MAX_LAYERS + layer], count);
+        for (; traced != 0u; traced &= traced - 1u) {
+            work[slot++] = first + uint(findLSB(traced));
+        }
+    }
+    uint fills = bitCount(filled);
+    if (fills > 0u) {
+        // The fill list grows down from the top of the eye's segment: a point is traced or
+        // filled, never both, so the two lists never meet.
+        uint top = (pc.eye.index + 1u) * pc.eye.work_stride - 1u
+                 - atomicAdd(stats[STAT_FILL_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], fills);
+        for (; filled != 0u; filled &= filled - 1u) {
+            work[top--] = first + uint(findLSB(filled));
+        }
     }
 }

@@ -141,9 +141,13 @@
 #define STAT_LAYER_POINTS 8    // STAT_EYES * STAT_COUNT; + eye * MAX_LAYERS + layer
 #define STAT_DISPATCH 24       // STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS; + eye * 4
 #define STAT_WORK_COUNT 3      // within an eye's STAT_DISPATCH block, after x, y, z
+// Per eye the fill dispatch's VkDispatchIndirectCommand (x, y, z) and the length of the eye's
+// fill list: the lattice points a fractional layer skips this frame but needs (plan.comp writes
+// them from the top of the eye's WORK segment down, lattice_fill.comp fills them).
+#define STAT_FILL_DISPATCH 32  // STAT_DISPATCH + STAT_EYES * 4; + eye * 4 (count: STAT_WORK_COUNT)
 // With SPEC_PROFILE, per eye PROFILE_COUNTERS 64-bit counters (low word, then high word) of
 // the traversal's work: PROFILE_* below.
-#define STAT_PROFILE 32        // STAT_DISPATCH + STAT_EYES * 4; + (eye * PROFILE_COUNTERS + counter) * 2
+#define STAT_PROFILE 40        // STAT_FILL_DISPATCH + STAT_EYES * 4; + (eye * PROFILE_COUNTERS + counter) * 2
 #define PROFILE_COUNTERS 8
 #define PROFILE_TLAS_NODES 0        // TLAS nodes intersected (8 children each)
 #define PROFILE_BLAS_NODES 1        // BLAS nodes intersected
@@ -153,7 +157,7 @@
 #define PROFILE_TLAS_GROUP_STEPS 5  // the same loop's iterations per subgroup (one per step of any lane)
 #define PROFILE_BLAS_LANE_STEPS 6   // iterations of the BLAS loop, summed over invocations
 #define PROFILE_BLAS_GROUP_STEPS 7  // the same per subgroup
-#define STAT_WORDS 64          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
+#define STAT_WORDS 72          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
 #define WORK_LAYER_SHIFT 28    // work items: lattice index in the low 28 bits, layer above
 
 // ---- debug views (PushEye.debug) -------------------------------------------------------
@@ -409,6 +413,14 @@ struct GpuLayer {
     // denoise.comp's width limit: an iteration runs at a pixel only while the filter's width
     // stays within denoise_mar minimum angles of resolution at its eccentricity (0: no limit)
     float denoise_mar;
+    // Fractional sampling (foveation/fraction.rs): the layer traces 1 in `fraction` (1, 2 or 4)
+    // of its lattice points this frame, those of pattern `fraction_phase`; plan.comp lists the
+    // others it needs in the fill list and lattice_fill.comp fills them from their traced
+    // neighbours. The phase turns with the history, so every point is traced in turn.
+    uint fraction;
+    uint fraction_phase;
+    uint pad0;
+    uint pad1;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------

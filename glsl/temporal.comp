@@ -64,17 +64,17 @@ Surface decode(uvec4 s) {
 // Whether a history tap's surface `a` may be this pixel's surface `b` seen from the earlier
 // camera. `spread` is how much the distance varies across the pixel's 3x3 lattice
 // neighbourhood: a surface seen at a grazing angle (a floor towards the horizon) changes
-// distance by more than 5% from pixel to pixel. In a sparse layer (spacing > 1) `b` is
-// mostly the nearest lattice point's surface, which changes as the lattice shifts every
-// frame: there the tap's object and material need only be among the neighbourhood's
+// distance by more than 5% from pixel to pixel. In a sparse layer (spacing > 1, or a
+// fraction of the points traced per frame) `b` is mostly a nearby lattice point's surface,
+// which changes as the lattice shifts every frame: there the tap's object and material need only be among the neighbourhood's
 // (`near`), and its normal is not compared. A test as tight as the fovea's rejected nearly
 // all peripheral history in motion (bench --motion: as much flicker beyond 20° with history
 // as without); what the looser test lets through is bounded by the neighbourhood clamp and,
 // next to edges, by EDGE_CAP.
-bool same_surface(Surface a, Surface b, int spacing, float spread, bool near) {
+bool same_surface(Surface a, Surface b, bool sparse, float spread, bool near) {
     bool same_kind = a.object == b.object && a.material == b.material;
     float tolerance = max(SAME_DISTANCE * b.dist, spread) + 1e-3;
-    if (spacing > 1) {
+    if (sparse) {
         if (!near) return false;
         // Another surface of the neighbourhood, or the sky on one side: which one the
         // nearest lattice point hit is a coin toss along an edge (a horizon), so the tap
@@ -137,12 +137,14 @@ void main() {
     // noise, not bias: testing every layer per pixel cost more than it gained on lavapipe.)
     ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
     ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
-    int spacing = layers[k].spacing;
+    // A fractional layer's points skipped this frame were filled from their neighbours
+    // (lattice_fill.comp, alpha 0): they are no samples of the pixel's own.
+    bool sparse = layers[k].spacing > 1 || layers[k].fraction > 1u;
     ivec2 nearest = nearest_lattice_point(k, p);
-    bool own_here = lattice_pixel(k, nearest) == p;
+    uint own_entry = lattice_index(k, nearest);
+    bool own_here = lattice_pixel(k, nearest) == p && lattice[own_entry].a > 0.5;
     uint own_spp = own_here ? layers[k].spp : 0u;
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
-    uint own_entry = lattice_index(k, nearest);
     uint surface_entry = own_entry;
     uvec4 now_packed = lattice_surface[surface_entry];
     Surface now = decode(now_packed);
@@ -173,7 +175,7 @@ void main() {
                 kinds[i] = uvec2(s.object, s.material);
                 bool other = s.object != now.object || s.material != now.material;
                 edge = edge || other;
-                if ((!other || spacing > 1) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
+                if ((!other || sparse) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
             }
             vec3 d = view_dir(pc.cam.tan, pc.cam.right.xyz, pc.cam.up.xyz, pc.cam.forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
@@ -196,7 +198,7 @@ void main() {
                     uvec4 hs = history_surface_load(read_plane, history_index(t));
                     bool near = false;
                     for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
-                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, spacing, spread, near)) continue;
+                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, sparse, spread, near)) continue;
                     carried += w * h;
                     weights += w;
                     if (w > best) {

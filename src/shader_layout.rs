@@ -13,7 +13,8 @@ include!(concat!(env!("OUT_DIR"), "/shared_consts.rs"));
 // #defines that build.rs could evaluate); they must follow from the sizes before them.
 const _: () = assert!(STAT_LAYER_POINTS == STAT_EYES * STAT_COUNT);
 const _: () = assert!(STAT_DISPATCH == STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS);
-const _: () = assert!(STAT_PROFILE == STAT_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_FILL_DISPATCH == STAT_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_PROFILE == STAT_FILL_DISPATCH + STAT_EYES * 4);
 const _: () = assert!(STAT_WORDS == STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2);
 const _: () = assert!(MAX_LAYERS as usize == crate::foveation::config::MAX_LAYERS);
 
@@ -283,6 +284,12 @@ pub struct GpuLayer {
     /// denoise.comp's width limit: iterations run at a pixel while the filter stays within
     /// this many minimum angles of resolution at its eccentricity (0: no limit).
     pub denoise_mar: f32,
+    /// The layer traces 1 in `fraction` of its lattice points this frame, those of
+    /// `fraction_phase` (foveation/fraction.rs); lattice_fill.comp fills the rest it needs.
+    pub fraction: u32,
+    pub fraction_phase: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
 
 #[repr(C)]

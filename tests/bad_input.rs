@@ -137,7 +137,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
         &[("FOVEA_GPU_MEMORY_LIMIT", "8G")],
         &[
             "16384x16384 stereo frame with 4 layers",
-            "it needs 16.00 GiB, 17179872736 bytes",
+            "it needs 16.00 GiB, 17179873120 bytes",
             "frame pixels 8.00 GiB",
             "frame read-back 8.00 GiB",
             "caps fovea at 8.00 GiB (8589934592 bytes)",

@@ -233,6 +233,32 @@ fn foveated_stereo_render_reports_layers_and_writes_both_eyes() {
     assert!(identical > 0.5 && identical < 100.0, "{text}");
 }
 
+#[test]
+fn a_fractional_layer_is_reported_with_its_share_and_the_points_filled() {
+    let dir = common::test_dir("cli-fraction");
+    let toml = dir.join("half.toml");
+    std::fs::write(&toml, "[[layer]]\nspacing = 1\nspp = 2\nfraction = 2\n").unwrap();
+    let (ok, text) = fovea(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--foveation",
+        toml.to_str().unwrap(),
+        "--out",
+        dir.join("half.png").to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    assert!(text.contains("per frame") && text.contains("1/2"), "{text}");
+    // A checkerboard of 32x24: half the pixels, but column 0's skipped ones (no left
+    // neighbour to fill them from) are traced.
+    let filled = 32 * 24 / 2 - 24 / 2;
+    let line = format!("lattice points filled from their traced neighbours: {filled}");
+    assert!(text.contains(&line), "{text}");
+    assert!(text.contains("gpu pass lattice fill"), "{text}");
+}
+
 /// `render --bench --json` writes what the table shows: a record per built-in scene, mode and
 /// traversal (`--traversal auto` measures both where the device has ray queries, as lavapipe
 /// does) with the medians, the same GPU ms the table prints (to its 0.1 ms), the regular

@@ -7,6 +7,7 @@ mod common;
 
 use fovea::foveation::blend::{max_border_step, weight};
 use fovea::foveation::catmull_rom::Lattice;
+use fovea::foveation::fraction;
 use fovea::foveation::gaze::GazeFix;
 use fovea::foveation::plan::{gaze_anchor, Regions};
 use fovea::foveation::view::angle_between;
@@ -78,6 +79,7 @@ fn two_layer_config() -> FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             },
             Layer {
                 radius_deg: None,
@@ -87,6 +89,7 @@ fn two_layer_config() -> FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             },
         ],
         blend_deg: 3.0,
@@ -96,14 +99,17 @@ fn two_layer_config() -> FoveationConfig {
 
 /// Camera paths per layer, summed over the eyes, counted by visiting every pixel of every
 /// eye: a pixel is traced by a layer if it lies on the layer's lattice (anchored at the gaze
-/// pixel, or at (0, 0) for the background) and in the layer's traced region.
+/// pixel, or at (0, 0) for the background) and in the layer's traced region, and a
+/// fractional layer's pattern (frame 0's) does not skip it, or skips it while its owner is
+/// off the image or outside the region. Also the points skipped and filled, all layers.
 fn brute_force_layer_samples(
     config: &FoveationConfig,
     images: &[ImageGeometry],
     gazes: &[[f64; 2]],
-) -> Vec<u64> {
+) -> (Vec<u64>, u64) {
     let buffer = RayBuffer::build(config, images);
     let mut samples = vec![0u64; config.layers.len()];
+    let mut filled = 0;
     for (image, &gaze) in images.iter().zip(gazes) {
         let regions = Regions::new(&buffer, image, gaze);
         for (k, layer) in config.layers.iter().enumerate() {
@@ -112,18 +118,46 @@ fn brute_force_layer_samples(
                 Some(_) => gaze_anchor(image, gaze),
                 None => [0, 0],
             };
-            for y in 0..image.height as i64 {
-                for x in 0..image.width as i64 {
+            let (w, h) = (image.width as i64, image.height as i64);
+            for y in 0..h {
+                for x in 0..w {
                     let on = (x - a[0] as i64).rem_euclid(d) == 0
                         && (y - a[1] as i64).rem_euclid(d) == 0;
-                    if on && regions.traced(k, x, y) {
-                        samples[k] += layer.spp as u64;
+                    if !(on && regions.traced(k, x, y)) {
+                        continue;
+                    }
+                    let (i, j) = (
+                        ((x - a[0] as i64) / d) as i32,
+                        ((y - a[1] as i64) / d) as i32,
+                    );
+                    let [oi, oj] = fraction::owner(layer.fraction, 0, i, j);
+                    let (ox, oy) = (a[0] as i64 + oi as i64 * d, a[1] as i64 + oj as i64 * d);
+                    let owner_traced =
+                        (0..w).contains(&ox) && (0..h).contains(&oy) && regions.traced(k, ox, oy);
+                    match fraction::traces(layer.fraction, 0, i, j) || !owner_traced {
+                        true => samples[k] += layer.spp as u64,
+                        false => filled += 1,
                     }
                 }
             }
         }
     }
-    samples
+    (samples, filled)
+}
+
+/// Regular rendering at 2 spp, half of the pixels traced per frame.
+fn fractional_config_regular() -> FoveationConfig {
+    let mut config = FoveationConfig::regular(2);
+    config.layers[0].fraction = 2;
+    config
+}
+
+/// The two layers with the fovea tracing half its points and the background a quarter.
+fn fractional_config() -> FoveationConfig {
+    let mut config = two_layer_config();
+    config.layers[0].fraction = 2;
+    config.layers[1].fraction = 4;
+    config
 }
 
 #[test]
@@ -139,6 +173,8 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
         ("thesis without mask", unmasked),
         ("two layers", two_layer_config()),
         ("regular", FoveationConfig::regular(2)),
+        ("fractions", fractional_config()),
+        ("regular at half", fractional_config_regular()),
     ];
     for (fov, stereo) in [
         (FovChoice::Scene, false),
@@ -166,7 +202,8 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                     .collect();
                 let used: Vec<[f64; 2]> = frame.gazes.iter().map(|g| g.0).collect();
                 assert_eq!(used, gazes, "{what}: gaze pixels");
-                let expected = brute_force_layer_samples(config, &images, &gazes);
+                let (expected, filled) = brute_force_layer_samples(config, &images, &gazes);
+                assert_eq!(frame.stats.filled_points, filled, "{what}: filled points");
                 assert_eq!(
                     frame.stats.layer_samples, expected,
                     "{what}: planned paths per layer"
@@ -180,6 +217,7 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                 );
                 for (e, counted) in frame.stats.eyes.iter().enumerate() {
                     let own: u64 = brute_force_layer_samples(config, &images[e..=e], &gazes[e..=e])
+                        .0
                         .iter()
                         .sum();
                     assert_eq!(counted.paths, own, "{what}: GPU-counted paths of eye {e}");
@@ -188,9 +226,27 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                 assert!(total > 0, "{what}: nothing traced");
                 assert_eq!(frame.stats.nonfinite_samples, 0, "{what}");
                 assert_eq!(frame.stats.stack_overflows, 0, "{what}");
+                let pixels = (size.0 * size.1) as u64 * eyes.len() as u64;
                 if *name == "regular" {
-                    let pixels = (size.0 * size.1) as u64 * eyes.len() as u64;
                     assert_eq!(total, pixels * 2, "{what}: regular traces every pixel");
+                }
+                if *name == "regular at half" {
+                    // A checkerboard, whose every skipped point's left neighbour is traced
+                    // but in column 0: those are traced too.
+                    let column_0 = (size.1 as u64 / 2) * eyes.len() as u64;
+                    assert_eq!(
+                        total,
+                        (pixels / 2 + column_0) * 2,
+                        "{what}: half of it traced"
+                    );
+                    assert_eq!(
+                        filled,
+                        pixels / 2 - column_0,
+                        "{what}: the other half filled"
+                    );
+                }
+                if *name == "fractions" {
+                    assert!(filled > 0, "{what}: nothing filled");
                 }
                 if *name == "thesis" {
                     thesis_paths.push(total);
@@ -209,6 +265,90 @@ fn traced_paths_equal_the_plan_and_a_count_over_every_pixel() {
                 "{fov:?} stereo {stereo}: corner gaze traced {corner} paths, forward {forward}"
             );
         }
+    }
+    finish(renderer, &ctx);
+}
+
+#[test]
+fn a_fractional_frame_traces_its_pattern_and_fills_the_rest_from_it() {
+    // Regular rendering with half or a quarter of the pixels traced, against every pixel
+    // traced with the same seed: a traced pixel is the same samples (the sampler's numbers
+    // depend on the pixel, spp and seed only), a skipped one the mean of its traced 3x3
+    // neighbours (Catmull-Rom resolve at a lattice point is the point's value).
+    let ctx = common::context();
+    let size = (48, 40);
+    let scene = builtin("cornell", size.0 as f32 / size.1 as f32).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let eyes = eyes(
+        &scene,
+        size,
+        FovChoice::Scene,
+        false,
+        Gaze::Forward,
+        Gaze::Forward,
+    );
+    let full_config = FoveationConfig::regular(2);
+    let render = |renderer: &mut Renderer, config: &FoveationConfig| {
+        let request = request(size, 5, config, &eyes, DebugView::None);
+        renderer
+            .frame(&request, FrameOptions::pixels())
+            .map(Option::unwrap)
+            .unwrap()
+    };
+    let full = render(&mut renderer, &full_config);
+    for fraction in [2u32, 4] {
+        let mut config = full_config.clone();
+        config.layers[0].fraction = fraction;
+        let part = render(&mut renderer, &config);
+        let (mut traced, mut filled) = (0u64, 0u64);
+        for y in 0..size.1 as i32 {
+            for x in 0..size.0 as i32 {
+                let got = part.pixel(x as u32, y as u32);
+                let [ox, oy] = fraction::owner(fraction, 0, x, y);
+                let skipped = !fraction::traces(fraction, 0, x, y) && ox >= 0 && oy >= 0;
+                if !skipped {
+                    traced += 1;
+                    assert_eq!(
+                        got,
+                        full.pixel(x as u32, y as u32),
+                        "{fraction}: traced {x},{y}"
+                    );
+                    continue;
+                }
+                filled += 1;
+                let mut sum = [0.0f32; 3];
+                let mut n = 0.0f32;
+                for (dx, dy) in (0..9).map(|i| (i % 3 - 1, i / 3 - 1)) {
+                    let (qx, qy) = (x + dx, y + dy);
+                    let inside =
+                        (0..size.0 as i32).contains(&qx) && (0..size.1 as i32).contains(&qy);
+                    if (dx, dy) == (0, 0) || !inside || !fraction::traces(fraction, 0, qx, qy) {
+                        continue;
+                    }
+                    let v = full.pixel(qx as u32, qy as u32);
+                    (0..3).for_each(|c| sum[c] += v[c]);
+                    n += 1.0;
+                }
+                assert!(n >= 1.0, "{fraction}: {x},{y} has no traced neighbour");
+                for c in 0..3 {
+                    let want = sum[c] / n;
+                    assert!(
+                        (got[c] - want).abs() <= 1e-5 * want.abs().max(1.0),
+                        "{fraction}: filled {x},{y} channel {c}: {} against {want}",
+                        got[c]
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            part.stats.filled_points, filled,
+            "{fraction}: filled points"
+        );
+        assert_eq!(part.stats.paths, traced * 2, "{fraction}: traced paths");
+        assert!(
+            traced * fraction as u64 <= 2 * (size.0 * size.1) as u64,
+            "{fraction}: {traced}"
+        );
     }
     finish(renderer, &ctx);
 }
@@ -478,6 +618,7 @@ fn resolve_cases() -> Vec<ResolveCase> {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            fraction: 1,
         }],
         blend_deg: 1.0,
         occlusion_deg: None,
@@ -772,6 +913,7 @@ fn blend_masks_bound_the_step_at_a_layer_border() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             },
             Layer {
                 radius_deg: None,
@@ -781,6 +923,7 @@ fn blend_masks_bound_the_step_at_a_layer_border() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             },
         ],
         blend_deg,

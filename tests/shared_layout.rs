@@ -276,7 +276,11 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             denoise,
             filter_mar,
             filter_px,
-            denoise_mar
+            denoise_mar,
+            fraction,
+            fraction_phase,
+            pad0,
+            pad1
         }
     );
     check!(s, GpuProbeRay { origin, direction });

@@ -180,6 +180,57 @@ fn a_still_view_converges_to_the_unbiased_image_in_every_layer() {
 }
 
 #[test]
+fn a_still_view_converges_to_the_unbiased_image_when_layers_trace_a_fraction_per_frame() {
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    // The thesis' layers, the fovea (spacing 1) tracing a quarter of its points per frame and
+    // the next layer (spacing 2) half: every pixel there traced once every 4 and 8 frames.
+    let mut config = FoveationConfig::thesis();
+    (config.layers[0].fraction, config.layers[1].fraction) = (4, 2);
+    let reference = regular(&mut renderer, &scene.camera, 1024, 99);
+    let frames = sequence(&mut renderer, &scene, &config, &still(64), true);
+    let after = |n: usize| mse(&frames[n - 1], &reference);
+    assert!(
+        after(64) < 0.5 * after(16),
+        "error after 16 frames {:.3e}, after 64 {:.3e}: not converging",
+        after(16),
+        after(64)
+    );
+    // After 64 frames every pixel has 16 samples of its own or more (the fovea 16 visits
+    // at 4 spp, the spacing-2 layer 8, the background 4): no worse than regular 16 spp.
+    let regular_16 = regular(&mut renderer, &scene.camera, 16, 7);
+    let bound = mse(&regular_16, &reference);
+    assert!(
+        after(64) < bound,
+        "after 64 frames {:.3e}, regular 16 spp {bound:.3e}",
+        after(64)
+    );
+    // And it traced fewer paths than the thesis' layers do, frame by frame.
+    let full = sequence(
+        &mut renderer,
+        &scene,
+        &FoveationConfig::thesis(),
+        &still(8),
+        true,
+    );
+    let paths = |frames: &[Frame]| frames.iter().map(|f| f.stats.paths).sum::<u64>();
+    let (part, whole) = (paths(&frames[..8]), paths(&full));
+    eprintln!(
+        "fractions, still: after 16 frames {:.3e}, after 64 {:.3e}, regular 16 spp {bound:.3e}; \
+         paths in 8 frames {part} against {whole}",
+        after(16),
+        after(64)
+    );
+    assert!(
+        part < whole,
+        "fractional layers traced {part} paths, the thesis' {whole}"
+    );
+    assert!(frames.iter().all(|f| f.stats.filled_points > 0));
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
 fn history_follows_a_camera_turn() {
     let ctx = common::context();
     let scene = fovea::scene::load("cornell", 1.0).unwrap();

@@ -441,6 +441,7 @@ fn a_sparser_lattice_reads_coarser_levels() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             }],
             blend_deg: 0.0,
             occlusion_deg: None,

@@ -6,6 +6,7 @@
 //! value ([`FoveationConfig::from_arg`]). Every path into a config validates it, so the renderer
 //! can rely on the rules in [`FoveationConfig::validate`].
 
+use super::fraction::FRACTIONS;
 use std::path::{Path, PathBuf};
 
 /// The most layers a config may have; the GPU side sizes its per-layer tables by this.
@@ -62,6 +63,12 @@ pub struct Layer {
     /// default: none): the uniform filter, for regular frames to compare with.
     #[serde(default, skip_serializing_if = "is_zero_f32")]
     pub filter_px: f32,
+    /// The layer traces 1 in `fraction` of its lattice points per frame (1, the default:
+    /// every point; 2: a checkerboard; 4: one of every 2×2 block), a different pattern each
+    /// frame while history is on (foveation/fraction.rs); the others are filled from their
+    /// traced neighbours. A full-resolution layer so costs half or a quarter of 1 spp.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub fraction: u32,
 }
 
 impl Layer {
@@ -74,6 +81,16 @@ impl Layer {
 /// serde's `skip_serializing_if = "..."` needs a function path.
 fn is_zero(n: &u32) -> bool {
     *n == 0
+}
+
+/// serde's `skip_serializing_if = "..."` needs a function path.
+fn is_one(n: &u32) -> bool {
+    *n == 1
+}
+
+/// serde's `default = "..."` needs a function path.
+fn one() -> u32 {
+    1
 }
 
 /// serde's `skip_serializing_if = "..."` needs a function path.
@@ -198,6 +215,7 @@ impl FoveationConfig {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            fraction: 1,
         };
         Self {
             layers: vec![
@@ -222,6 +240,7 @@ impl FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                fraction: 1,
             }],
             // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
             blend_deg: 0.0,
@@ -252,9 +271,16 @@ impl FoveationConfig {
         self.filters() || self.denoise_iterations() > 0
     }
 
-    /// True for exactly one layer with spacing 1 (what `regular` builds).
+    /// True for exactly one layer with spacing 1 that traces every point (what `regular`
+    /// builds).
     pub fn is_regular(&self) -> bool {
-        matches!(self.layers.as_slice(), [only] if only.spacing == 1)
+        matches!(self.layers.as_slice(), [only] if only.spacing == 1 && only.fraction == 1)
+    }
+
+    /// Whether a layer traces only a fraction of its points per frame (the frame then fills
+    /// the rest).
+    pub fn fractional(&self) -> bool {
+        self.layers.iter().any(|l| l.fraction > 1)
     }
 
     /// The most denoiser iterations any layer asks for (0: no denoising).
@@ -355,6 +381,20 @@ impl FoveationConfig {
                     "layer {n}: filter_px = {} must be in 0..={MAX_FILTER_PX} pixels (0: no \
                      lattice filter)",
                     layer.filter_px
+                ));
+            }
+            if !FRACTIONS.contains(&layer.fraction) {
+                return Err(format!(
+                    "layer {n}: fraction = {} must be one of {FRACTIONS:?} (the layer traces 1 \
+                     in `fraction` of its lattice points per frame)",
+                    layer.fraction
+                ));
+            }
+            if layer.fraction > 1 && layer.filters() {
+                return Err(format!(
+                    "layer {n}: the lattice filter (filter_mar, filter_px) smooths traced \
+                     points only, and fraction = {} leaves points to fill: remove one of them",
+                    layer.fraction
                 ));
             }
             if !(1..=MAX_LAYER_SPP).contains(&layer.spp) {
@@ -517,6 +557,9 @@ impl FoveationConfig {
             }
             lines.push(format!("spacing = {}", layer.spacing));
             lines.push(format!("spp = {}", layer.spp));
+            if layer.fraction > 1 {
+                lines.push(format!("fraction = {}", layer.fraction));
+            }
             // What follows the history's surfaces, where the layer asks for it.
             if layer.denoise > 0 {
                 lines.push(format!("denoise = {}", layer.denoise));

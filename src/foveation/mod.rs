@@ -9,6 +9,7 @@ pub mod catmull_rom;
 pub mod config;
 pub mod display_profile;
 pub mod fixation;
+pub mod fraction;
 pub mod gaze;
 pub mod gaze_filter;
 pub mod gaze_source;

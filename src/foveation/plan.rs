@@ -5,6 +5,7 @@
 //! numbers; this planner, which walks the lattice rows and lists the traced points as index
 //! ranges (spans), is the oracle the GPU's counts are tested against.
 
+use super::fraction;
 use super::ray_buffer::RayBuffer;
 use super::view::{direction, ImageGeometry};
 use super::visibility_mask::VisibilityMask;
@@ -190,7 +191,7 @@ impl EyePlan {
             };
             // A layer without limits (regular rendering, an unmasked background) traces whole
             // rows: one span each, without testing every point.
-            let whole_rows = regions.traces_everything(k);
+            let whole_rows = regions.traces_everything(k) && l.fraction == 1;
             for j in j0..=j1 {
                 let y = anchor[1] + j * d;
                 if whole_rows {
@@ -212,11 +213,21 @@ impl EyePlan {
                         Some(None) => {}
                     }
                 }
-                let inside = |i: i32| {
-                    let x = anchor[0] + i * d;
+                let in_region = |i: i32, j: i32| {
+                    let (x, y) = (anchor[0] + i * d, anchor[1] + j * d);
                     regions.traced(k, x as i64, y as i64)
                         && mask.is_none_or(|m| m.needed(l.spacing, x as u32, y as u32))
                 };
+                // A fractional layer skips what its pattern skips (frame 0's) while the
+                // point's owner is traced (glsl/plan.comp).
+                let skipped = |i: i32| {
+                    let [oi, oj] = fraction::owner(l.fraction, 0, i, j);
+                    !fraction::traces(l.fraction, 0, i, j)
+                        && (i0..=i1).contains(&oi)
+                        && (j0..=j1).contains(&oj)
+                        && in_region(oi, oj)
+                };
+                let inside = |i: i32| in_region(i, j) && !skipped(i);
                 for (start, count) in point_runs((i0, i1), inside) {
                     emit(start, count, j);
                 }
@@ -330,6 +341,7 @@ mod tests {
                     filter_mar: 0.0,
                     filter_px: 0.0,
                     denoise_mar: 0.0,
+                    fraction: 1,
                 },
                 Layer {
                     radius_deg: None,
@@ -339,6 +351,7 @@ mod tests {
                     filter_mar: 0.0,
                     filter_px: 0.0,
                     denoise_mar: 0.0,
+                    fraction: 1,
                 },
             ],
             blend_deg: 3.0,

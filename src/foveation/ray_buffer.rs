@@ -18,6 +18,8 @@ use std::f64::consts::SQRT_2;
 pub struct LayerLattice {
     pub spacing: u32,
     pub spp: u32,
+    /// The layer traces 1 in `fraction` of its points per frame (foveation/fraction.rs).
+    pub fraction: u32,
     /// Offsets are relative to the gaze pixel (true) or to pixel (0, 0) (background).
     pub gaze_anchored: bool,
     /// Index of the layer's first entry in `RayBuffer::offsets`.
@@ -120,6 +122,7 @@ impl RayBuffer {
             let lattice = LayerLattice {
                 spacing: layer.spacing,
                 spp: layer.spp,
+                fraction: layer.fraction,
                 gaze_anchored,
                 first: offsets.len() as u32,
                 col_min,

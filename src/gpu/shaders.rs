@@ -19,3 +19,7 @@ pub const TEMPORAL: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/temporal.s
 pub const LATTICE_FILTER: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/lattice_filter.spv"));
 pub const DENOISE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/denoise.spv"));
 pub const DISPLAY: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/display.spv"));
+/// The fill pass of fractional layers, without and with the points' surfaces (history on).
+pub const LATTICE_FILL: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/lattice_fill.spv"));
+pub const LATTICE_FILL_SURFACES: &[u8] =
+    include_bytes!(concat!(env!("OUT_DIR"), "/lattice_fill_surfaces.spv"));

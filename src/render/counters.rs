@@ -28,6 +28,8 @@ pub struct CountedFrame {
     pub eyes: Vec<EyeCounters>,
     /// Per eye, lattice points traced per layer (MAX_LAYERS of them).
     pub layer_points: Vec<Vec<u64>>,
+    /// Per eye, lattice points the fill pass filled.
+    pub filled_points: Vec<u64>,
     /// Per eye, the traversal's work (zero unless the trace pipeline profiles).
     pub traversal: Vec<TraversalCounts>,
 }
@@ -100,6 +102,10 @@ impl FrameCounters {
             .chunks_exact(MAX_LAYERS as usize)
             .map(|c| c.iter().map(|&n| n as u64).collect())
             .collect();
+        let filled_points = words[STAT_FILL_DISPATCH as usize..STAT_PROFILE as usize]
+            .chunks_exact(4)
+            .map(|c| c[STAT_WORK_COUNT as usize] as u64)
+            .collect();
         let traversal = words[STAT_PROFILE as usize..STAT_WORDS as usize]
             .chunks_exact(PROFILE_COUNTERS as usize * 2)
             .map(|eye| {
@@ -113,6 +119,7 @@ impl FrameCounters {
         Ok(CountedFrame {
             eyes,
             layer_points,
+            filled_points,
             traversal,
         })
     }

@@ -6,6 +6,7 @@
 //! (glsl/plan.comp); nothing here visits a lattice point.
 
 use super::request::FrameRequest;
+use crate::foveation::fraction::phase;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
@@ -54,7 +55,8 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush
 }
 
 /// Plans eye `e` of `request` looking at `gaze` on `image`, whose ray buffer is `buffer`.
-/// `history_frame` shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted).
+/// `history_frame` shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted) and
+/// turns the fractional layers' patterns (`fraction::phase`).
 pub fn eye_layers(
     request: &FrameRequest,
     e: usize,
@@ -126,6 +128,9 @@ pub fn eye_layers(
                 filter_mar: request.foveation.layers[k].filter_mar,
                 filter_px: request.foveation.layers[k].filter_px,
                 denoise_mar: request.foveation.layers[k].denoise_mar,
+                fraction: l.fraction,
+                fraction_phase: phase(history_frame, l.spacing, l.fraction),
+                ..Default::default()
             }
         })
         .collect();

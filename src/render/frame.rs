@@ -35,6 +35,9 @@ pub struct FrameStats {
     pub pass_start_ms: Vec<f64>,
     /// Camera paths planned per foveation layer (innermost first), summed over the eyes.
     pub layer_samples: Vec<u64>,
+    /// Lattice points the fill pass filled from their traced neighbours (fractional layers:
+    /// points skipped this frame but needed), all eyes.
+    pub filled_points: u64,
     /// CPU milliseconds spent planning the frame (gaze → every eye's layer parameters; which
     /// lattice points are traced is decided on the GPU).
     pub plan_ms: f64,

@@ -78,6 +78,7 @@ pub(super) fn frame_results(
             pass_ms: passes.iter().map(|p| (p.name.clone(), p.ms)).collect(),
             pass_start_ms: passes.iter().map(|p| p.start_ms).collect(),
             layer_samples,
+            filled_points: counted.filled_points[..eyes].iter().sum(),
             plan_ms: known.plan_ms,
             record_ms: known.record_ms,
             traversal: known.profile_traversal.then(|| {

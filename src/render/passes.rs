@@ -1,7 +1,8 @@
 //! The frame's passes, each a short function that declares what it reads and writes and
 //! records its dispatches (graph.rs derives the bindings and barriers): counters zeroed, plan
 //! (which lattice points every layer traces, decided on the GPU, compacted into work lists),
-//! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), the
+//! dispatch sizes, trace (the work lists, through indirect dispatches the GPU sized), the fill
+//! of the points a fractional layer skipped (the fill lists, likewise), the
 //! lattice filter (the same work lists, when a layer asks for it), resolve (every pixel
 //! once), then with history temporal and denoise, and for whoever presents or accumulates
 //! frames a copy of the pixels into an image; last the counters copied where the
@@ -23,6 +24,9 @@ pub struct FramePipelines<'a> {
     pub plan: &'a ComputePipeline,
     pub plan_args: &'a ComputePipeline,
     pub trace: &'a ComputePipeline,
+    /// When a layer traces only a fraction of its points (with history on, the variant that
+    /// also fills their surfaces).
+    pub fill: Option<&'a ComputePipeline>,
     /// With history on and a layer that asks for the lattice filter.
     pub lattice_filter: Option<&'a ComputePipeline>,
     pub resolve: &'a ComputePipeline,
@@ -72,6 +76,7 @@ impl FramePasses<'_> {
         let eyes = self.eyes.len() as u32;
         let denoise = self.pipelines.denoise.map_or(0, |(_, n)| n);
         let per_eye = 2 * traced as u32 // plan, trace
+            + (traced && self.pipelines.fill.is_some()) as u32
             + self.lattice_filter().is_some() as u32
             + 1 // resolve
             + self.pipelines.temporal.is_some() as u32
@@ -156,6 +161,36 @@ impl FramePasses<'_> {
                 let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
                 let (name, trace) = (self.name(e, "trace"), self.pipelines.trace);
                 r.dispatch_indirect(&name, trace, push, stats, offset);
+            }
+        });
+    }
+
+    /// Fill (when a layer traces a fraction of its points; after trace): per eye, one thread
+    /// per entry of the fill list writes the skipped point's value from its traced
+    /// neighbours (and with history its owner's surface and albedo).
+    pub fn fill_lattice(&self, g: &mut FrameGraph) {
+        let Some(pipeline) = self.pipelines.fill else {
+            return;
+        };
+        let (t, stats) = (self.targets, &self.counters.device);
+        let mut pass = g
+            .pass()
+            .reads(BINDING_WORK, &t.work)
+            .reads(BINDING_LAYERS, &t.layers)
+            .reads(BINDING_VISIBILITY, self.visibility)
+            .reads_writes(BINDING_LATTICE, &t.lattice)
+            .reads(BINDING_STATS, stats)
+            .indirect_args(stats);
+        if let Some(h) = self.history {
+            pass = pass
+                .reads_writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+                .reads_writes(BINDING_LATTICE_ALBEDO, &h.lattice_albedos);
+        }
+        pass.record(|r| {
+            for (e, push) in self.eyes.iter().enumerate() {
+                let offset = (STAT_FILL_DISPATCH + e as u32 * 4) as u64 * 4;
+                let name = self.name(e, "lattice fill");
+                r.dispatch_indirect(&name, pipeline, push, stats, offset);
             }
         });
     }

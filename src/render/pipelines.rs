@@ -54,11 +54,14 @@ impl TraceKey {
     }
 }
 
-/// A pass made once: plan, dispatch sizes, lattice filter, resolve, temporal, denoise.
+/// A pass made once: plan, dispatch sizes, the fill (without and with history), lattice
+/// filter, resolve, temporal, denoise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Fixed {
     Plan,
     DispatchSizes,
+    Fill,
+    FillSurfaces,
     LatticeFilter,
     Resolve,
     Temporal,
@@ -70,6 +73,8 @@ impl Fixed {
         match self {
             Fixed::Plan => ("plan", shaders::PLAN),
             Fixed::DispatchSizes => ("dispatch sizes", shaders::PLAN_ARGS),
+            Fixed::Fill => ("lattice fill", shaders::LATTICE_FILL),
+            Fixed::FillSurfaces => ("lattice fill", shaders::LATTICE_FILL_SURFACES),
             Fixed::LatticeFilter => ("lattice filter", shaders::LATTICE_FILTER),
             Fixed::Resolve => ("resolve", shaders::RESOLVE),
             Fixed::Temporal => ("temporal", shaders::TEMPORAL),
@@ -140,8 +145,14 @@ impl Pipelines {
             self.trace.insert(trace, p);
         }
         let mut wanted = vec![Fixed::Plan, Fixed::DispatchSizes, Fixed::Resolve];
-        if trace.keeps_surfaces {
-            wanted.extend([Fixed::LatticeFilter, Fixed::Temporal, Fixed::Denoise]);
+        match trace.keeps_surfaces {
+            true => wanted.extend([
+                Fixed::FillSurfaces,
+                Fixed::LatticeFilter,
+                Fixed::Temporal,
+                Fixed::Denoise,
+            ]),
+            false => wanted.push(Fixed::Fill),
         }
         for pass in wanted {
             if !self.fixed.contains_key(&pass) {
@@ -153,21 +164,27 @@ impl Pipelines {
         Ok(())
     }
 
-    /// A frame's pipelines (made by `ensure`): with `history`, temporal, the lattice filter
-    /// when `filters`, and denoise when a layer asks for `denoise_iterations` > 0; without, a
-    /// trace that keeps no surfaces.
+    /// A frame's pipelines (made by `ensure`): the fill when a layer is `fractional`; with
+    /// `history`, temporal, the lattice filter when `filters`, and denoise when a layer asks
+    /// for `denoise_iterations` > 0; without, a trace and a fill that keep no surfaces.
     pub fn frame(
         &self,
         trace: TraceKey,
         history: bool,
+        fractional: bool,
         filters: bool,
         denoise_iterations: u32,
     ) -> FramePipelines<'_> {
         let fixed = |pass| &self.fixed[&pass];
+        let fill = match history {
+            true => Fixed::FillSurfaces,
+            false => Fixed::Fill,
+        };
         FramePipelines {
             plan: fixed(Fixed::Plan),
             plan_args: fixed(Fixed::DispatchSizes),
             trace: &self.trace[&trace],
+            fill: fractional.then(|| fixed(fill)),
             lattice_filter: (history && filters).then(|| fixed(Fixed::LatticeFilter)),
             resolve: fixed(Fixed::Resolve),
             temporal: history.then(|| fixed(Fixed::Temporal)),

@@ -98,6 +98,7 @@ impl Renderer {
             pipelines: self.pipelines.frame(
                 trace,
                 history.is_some(),
+                request.foveation.fractional(),
                 request.foveation.filters(),
                 iterations,
             ),
@@ -174,6 +175,7 @@ fn record_passes(passes: &FramePasses, g: &mut FrameGraph, traced: bool) {
         passes.plan(g);
         passes.dispatch_sizes(g);
         passes.trace(g);
+        passes.fill_lattice(g);
         passes.filter_lattice(g);
     }
     passes.resolve(g);

@@ -41,6 +41,10 @@ pub struct Space {
     /// spp. Plans from before them have none.
     #[serde(default)]
     pub spp_fovea_radii_deg: Vec<f32>,
+    /// Fractions of its points a layer may trace per frame (1 = all), ascending: samples
+    /// foveated below 1 spp at any spacing. Plans from before them have only 1.
+    #[serde(default = "every_point")]
+    pub fractions: Vec<u32>,
     /// Blend band width of every candidate, degrees.
     pub blend_deg: f32,
     /// Occlusion mask of every candidate (the headset's lens), degrees from the view axis.
@@ -50,6 +54,11 @@ pub struct Space {
 /// serde's `default = "..."` needs a function path.
 fn no_filter() -> Vec<f32> {
     vec![0.0]
+}
+
+/// serde's `default = "..."` needs a function path.
+fn every_point() -> Vec<u32> {
+    vec![1]
 }
 
 impl Space {
@@ -72,6 +81,7 @@ impl Space {
             filter_mar: vec![0.0, 0.5, 1.0, 2.0],
             baseline_filter_px: vec![1.0, 2.0],
             spp_fovea_radii_deg: vec![20.0, 30.0],
+            fractions: vec![1, 2, 4],
             blend_deg: 1.0,
             occlusion_deg: Some(THESIS_OCCLUSION_DEG),
         }
@@ -90,6 +100,7 @@ impl Space {
             filter_mar: no_filter(),
             baseline_filter_px: Vec::new(),
             spp_fovea_radii_deg: Vec::new(),
+            fractions: every_point(),
             ..Self::standard()
         }
     }
@@ -157,14 +168,16 @@ impl Space {
                 };
                 spp = rng.below(spp + 1);
                 let (denoise, denoise_mar) = self.random_denoise(rng, k, self.spacings[spacing]);
+                let filter_mar = self.random_filter(rng, self.spacings[spacing]);
                 layers.push(Layer {
                     radius_deg: radii.get(k).map(|&r| self.radii_deg[r]),
                     spacing: self.spacings[spacing],
                     spp: self.spp[spp],
                     denoise,
-                    filter_mar: self.random_filter(rng, self.spacings[spacing]),
+                    filter_mar,
                     filter_px: 0.0,
                     denoise_mar,
+                    fraction: self.random_fraction(rng, filter_mar),
                 });
             }
             let config = self.config(layers);
@@ -205,6 +218,16 @@ impl Space {
         self.filter_mar[1 + rng.below(self.filter_mar.len() - 1)]
     }
 
+    /// The fraction of its points a layer traces per frame: all, or one time in three
+    /// another of the space's (not with a lattice filter, which smooths traced points only).
+    /// A space with only 1 draws as before it had fractions.
+    fn random_fraction(&self, rng: &mut Rng, filter_mar: f32) -> u32 {
+        if self.fractions.len() < 2 || rng.below(3) != 0 || filter_mar > 0.0 {
+            return 1;
+        }
+        self.fractions[1 + rng.below(self.fractions.len() - 1)]
+    }
+
     /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser or its limit, a
     /// lattice filter, a layer added or removed), valid; the parent itself when no change the space
     /// allows is valid.
@@ -213,8 +236,12 @@ impl Space {
             let mut layers = parent.layers.clone();
             let k = rng.below(layers.len());
             let up = rng.below(2) == 0;
-            // A space without denoiser limits mutates as before it had them.
-            let changes = if self.denoise_mar.len() > 1 { 8 } else { 7 };
+            // A space without denoiser limits or fractions mutates as before it had them.
+            let changes = match (self.fractions.len() > 1, self.denoise_mar.len() > 1) {
+                (true, _) => 9,
+                (false, true) => 8,
+                (false, false) => 7,
+            };
             match rng.below(changes) {
                 0 => {
                     let Some(r) = layers[k].radius_deg else {
@@ -234,6 +261,7 @@ impl Space {
                 7 if layers[k].denoise > 0 => {
                     layers[k].denoise_mar = step(&self.denoise_mar, layers[k].denoise_mar, up)
                 }
+                8 => layers[k].fraction = step(&self.fractions, layers[k].fraction, up),
                 4 if layers.len() <= self.max_inner_layers => {
                     // Split layer k at a radius inside it: the new inner part one spacing finer.
                     let outer = layers[k].radius_deg.unwrap_or(f32::INFINITY);
@@ -291,7 +319,8 @@ fn step<T: PartialOrd + Copy>(values: &[T], v: T, up: bool) -> T {
 
 /// A config in one short line, its identity in the tune's files: each layer as
 /// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, `mW` for
-/// their acuity limit, `fM` for an acuity lattice filter, `pP` for a uniform one, then the occlusion mask; e.g.
+/// their acuity limit, `fM` for an acuity lattice filter, `pP` for a uniform one, `rN` for 1
+/// in N points traced per frame, then the occlusion mask; e.g.
 /// `6:1x4 10:2x4 20:3x4d1f0.5 bg:4x4f1 occ56`.
 pub fn describe(config: &FoveationConfig) -> String {
     let mut parts: Vec<String> = config
@@ -311,6 +340,9 @@ pub fn describe(config: &FoveationConfig) -> String {
             }
             if l.filter_px > 0.0 {
                 knobs += &format!("p{}", l.filter_px);
+            }
+            if l.fraction > 1 {
+                knobs += &format!("r{}", l.fraction);
             }
             format!("{radius}:{}x{}{knobs}", l.spacing, l.spp)
         })
@@ -367,6 +399,15 @@ mod tests {
             .iter()
             .all(|c| !c.layers[0].filters() || c.layers[0].spacing > 1));
         assert!(a.iter().all(|c| c.layers[0].spacing <= 2));
+        // Fractions at any spacing, never beside a lattice filter.
+        for fraction in [2, 4] {
+            assert!(a
+                .iter()
+                .any(|c| c.layers.iter().any(|l| l.fraction == fraction)));
+        }
+        assert!(a
+            .iter()
+            .all(|c| c.layers.iter().all(|l| l.fraction == 1 || !l.filters())));
         let distinct: std::collections::HashSet<String> = a.iter().map(describe).collect();
         assert!(distinct.len() > 150, "{}", distinct.len());
     }
@@ -429,6 +470,12 @@ mod tests {
             .layers
             .iter()
             .all(|l| l.denoise_mar == 0.0)));
+        // And without fractions: every layer traces every point.
+        let mut old = serde_json::to_value(Space::standard()).unwrap();
+        old.as_object_mut().unwrap().remove("fractions");
+        let old: Space = serde_json::from_value(old).unwrap();
+        assert_eq!(old.fractions, [1]);
+        assert!((0..200).all(|_| !old.random(&mut rng).fractional()));
         assert_eq!(Space::small().baselines().len(), 2 + 2);
     }
 
@@ -439,9 +486,10 @@ mod tests {
         config.layers[2].filter_mar = 0.5;
         config.layers[3].filter_mar = 1.0;
         (config.layers[0].denoise, config.layers[0].denoise_mar) = (3, 2.0);
+        config.layers[1].fraction = 4;
         assert_eq!(
             describe(&config),
-            "6:1x4d3m2 10:2x4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
+            "6:1x4d3m2 10:2x4r4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
         );
         let mut regular = FoveationConfig::regular(2);
         assert_eq!(describe(&regular), "bg:1x2");

@@ -32,20 +32,32 @@ pub fn report(
         );
     }
     println!(
-        "{:<6} {:>8} {:>8} {:>5} {:>12}",
-        "layer", "radius", "spacing", "spp", "samples"
+        "{:<6} {:>8} {:>8} {:>5} {:>9} {:>12}",
+        "layer", "radius", "spacing", "spp", "per frame", "samples"
     );
     for (k, (layer, samples)) in config.layers.iter().zip(&s.layer_samples).enumerate() {
         let radius = layer
             .radius_deg
             .map_or("rest".to_string(), |r| format!("{r}°"));
+        // The share of its lattice points the layer traces per frame (`fraction`).
+        let share = match layer.fraction {
+            1 => "all".to_string(),
+            n => format!("1/{n}"),
+        };
         println!(
-            "{:<6} {:>8} {:>8} {:>5} {:>12}",
+            "{:<6} {:>8} {:>8} {:>5} {:>9} {:>12}",
             k + 1,
             radius,
             layer.spacing,
             layer.spp,
+            share,
             samples
+        );
+    }
+    if s.filled_points > 0 {
+        println!(
+            "lattice points filled from their traced neighbours: {}",
+            s.filled_points
         );
     }
     let planned: u64 = s.layer_samples.iter().sum();

@@ -57,7 +57,8 @@ fn regular_validates_and_is_regular() {
             denoise: 0,
             filter_mar: 0.0,
             filter_px: 0.0,
-            denoise_mar: 0.0
+            denoise_mar: 0.0,
+            fraction: 1,
         }]
     );
     // One layer that is coarser than 1 is not regular rendering.
@@ -103,6 +104,7 @@ fn to_toml_round_trips() {
     // What follows the history (a tuned config may ask for any of it) is written too.
     (odd.layers[1].denoise, odd.layers[1].denoise_mar) = (2, 1.5);
     (odd.layers[2].filter_mar, odd.layers[3].filter_px) = (0.5, 2.0);
+    odd.layers[0].fraction = 4;
     for config in [
         FoveationConfig::thesis(),
         FoveationConfig::regular(1),
@@ -145,6 +147,7 @@ fn rejects_layer_count() {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            fraction: 1,
         })
         .collect();
     many.layers.push(Layer {
@@ -155,6 +158,7 @@ fn rejects_layer_count() {
         filter_mar: 0.0,
         filter_px: 0.0,
         denoise_mar: 0.0,
+        fraction: 1,
     });
     assert_rejected(&many, &["9 layers", "8"]);
     // Exactly MAX_LAYERS is fine.
