@@ -11,7 +11,7 @@
 //! a GPU may run them side by side.
 
 use super::counters::FrameCounters;
-use super::graph::FrameGraph;
+use super::graph::{FrameGraph, Recorder};
 use super::history::History;
 use super::scene_buffers::SceneBuffers;
 use super::settings::Traversal;
@@ -87,6 +87,23 @@ impl FramePasses<'_> {
             + self.targets.output.is_some() as u32
     }
 
+    /// Records `pipeline` once per eye, each dispatch sized by the GPU: by the eye's block of
+    /// four counters (x, y, z, list length) at STATS[`block` + eye * 4] (the work list's or
+    /// the fill list's, which the dispatch-sizes pass wrote).
+    fn each_eye_indirect(
+        &self,
+        r: &mut Recorder,
+        pass: &str,
+        pipeline: &ComputePipeline,
+        block: u32,
+    ) {
+        let stats = &self.counters.device;
+        for (e, push) in self.eyes.iter().enumerate() {
+            let offset = (block + e as u32 * 4) as u64 * 4;
+            r.dispatch_indirect(&self.name(e, pass), pipeline, push, stats, offset);
+        }
+    }
+
     /// Workgroups of a pass over every pixel of an eye, `per_x` pixels per invocation in x.
     fn pixel_groups(&self, per_x: u32) -> [u32; 3] {
         let key = &self.targets.key;
@@ -156,13 +173,7 @@ impl FramePasses<'_> {
                 .writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
                 .writes(BINDING_LATTICE_ALBEDO, &h.lattice_albedos);
         }
-        pass.record(|r| {
-            for (e, push) in self.eyes.iter().enumerate() {
-                let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
-                let (name, trace) = (self.name(e, "trace"), self.pipelines.trace);
-                r.dispatch_indirect(&name, trace, push, stats, offset);
-            }
-        });
+        pass.record(|r| self.each_eye_indirect(r, "trace", self.pipelines.trace, STAT_DISPATCH));
     }
 
     /// Fill (when a layer traces a fraction of its points; after trace): per eye, one thread
@@ -186,13 +197,7 @@ impl FramePasses<'_> {
                 .reads_writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
                 .reads_writes(BINDING_LATTICE_ALBEDO, &h.lattice_albedos);
         }
-        pass.record(|r| {
-            for (e, push) in self.eyes.iter().enumerate() {
-                let offset = (STAT_FILL_DISPATCH + e as u32 * 4) as u64 * 4;
-                let name = self.name(e, "lattice fill");
-                r.dispatch_indirect(&name, pipeline, push, stats, offset);
-            }
-        });
+        pass.record(|r| self.each_eye_indirect(r, "lattice fill", pipeline, STAT_FILL_DISPATCH));
     }
 
     /// The lattice filter's pipeline and the history that holds its buffer, when the frame
@@ -218,13 +223,7 @@ impl FramePasses<'_> {
             .reads(BINDING_STATS, stats)
             .writes(BINDING_LATTICE_FILTERED, &h.filtered)
             .indirect_args(stats)
-            .record(|r| {
-                for (e, push) in self.eyes.iter().enumerate() {
-                    let offset = (STAT_DISPATCH + e as u32 * 4) as u64 * 4;
-                    let name = self.name(e, "lattice filter");
-                    r.dispatch_indirect(&name, pipeline, push, stats, offset);
-                }
-            });
+            .record(|r| self.each_eye_indirect(r, "lattice filter", pipeline, STAT_DISPATCH));
     }
 
     /// Resolve: per eye, every output pixel from its one or two layers, reading the lattice
