@@ -77,7 +77,8 @@ fn an_out_of_bounds_read_is_reported() {
     );
 }
 
-/// plan, dispatch sizes, trace and resolve: a foveated stereo frame (every layer, both eyes);
+/// plan, dispatch sizes, trace, fill and resolve: a foveated stereo frame (every layer, both
+/// eyes, two of them fractional);
 /// accumulate: that frame added to a running mean and shown as the heat map (which reads
 /// every layer's parameters); raycast: a few probe rays.
 #[test]
@@ -87,7 +88,9 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
     let mut renderer = Renderer::new(&ctx, &scene).unwrap();
     // The accumulator reads the frames from the output image.
     renderer.set_output_image(true);
-    let thesis = FoveationConfig::thesis();
+    // The thesis' layers, two of them tracing a fraction of their points: the fill runs too.
+    let mut thesis = FoveationConfig::thesis();
+    (thesis.layers[0].fraction, thesis.layers[2].fraction) = (2, 4);
     let gaze = GazeChoice {
         left: Gaze::Corner,
         right: Gaze::Forward,
@@ -113,6 +116,8 @@ fn every_shader_runs_clean_under_gpu_assisted_validation() {
         "dispatch sizes",
         "left trace",
         "right trace",
+        "left lattice fill",
+        "right lattice fill",
         "left resolve",
         "right resolve",
         "output image",
