@@ -1,7 +1,8 @@
 #version 460
 // After the plan pass: turns each eye's work-list and fill-list lengths into the trace's and
-// the fill's workgroup counts (one workgroup per eye). x stays within the guaranteed limit; the rest
-// goes to y, and trace.comp skips the threads past the list's end.
+// the fill's workgroup counts (one workgroup per eye). x stays within the guaranteed limit;
+// the rest goes to y, and trace.comp and lattice_fill.comp skip the threads past their
+// list's end.
 #extension GL_GOOGLE_include_directive : require
 #define PASS_PUSH none
 #define NO_PUSH
