@@ -597,3 +597,6 @@ mod tests;
 
 #[cfg(test)]
 mod denoise_tests;
+
+#[cfg(test)]
+mod fraction_tests;
