@@ -24,20 +24,17 @@ void main() {
                 + gl_GlobalInvocationID.x;
     if (thread >= stats[STAT_FILL_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
     uint item = work[(pc.eye.index + 1u) * pc.eye.work_stride - 1u - thread];
-    uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
-    uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u);
-    uint local = entry - layers[k].first;
-    uint cols = layers[k].cols;
-    ivec2 ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
-    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    uint k;
+    uint entry;
+    work_item(item, k, entry);
+    ivec2 ij = lattice_point(k, entry);
     TracedRegion region = traced_region(k, visibility[0]);
 
     vec3 sum = vec3(0.0);
     float count = 0.0;
     for (int i = 0; i < 9; ++i) {
         ivec2 q = ij + ivec2(i % 3 - 1, i / 3 - 1);
-        if (i == 4 || any(lessThan(q, box_lo)) || any(greaterThan(q, box_hi))) continue;
+        if (i == 4 || !in_box(k, q)) continue;
         if (!fraction_traces(k, q) || !traced_in(region, lattice_pixel(k, q))) continue;
         sum += lattice[lattice_index(k, q)].rgb;
         count += 1.0;

@@ -62,8 +62,8 @@ Lattice lattice_of(uint k) {
     l.region = traced_region(k, visibility[0]);
     l.anchor = ivec2(layers[k].anchor_x, layers[k].anchor_y);
     l.spacing = layers[k].spacing;
-    l.box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    l.box_hi = l.box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    l.box_lo = box_lo(k);
+    l.box_hi = box_hi(k);
     l.extent_min = ivec2(layers[k].col_min, layers[k].row_min);
     l.first = layers[k].first;
     l.cols = layers[k].cols;
@@ -112,8 +112,9 @@ void main() {
                 + gl_GlobalInvocationID.x;
     if (thread >= stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
     uint item = work[pc.eye.index * pc.eye.work_stride + thread];
-    uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
-    uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u);
+    uint k;
+    uint entry;
+    work_item(item, k, entry);
     vec4 centre = uintBitsToFloat(texelFetch(lattice_texels, int(entry)));
     if (layers[k].filter_mar <= 0.0 && layers[k].filter_px <= 0.0) {
         lattice_filtered[entry] = centre;

@@ -29,10 +29,7 @@ layout(local_size_x = PLAN_WORKGROUP_SIZE) in;
 bool skips(uint k, ivec2 ij, uint mask_words) {
     if (fraction_traces(k, ij)) return false;
     ivec2 owner = fraction_owner(k, ij);
-    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
-    if (any(lessThan(owner, box_lo)) || any(greaterThan(owner, box_hi))) return false;
-    return traced_point(k, lattice_pixel(k, owner), mask_words);
+    return in_box(k, owner) && traced_point(k, lattice_pixel(k, owner), mask_words);
 }
 
 void main() {

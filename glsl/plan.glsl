@@ -100,14 +100,41 @@ uint lattice_index(uint k, ivec2 ij) {
          + uint(ij.x - layers[k].col_min);
 }
 
+// Layer k's lattice point of LATTICE entry `entry` (the inverse of lattice_index).
+ivec2 lattice_point(uint k, uint entry) {
+    uint local = entry - layers[k].first;
+    uint cols = layers[k].cols;
+    return ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
+}
+
+// A work list's item (plan.comp's encoding): its layer k (an index into LAYERS) and its
+// LATTICE entry.
+void work_item(uint item, out uint k, out uint entry) {
+    k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
+    entry = item & ((1u << WORK_LAYER_SHIFT) - 1u);
+}
+
+// The first and last of layer k's lattice points on the image and in the buffer's extent
+// (its box).
+ivec2 box_lo(uint k) {
+    return ivec2(layers[k].box_i0, layers[k].box_j0);
+}
+
+ivec2 box_hi(uint k) {
+    return box_lo(k) + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+}
+
+// Is lattice point ij in layer k's box?
+bool in_box(uint k, ivec2 ij) {
+    return all(greaterThanEqual(ij, box_lo(k))) && all(lessThanEqual(ij, box_hi(k)));
+}
+
 // Layer k's lattice point nearest pixel p, within the layer's box (temporal.comp takes a
 // pixel's surface from it, denoise.comp its albedo).
 ivec2 nearest_lattice_point(uint k, ivec2 p) {
-    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
     int spacing = layers[k].spacing;
     ivec2 rel = p - ivec2(layers[k].anchor_x, layers[k].anchor_y);
-    return clamp(floor_div(rel + spacing / 2, spacing), box_lo, box_hi);
+    return clamp(floor_div(rel + spacing / 2, spacing), box_lo(k), box_hi(k));
 }
 
 #endif

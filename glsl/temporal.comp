@@ -135,8 +135,8 @@ void main() {
     // every frame) has a point on the pixel: every shown point is traced. (Another layer may
     // trace the pixel too, in its margin; those samples are left out, which costs a little
     // noise, not bias: testing every layer per pixel cost more than it gained on lavapipe.)
-    ivec2 box_lo = ivec2(layers[k].box_i0, layers[k].box_j0);
-    ivec2 box_hi = box_lo + ivec2(layers[k].box_cols, layers[k].box_rows) - 1;
+    ivec2 box_first = box_lo(k);
+    ivec2 box_last = box_hi(k);
     // A fractional layer's points skipped this frame were filled from their neighbours
     // (lattice_fill.comp, alpha 0): they are no samples of the pixel's own.
     bool sparse = layers[k].spacing > 1 || layers[k].fraction > 1u;
@@ -167,7 +167,7 @@ void main() {
             float spread = 0.0;
             uvec2 kinds[9];
             for (int i = 0; i < 9; ++i) {
-                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_lo, box_hi));
+                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
                 vec3 v = lattice[entry].rgb;
                 lo = min(lo, v);
                 hi = max(hi, v);

@@ -69,11 +69,10 @@ void main() {
     uint block = pc.eye.index * STAT_COUNT; // each eye counts in its own block
     if (thread >= stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
     uint item = work[pc.eye.index * pc.eye.work_stride + thread];
-    uint k = eye_layer_base() + (item >> WORK_LAYER_SHIFT);
-    uint entry = item & ((1u << WORK_LAYER_SHIFT) - 1u); // the point's LATTICE index
-    uint local = entry - layers[k].first;
-    uint cols = layers[k].cols;
-    ivec2 ij = ivec2(layers[k].col_min + int(local % cols), layers[k].row_min + int(local / cols));
+    uint k;
+    uint entry; // the point's LATTICE index
+    work_item(item, k, entry);
+    ivec2 ij = lattice_point(k, entry);
     ivec2 pixel = lattice_pixel(k, ij);
     uint spp = layers[k].spp;
     if (PROFILE) {
