@@ -18,10 +18,11 @@
 // It filters the illumination: temporal.comp showed the frame divided by each pixel's albedo
 // and the last iteration multiplies it back (albedo.glsl), so textures stay sharp.
 //
-// DenoisePush says which iteration this is, which way it goes (PIXELS to DENOISE or back) and
-// whether it is the last.
+// DenoisePush says which iteration this is and whether it is the last. Iterations take turns
+// between the frame's pixels and the denoiser's buffer: each reads one (DENOISE_INPUT) and
+// writes the other (bound as DENOISE). The input and this frame's surfaces (DENOISE_SURFACES)
+// are read through texel views, for lavapipe's sake (bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
-#define READS_PIXELS
 #define PASS_PUSH DenoisePush
 #include "plan.glsl"
 #include "surface.glsl"
@@ -42,7 +43,12 @@ uint pixel_index(ivec2 p) {
 }
 
 vec4 read_input(ivec2 p) {
-    return pc.reads_denoise == 0u ? pixels[pixel_index(p)] : denoise_pixels[pixel_index(p)];
+    return uintBitsToFloat(texelFetch(denoise_input, int(pixel_index(p))));
+}
+
+// The surface at pixel p this frame (SURFACE_*: distance, normal, object, material).
+uvec4 read_surface(ivec2 p) {
+    return texelFetch(denoise_surfaces, int(pixel_index(p)));
 }
 
 // n^64 by squaring (pow is exp(log) per tap, which lavapipe pays per lane).
@@ -76,11 +82,7 @@ vec3 pixel_albedo(uint k, ivec2 p) {
 }
 
 void write_output(ivec2 p, vec4 c) {
-    if (pc.reads_denoise == 0u) {
-        denoise_pixels[pixel_index(p)] = c;
-    } else {
-        pixels[pixel_index(p)] = c;
-    }
+    denoise_pixels[pixel_index(p)] = c;
 }
 
 bool on_image(ivec2 q) {
@@ -104,10 +106,7 @@ void main() {
         write_output(p, vec4(centre.rgb * albedo, centre.a));
         return;
     }
-    // This frame's per-pixel surfaces: the history plane the temporal pass just wrote.
-    uint plane = 1u - ((pc.eye.history >> 1) & 1u);
-    uint surfaces = pc.eye.index * pc.eye.height * pc.eye.width;
-    uvec4 sp = history_surface_load(plane, surfaces + uint(p.y) * pc.eye.width + uint(p.x));
+    uvec4 sp = read_surface(p);
     vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
     float dp = uintBitsToFloat(sp.x);
 
@@ -135,7 +134,7 @@ void main() {
         for (int dx = -2; dx <= 2; ++dx) {
             ivec2 q = p + step * ivec2(dx, dy);
             if (!on_image(q)) continue;
-            uvec4 sq = history_surface_load(plane, surfaces + uint(q.y) * pc.eye.width + uint(q.x));
+            uvec4 sq = read_surface(q);
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
             vec3 c = read_input(q).rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];

@@ -46,7 +46,8 @@
                                    // belongs to (SURFACE_*), plane 0
 #define BINDING_HISTORY_VIEWS 20 // GpuHistoryView[]: per frame slot and eye (slot * STAT_EYES + eye)
 #define BINDING_DENOISE 21    // vec4[]: the denoiser's other buffer (it ping-pongs with PIXELS), in
-                              // PIXELS' layout
+                              // PIXELS' layout; what a denoise iteration writes (this buffer or
+                              // PIXELS, in turn)
 #define BINDING_HISTORY_1 22  // HISTORY's plane 1
 #define BINDING_HISTORY_SURFACE_1 23 // HISTORY_SURFACE's plane 1
 #define BINDING_SHADING 24   // GpuTriangleShading[] in TRIANGLES' order (a uniform texel buffer):
@@ -71,10 +72,14 @@
                                  // denoises: the albedo at the point's pixel centre that the
                                  // denoiser filters without (packUnorm4x8 of its square root;
                                  // 1 for the sky and for emitters)
-#define BINDING_COUNT 32
+#define BINDING_DENOISE_INPUT 32 // the denoiser's input this iteration (PIXELS or DENOISE) as
+                                 // RGBA32UI texels (a uniform texel buffer, like LATTICE_TEXELS)
+#define BINDING_DENOISE_SURFACES 33 // this frame's per-pixel surfaces (the HISTORY_SURFACE plane
+                                    // temporal just wrote) as RGBA32UI texels
+#define BINDING_COUNT 34
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 32
+#define BINDING_TLAS 34
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -343,7 +348,7 @@ struct DenoisePush {
     PushCamera cam;
     PushEye eye;
     uint iteration; // taps 2^iteration pixels apart
-    uint reads_denoise; // 0: reads PIXELS and writes DENOISE; 1: the other way round
+    uint pad0; // (which buffer an iteration reads and writes is in its bindings)
     uint last; // 1: the last iteration, which multiplies the albedo back (EyePush.albedo)
 };
 

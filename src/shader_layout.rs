@@ -188,8 +188,8 @@ pub struct DenoisePush {
     pub eye: PushEye,
     /// Taps 2^iteration pixels apart.
     pub iteration: u32,
-    /// 0: reads PIXELS, writes DENOISE; 1: the other way round.
-    pub reads_denoise: u32,
+    /// Which buffer an iteration reads and writes is in its bindings.
+    pub pad0: u32,
     /// 1: the last iteration, which multiplies the albedo back.
     pub last: u32,
 }

@@ -205,7 +205,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             cam,
             eye,
             iteration,
-            reads_denoise,
+            pad0,
             last
         }
     );

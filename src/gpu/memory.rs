@@ -247,14 +247,24 @@ pub struct TexelView {
 }
 
 impl TexelView {
+    /// A view of one of the scene's arrays.
     pub fn new(buffer: &Buffer, what: &str) -> Result<Self, GpuError> {
+        Self::with_fix(buffer, what, "simplify the scene (fewer or smaller meshes)")
+    }
+
+    /// A view of a buffer sized by the frame (pixels, lattice points).
+    pub fn of_frame(buffer: &Buffer, what: &str) -> Result<Self, GpuError> {
+        Self::with_fix(buffer, what, "use a smaller --width/--height")
+    }
+
+    fn with_fix(buffer: &Buffer, what: &str, fix: &str) -> Result<Self, GpuError> {
         let ctx = &buffer.ctx;
         let texels = buffer.size / 16;
         let limit = ctx.info.max_texel_buffer_elements;
         if texels > limit {
             return Err(GpuError::Limit(format!(
                 "{what}: {texels} 16-byte texels, more than this device's \
-                 maxTexelBufferElements ({limit}); simplify the scene (fewer or smaller meshes)"
+                 maxTexelBufferElements ({limit}); {fix}"
             )));
         }
         let info = vk::BufferViewCreateInfo::default()

@@ -13,7 +13,7 @@ use std::sync::Arc;
 /// The bindings that are storage images and those that are uniform texel buffers (see
 /// TexelView); all others are storage buffers.
 const IMAGE_BINDINGS: [u32; 3] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES, BINDING_DISPLAY];
-const TEXEL_BINDINGS: [u32; 8] = [
+const TEXEL_BINDINGS: [u32; 10] = [
     BINDING_NODES,
     BINDING_TRIANGLES,
     BINDING_SHADING,
@@ -22,6 +22,8 @@ const TEXEL_BINDINGS: [u32; 8] = [
     BINDING_EMITTERS,
     BINDING_LATTICE_TEXELS,
     BINDING_ENVIRONMENT,
+    BINDING_DENOISE_INPUT,
+    BINDING_DENOISE_SURFACES,
 ];
 
 fn descriptor_type(binding: u32) -> vk::DescriptorType {

@@ -74,13 +74,18 @@ pub struct History {
     /// BINDING_HISTORY(_1) and BINDING_HISTORY_SURFACE(_1): two planes of every eye's pixels.
     pub pixels: [Buffer; 2],
     pub surfaces: [Buffer; 2],
+    /// The surface planes as texels, which is how the denoiser reads the one temporal just
+    /// wrote (BINDING_DENOISE_SURFACES).
+    pub surface_texels: [TexelView; 2],
     /// BINDING_LATTICE_SURFACE: the surface at every lattice point traced this frame.
     pub lattice_surfaces: Buffer,
     /// BINDING_HISTORY_VIEWS: per frame slot and eye.
     pub views: Buffer,
     /// BINDING_DENOISE: the denoiser's second buffer of pixels (it ping-pongs with the
-    /// frame's).
+    /// frame's), and the same as texels, which is how the iteration after reads it
+    /// (BINDING_DENOISE_INPUT).
     pub denoise: Buffer,
+    pub denoise_texels: TexelView,
     /// BINDING_LATTICE_FILTERED: the lattice filter's values (in the lattice's layout), and
     /// the same as texels, which resolve then reads in place of the traced values.
     pub filtered: Buffer,
@@ -127,7 +132,29 @@ impl History {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
-        let filtered_texels = TexelView::new(&filtered, &plan[7].name)?;
+        let filtered_texels = TexelView::of_frame(&filtered, &plan[7].name)?;
+        // Read as texels by the denoiser.
+        let texel_buffer = |name: &str, bytes: u64, usage: vk::BufferUsageFlags| {
+            let buffer = Buffer::new(
+                ctx,
+                name,
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                    | usage,
+                MemoryLocation::GpuOnly,
+            )?;
+            let texels = TexelView::of_frame(&buffer, name)?;
+            Ok::<_, RenderError>((buffer, texels))
+        };
+        let none = vk::BufferUsageFlags::empty();
+        let (surfaces0, surface_texels0) = texel_buffer(&plan[2].name, plan[2].bytes, none)?;
+        let (surfaces1, surface_texels1) = texel_buffer(&plan[3].name, plan[3].bytes, none)?;
+        let (denoise, denoise_texels) = texel_buffer(
+            &plan[6].name,
+            plan[6].bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
         Ok(Self {
             key,
             settings,
@@ -135,10 +162,8 @@ impl History {
                 device(&plan[0].name, plan[0].bytes)?,
                 device(&plan[1].name, plan[1].bytes)?,
             ],
-            surfaces: [
-                device(&plan[2].name, plan[2].bytes)?,
-                device(&plan[3].name, plan[3].bytes)?,
-            ],
+            surfaces: [surfaces0, surfaces1],
+            surface_texels: [surface_texels0, surface_texels1],
             lattice_surfaces: device(&plan[4].name, plan[4].bytes)?,
             views: Buffer::new(
                 ctx,
@@ -147,13 +172,8 @@ impl History {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?,
-            denoise: Buffer::new(
-                ctx,
-                "denoiser pixels",
-                plan[6].bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::GpuOnly,
-            )?,
+            denoise,
+            denoise_texels,
             filtered,
             filtered_texels,
             lattice_albedos: device(&plan[8].name, plan[8].bytes)?,
@@ -172,6 +192,12 @@ impl History {
     /// The lattice shift's frame for the next frame.
     pub fn frame(&self) -> u32 {
         self.frame
+    }
+
+    /// The surface plane a frame with PushEye::history `push_word` writes (temporal writes
+    /// it, the denoiser reads it).
+    pub fn written_plane(push_word: u32) -> usize {
+        1 - ((push_word >> 1) & 1) as usize
     }
 
     /// PushEye::history of the next frame, submitted in frame slot `slot`.

@@ -285,26 +285,26 @@ impl FramePasses<'_> {
         };
         let t = self.targets;
         let groups = self.pixel_groups(1);
+        // Every eye's push has the same history word: one plane for the frame.
+        let surfaces = &h.surface_texels[History::written_plane(self.eyes[0].eye.history)];
         for i in 0..iterations {
-            let reads_denoise = i % 2;
-            let (from, into) = match reads_denoise {
-                0 => ((BINDING_PIXELS, &t.pixels), (BINDING_DENOISE, &h.denoise)),
-                _ => ((BINDING_DENOISE, &h.denoise), (BINDING_PIXELS, &t.pixels)),
+            let (from, into) = match i % 2 {
+                0 => (&t.pixels_texels, &h.denoise),
+                _ => (&h.denoise_texels, &t.pixels),
             };
             g.pass()
                 .reads(BINDING_LAYERS, &t.layers)
-                .reads(BINDING_HISTORY_SURFACE, &h.surfaces[0])
-                .reads(BINDING_HISTORY_SURFACE_1, &h.surfaces[1])
+                .reads(BINDING_DENOISE_SURFACES, surfaces)
                 .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
-                .reads(from.0, from.1)
-                .writes(into.0, into.1)
+                .reads(BINDING_DENOISE_INPUT, from)
+                .writes(BINDING_DENOISE, into)
                 .record(|r| {
                     for (e, push) in self.eyes.iter().enumerate() {
                         let push = DenoisePush {
                             cam: push.cam,
                             eye: push.eye,
                             iteration: i,
-                            reads_denoise,
+                            pad0: 0,
                             last: (i + 1 == iterations) as u32,
                         };
                         r.dispatch(&self.name(e, "denoise"), pipeline, &push, groups);

@@ -37,6 +37,8 @@ pub struct FrameTargets {
     pub work: Buffer,
     /// The resolved frame: RGBA f32, eye after eye, rows of `key.width` (BINDING_PIXELS).
     pub pixels: Buffer,
+    /// The same as texels, which is how the denoiser reads them (BINDING_DENOISE_INPUT).
+    pub pixels_texels: TexelView,
     /// The frame as an image, eyes side by side, when `key.image`: copied from `pixels` at
     /// the end of every frame.
     pub output: Option<StorageImage>,
@@ -151,7 +153,7 @@ impl FrameTargets {
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let lattice_texels = TexelView::new(&lattice, "lattice values")?;
+        let lattice_texels = TexelView::of_frame(&lattice, "lattice values")?;
         let work = Buffer::new(
             ctx,
             "work lists",
@@ -165,10 +167,12 @@ impl FrameTargets {
             eyes * key.width as u64 * key.height as u64 * 16,
             // TRANSFER_DST: the denoiser's last iteration may be copied back into it.
             vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_SRC
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
+        let pixels_texels = TexelView::of_frame(&pixels, "frame pixels")?;
         let output = match key.image {
             true => Some(StorageImage::new(
                 ctx,
@@ -187,6 +191,7 @@ impl FrameTargets {
             lattice_texels,
             work,
             pixels,
+            pixels_texels,
             output,
             layers,
             plan_dispatch,
@@ -197,7 +202,7 @@ impl FrameTargets {
     /// Puts `lattice` (made with UNIFORM_TEXEL_BUFFER usage) in place of the lattice values,
     /// and its texel view in place of theirs.
     pub fn replace_lattice(&mut self, lattice: Buffer) -> Result<(), RenderError> {
-        self.lattice_texels = TexelView::new(&lattice, "lattice values")?;
+        self.lattice_texels = TexelView::of_frame(&lattice, "lattice values")?;
         self.lattice = lattice;
         Ok(())
     }
