@@ -197,28 +197,22 @@ layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) buffer LatticeAlbedoBu
 layout(std430, set = 0, binding = BINDING_LATTICE_SURFACE) readonly buffer LatticeSurfaceBuf { uvec4 lattice_surface[]; };
 layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) readonly buffer LatticeAlbedoBuf { uint lattice_albedo[]; };
 #endif
-layout(std430, set = 0, binding = BINDING_HISTORY) buffer HistoryBuf0 { vec4 history0[]; };
-layout(std430, set = 0, binding = BINDING_HISTORY_1) buffer HistoryBuf1 { vec4 history1[]; };
-layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) buffer HistorySurfaceBuf0 { uvec4 history_surface0[]; };
-layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE_1) buffer HistorySurfaceBuf1 { uvec4 history_surface1[]; };
-// A history plane's pixel i (the plane is the same for every invocation of a dispatch).
-vec4 history_load(uint plane, uint i) { return plane == 0u ? history0[i] : history1[i]; }
-uvec4 history_surface_load(uint plane, uint i) { return plane == 0u ? history_surface0[i] : history_surface1[i]; }
-void history_store(uint plane, uint i, vec4 v, uvec4 surface) {
-    if (plane == 0u) {
-        history0[i] = v;
-        history_surface0[i] = surface;
-    } else {
-        history1[i] = v;
-        history_surface1[i] = surface;
-    }
-}
+layout(std430, set = 0, binding = BINDING_HISTORY) writeonly buffer HistoryBuf { vec4 history_out[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) writeonly buffer HistorySurfaceBuf { uvec4 history_surface_out[]; };
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
-// What the denoiser reads, through texel views: its 25 taps and 9 neighbours per pixel are
-// one vector load each on lavapipe, where a storage buffer's vec4 is four bounds-checked
-// scalar loads (three iterations at 720x800, cornell: 559 ms before, 299 after).
+// What temporal and the denoiser read, through texel views: on lavapipe a texel is one vector
+// load per lane, where a storage buffer's vec4 is four bounds-checked scalar loads (the
+// denoiser's three iterations at 720x800, cornell: 559 ms before, 299 after).
+layout(set = 0, binding = BINDING_HISTORY_TEXELS) uniform utextureBuffer history_texels;
+layout(set = 0, binding = BINDING_SURFACE_TEXELS) uniform utextureBuffer surface_texels;
+layout(set = 0, binding = BINDING_LATTICE_SURFACE_TEXELS) uniform utextureBuffer lattice_surface_texels;
 layout(set = 0, binding = BINDING_DENOISE_INPUT) uniform utextureBuffer denoise_input;
-layout(set = 0, binding = BINDING_DENOISE_SURFACES) uniform utextureBuffer denoise_surfaces;
+// The frame before's history at pixel index i, and its surface (temporal); this frame's
+// surface at i once temporal has written it (the denoiser).
+vec4 history_before(uint i) { return uintBitsToFloat(texelFetch(history_texels, int(i))); }
+uvec4 pixel_surface(uint i) { return texelFetch(surface_texels, int(i)); }
+// The surface at lattice entry i.
+uvec4 lattice_surface_at(uint i) { return texelFetch(lattice_surface_texels, int(i)); }
 #ifdef WRITES_LATTICE_FILTERED
 layout(std430, set = 0, binding = BINDING_LATTICE_FILTERED) writeonly buffer LatticeFilteredBuf { vec4 lattice_filtered[]; };
 #else

@@ -20,7 +20,7 @@
 //
 // DenoisePush says which iteration this is and whether it is the last. Iterations take turns
 // between the frame's pixels and the denoiser's buffer: each reads one (DENOISE_INPUT) and
-// writes the other (bound as DENOISE). The input and this frame's surfaces (DENOISE_SURFACES)
+// writes the other (bound as DENOISE). The input and this frame's surfaces (SURFACE_TEXELS)
 // are read through texel views, for lavapipe's sake (bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
 #define PASS_PUSH DenoisePush
@@ -48,7 +48,7 @@ vec4 read_input(ivec2 p) {
 
 // The surface at pixel p this frame (SURFACE_*: distance, normal, object, material).
 uvec4 read_surface(ivec2 p) {
-    return texelFetch(denoise_surfaces, int(pixel_index(p)));
+    return pixel_surface(pixel_index(p));
 }
 
 // n^64 by squaring (pow is exp(log) per tap, which lavapipe pays per lane).

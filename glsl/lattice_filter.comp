@@ -126,7 +126,7 @@ void main() {
     ivec2 pixel = l.anchor + ij * l.spacing;
     vec3 u = tan_direction(l.region.tan_map.xy + vec2(pixel) * l.region.tan_map.zw);
     float width = width_in_steps(l, k, pixel, u);
-    uvec4 sp = lattice_surface[entry];
+    uvec4 sp = lattice_surface_at(entry);
     float dp = uintBitsToFloat(sp.x);
     // A point that sees the sky is copied too: its rays that leave the scene see the
     // environment itself, without noise, so filtering would only blur the environment and
@@ -165,7 +165,7 @@ void main() {
             ivec2 q = ij + ivec2(dx, dy);
             if (!traced(l, q)) continue;
             uint e = index_of(l, q);
-            uvec4 sq = lattice_surface[e];
+            uvec4 sq = lattice_surface_at(e);
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface (or the sky)
             vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
             float dq = uintBitsToFloat(sq.x);

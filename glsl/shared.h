@@ -37,19 +37,22 @@
 // history is off, so nothing binds them then.
 #define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
                                    // on: the surface at the point's pixel centre (SURFACE_*)
-#define BINDING_HISTORY 18     // vec4[]: history plane 0 (frames take turns reading one plane and
-                               // writing the other, PushEye.history): per eye and pixel, rgb
-                               // the mean of the pixel's own traced samples, w their count; at
-                               // (eye * height + y) * width + x. Two bindings, not one buffer of two
+#define BINDING_HISTORY 18     // vec4[]: the history plane this frame writes (History keeps two:
+                               // frames take turns reading one and writing the other, and
+                               // PushEye.history says which): per eye and pixel, rgb the mean of
+                               // the pixel's own traced samples, w their count; at
+                               // (eye * height + y) * width + x. Two buffers, not one of two
                                // planes: maxStorageBufferRange is 128 MiB on lavapipe
 #define BINDING_HISTORY_SURFACE 19 // uvec4[] in HISTORY's layout: the surface a pixel's history
-                                   // belongs to (SURFACE_*), plane 0
+                                   // belongs to (SURFACE_*), the plane this frame writes
 #define BINDING_HISTORY_VIEWS 20 // GpuHistoryView[]: per frame slot and eye (slot * STAT_EYES + eye)
 #define BINDING_DENOISE 21    // vec4[]: the denoiser's other buffer (it ping-pongs with PIXELS), in
                               // PIXELS' layout; what a denoise iteration writes (this buffer or
                               // PIXELS, in turn)
-#define BINDING_HISTORY_1 22  // HISTORY's plane 1
-#define BINDING_HISTORY_SURFACE_1 23 // HISTORY_SURFACE's plane 1
+#define BINDING_HISTORY_TEXELS 22 // the history plane the frame before wrote, which temporal reads,
+                                  // as RGBA32UI texels (uniform texel buffers, like LATTICE_TEXELS)
+#define BINDING_SURFACE_TEXELS 23 // a HISTORY_SURFACE plane as RGBA32UI texels: the frame before's
+                                  // (temporal reads it) or this frame's (the denoiser)
 #define BINDING_SHADING 24   // GpuTriangleShading[] in TRIANGLES' order (a uniform texel buffer):
                              // what shading interpolates across a triangle; empty (and never
                              // read, SPEC_HAS_SHADING off) when no mesh has such attributes
@@ -74,8 +77,8 @@
                                  // 1 for the sky and for emitters)
 #define BINDING_DENOISE_INPUT 32 // the denoiser's input this iteration (PIXELS or DENOISE) as
                                  // RGBA32UI texels (a uniform texel buffer, like LATTICE_TEXELS)
-#define BINDING_DENOISE_SURFACES 33 // this frame's per-pixel surfaces (the HISTORY_SURFACE plane
-                                    // temporal just wrote) as RGBA32UI texels
+#define BINDING_LATTICE_SURFACE_TEXELS 33 // LATTICE_SURFACE as RGBA32UI texels: what temporal and
+                                          // the lattice filter read
 #define BINDING_COUNT 34
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.

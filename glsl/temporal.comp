@@ -19,7 +19,10 @@
 // that the periphery does not show a fresh noisy fill every frame.
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
-// like resolve.comp.
+// like resolve.comp, except that it reads through texel views (the lattice's values and
+// surfaces, the frame before's history: bindings.glsl). The host binds the plane the frame
+// before wrote as HISTORY_TEXELS and SURFACE_TEXELS, the other as HISTORY and
+// HISTORY_SURFACE, which this frame writes.
 #extension GL_GOOGLE_include_directive : require
 #define READS_PIXELS
 #define PASS_PUSH EyePush
@@ -91,6 +94,16 @@ uint history_index(ivec2 p) {
     return eye_pixel_index(p);
 }
 
+// Lattice entry i's traced value (a: 1 traced, 0 filled by lattice_fill.comp).
+vec4 lattice_value(uint i) {
+    return uintBitsToFloat(texelFetch(lattice_texels, int(i)));
+}
+
+void history_store(uint i, vec4 v, uvec4 surface) {
+    history_out[i] = v;
+    history_surface_out[i] = surface;
+}
+
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
 // of its left, right, up and down edges), as trace.comp's camera_ray makes it.
 vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
@@ -115,8 +128,6 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= int(pc.eye.width) || p.y >= int(pc.eye.height)) return;
     uint base = eye_layer_base();
-    uint read_plane = (pc.eye.history >> 1) & 1u;
-    uint write_plane = 1u - read_plane;
     GpuHistoryView view = history_views[(pc.eye.history >> 2) * STAT_EYES + pc.eye.index];
     uint out_index = eye_pixel_index(p);
     uint mask_words = visibility[0];
@@ -124,7 +135,7 @@ void main() {
     bool shown = within_angle(u, vec3(0.0, 0.0, 1.0), layers[base].resolve_cos.z)
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
-        history_store(write_plane, history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
+        history_store(history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
         return;
     }
 
@@ -142,11 +153,11 @@ void main() {
     bool sparse = layers[k].spacing > 1 || layers[k].fraction > 1u;
     ivec2 nearest = nearest_lattice_point(k, p);
     uint own_entry = lattice_index(k, nearest);
-    bool own_here = lattice_pixel(k, nearest) == p && lattice[own_entry].a > 0.5;
+    bool own_here = lattice_pixel(k, nearest) == p && lattice_value(own_entry).a > 0.5;
     uint own_spp = own_here ? layers[k].spp : 0u;
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
     uint surface_entry = own_entry;
-    uvec4 now_packed = lattice_surface[surface_entry];
+    uvec4 now_packed = lattice_surface_at(surface_entry);
     Surface now = decode(now_packed);
 
     // The history carried into this frame: the earlier frame's pixel at the same scene point.
@@ -155,8 +166,8 @@ void main() {
     if (view.valid != 0u) {
         if (view.moved == 0u) {
             // Standing still: the same pixel, whole (no resampling, no test: nothing moved).
-            carried = history_load(read_plane, history_index(p));
-            carried_packed = history_surface_load(read_plane, history_index(p));
+            carried = history_before(history_index(p));
+            carried_packed = pixel_surface(history_index(p));
         } else {
             // This frame's 3x3 nearest lattice points around the pixel: the range of their
             // radiance (the clamp below), whether another surface is among them (an edge), and
@@ -168,10 +179,10 @@ void main() {
             uvec2 kinds[9];
             for (int i = 0; i < 9; ++i) {
                 uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
-                vec3 v = lattice[entry].rgb;
+                vec3 v = lattice_value(entry).rgb;
                 lo = min(lo, v);
                 hi = max(hi, v);
-                Surface s = decode(lattice_surface[entry]);
+                Surface s = decode(lattice_surface_at(entry));
                 kinds[i] = uvec2(s.object, s.material);
                 bool other = s.object != now.object || s.material != now.material;
                 edge = edge || other;
@@ -194,8 +205,8 @@ void main() {
                     ivec2 t = t0 + ivec2(i & 1, i >> 1);
                     if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.eye.width) || t.y >= int(pc.eye.height)) continue;
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
-                    vec4 h = history_load(read_plane, history_index(t));
-                    uvec4 hs = history_surface_load(read_plane, history_index(t));
+                    vec4 h = history_before(history_index(t));
+                    uvec4 hs = pixel_surface(history_index(t));
                     bool near = false;
                     for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
                     if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, sparse, spread, near)) continue;
@@ -229,7 +240,7 @@ void main() {
     uvec4 surface = n > 0.0 ? carried_packed : now_packed;
     vec3 spatial = pixels[out_index].rgb;
     if (own_spp > 0u) {
-        vec3 own = lattice[own_entry].rgb;
+        vec3 own = lattice_value(own_entry).rgb;
         mean = (mean * n + own * float(own_spp)) / (n + float(own_spp));
         n += float(own_spp);
         surface = now_packed;
@@ -246,7 +257,7 @@ void main() {
         n += w;
         if (carried.w <= 0.0) surface = now_packed;
     }
-    history_store(write_plane, history_index(p), vec4(mean, n), surface);
+    history_store(history_index(p), vec4(mean, n), surface);
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
     // the shown layer's spp, halving with every spp-worth of samples the pixel has. Where the

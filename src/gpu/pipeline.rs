@@ -13,7 +13,7 @@ use std::sync::Arc;
 /// The bindings that are storage images and those that are uniform texel buffers (see
 /// TexelView); all others are storage buffers.
 const IMAGE_BINDINGS: [u32; 3] = [BINDING_OUTPUT, BINDING_LAYER_IMAGES, BINDING_DISPLAY];
-const TEXEL_BINDINGS: [u32; 10] = [
+const TEXEL_BINDINGS: [u32; 12] = [
     BINDING_NODES,
     BINDING_TRIANGLES,
     BINDING_SHADING,
@@ -23,7 +23,9 @@ const TEXEL_BINDINGS: [u32; 10] = [
     BINDING_LATTICE_TEXELS,
     BINDING_ENVIRONMENT,
     BINDING_DENOISE_INPUT,
-    BINDING_DENOISE_SURFACES,
+    BINDING_HISTORY_TEXELS,
+    BINDING_SURFACE_TEXELS,
+    BINDING_LATTICE_SURFACE_TEXELS,
 ];
 
 fn descriptor_type(binding: u32) -> vk::DescriptorType {

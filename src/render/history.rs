@@ -71,14 +71,19 @@ fn views_bytes() -> u64 {
 pub struct History {
     pub key: HistoryKey,
     pub settings: TemporalSettings,
-    /// BINDING_HISTORY(_1) and BINDING_HISTORY_SURFACE(_1): two planes of every eye's pixels.
+    /// Two planes of every eye's pixels' history and surfaces: a frame writes one
+    /// (BINDING_HISTORY, BINDING_HISTORY_SURFACE) and reads the other as texels
+    /// (BINDING_HISTORY_TEXELS, BINDING_SURFACE_TEXELS); the denoiser reads the surfaces it
+    /// wrote as texels.
     pub pixels: [Buffer; 2],
+    pub pixel_texels: [TexelView; 2],
     pub surfaces: [Buffer; 2],
-    /// The surface planes as texels, which is how the denoiser reads the one temporal just
-    /// wrote (BINDING_DENOISE_SURFACES).
     pub surface_texels: [TexelView; 2],
-    /// BINDING_LATTICE_SURFACE: the surface at every lattice point traced this frame.
+    /// BINDING_LATTICE_SURFACE: the surface at every lattice point traced this frame, and the
+    /// same as texels, which is how temporal and the lattice filter read them
+    /// (BINDING_LATTICE_SURFACE_TEXELS).
     pub lattice_surfaces: Buffer,
+    pub lattice_surface_texels: TexelView,
     /// BINDING_HISTORY_VIEWS: per frame slot and eye.
     pub views: Buffer,
     /// BINDING_DENOISE: the denoiser's second buffer of pixels (it ping-pongs with the
@@ -148,8 +153,12 @@ impl History {
             Ok::<_, RenderError>((buffer, texels))
         };
         let none = vk::BufferUsageFlags::empty();
+        let (pixels0, pixel_texels0) = texel_buffer(&plan[0].name, plan[0].bytes, none)?;
+        let (pixels1, pixel_texels1) = texel_buffer(&plan[1].name, plan[1].bytes, none)?;
         let (surfaces0, surface_texels0) = texel_buffer(&plan[2].name, plan[2].bytes, none)?;
         let (surfaces1, surface_texels1) = texel_buffer(&plan[3].name, plan[3].bytes, none)?;
+        let (lattice_surfaces, lattice_surface_texels) =
+            texel_buffer(&plan[4].name, plan[4].bytes, none)?;
         let (denoise, denoise_texels) = texel_buffer(
             &plan[6].name,
             plan[6].bytes,
@@ -158,13 +167,12 @@ impl History {
         Ok(Self {
             key,
             settings,
-            pixels: [
-                device(&plan[0].name, plan[0].bytes)?,
-                device(&plan[1].name, plan[1].bytes)?,
-            ],
+            pixels: [pixels0, pixels1],
+            pixel_texels: [pixel_texels0, pixel_texels1],
             surfaces: [surfaces0, surfaces1],
             surface_texels: [surface_texels0, surface_texels1],
-            lattice_surfaces: device(&plan[4].name, plan[4].bytes)?,
+            lattice_surfaces,
+            lattice_surface_texels,
             views: Buffer::new(
                 ctx,
                 "history views",
@@ -194,10 +202,14 @@ impl History {
         self.frame
     }
 
-    /// The surface plane a frame with PushEye::history `push_word` writes (temporal writes
-    /// it, the denoiser reads it).
+    /// The plane a frame with PushEye::history `push_word` reads (the frame before wrote it),
+    /// and the one it writes (temporal writes it, the denoiser reads its surfaces).
+    pub fn read_plane(push_word: u32) -> usize {
+        ((push_word >> 1) & 1) as usize
+    }
+
     pub fn written_plane(push_word: u32) -> usize {
-        1 - ((push_word >> 1) & 1) as usize
+        1 - Self::read_plane(push_word)
     }
 
     /// PushEye::history of the next frame, submitted in frame slot `slot`.

@@ -219,7 +219,7 @@ impl FramePasses<'_> {
             .reads(BINDING_LAYERS, &t.layers)
             .reads(BINDING_VISIBILITY, self.visibility)
             .reads(BINDING_LATTICE_TEXELS, &t.lattice_texels)
-            .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+            .reads(BINDING_LATTICE_SURFACE_TEXELS, &h.lattice_surface_texels)
             .reads(BINDING_STATS, stats)
             .writes(BINDING_LATTICE_FILTERED, &h.filtered)
             .indirect_args(stats)
@@ -256,19 +256,22 @@ impl FramePasses<'_> {
         };
         let t = self.targets;
         let groups = self.pixel_groups(1);
+        // Every eye's push has the same history word: one plane read, the other written.
+        let word = self.eyes[0].eye.history;
+        let (read, written) = (History::read_plane(word), History::written_plane(word));
         g.pass()
-            .reads(BINDING_LATTICE, &t.lattice)
+            .reads(BINDING_LATTICE_TEXELS, &t.lattice_texels)
             .reads(BINDING_LAYERS, &t.layers)
             .reads(BINDING_VISIBILITY, self.visibility)
-            .reads(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
+            .reads(BINDING_LATTICE_SURFACE_TEXELS, &h.lattice_surface_texels)
             .reads(BINDING_LATTICE_FILTERED, &h.filtered)
             .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
             .reads(BINDING_HISTORY_VIEWS, &h.views)
+            .reads(BINDING_HISTORY_TEXELS, &h.pixel_texels[read])
+            .reads(BINDING_SURFACE_TEXELS, &h.surface_texels[read])
             .reads_writes(BINDING_PIXELS, &t.pixels)
-            .reads_writes(BINDING_HISTORY, &h.pixels[0])
-            .reads_writes(BINDING_HISTORY_1, &h.pixels[1])
-            .reads_writes(BINDING_HISTORY_SURFACE, &h.surfaces[0])
-            .reads_writes(BINDING_HISTORY_SURFACE_1, &h.surfaces[1])
+            .writes(BINDING_HISTORY, &h.pixels[written])
+            .writes(BINDING_HISTORY_SURFACE, &h.surfaces[written])
             .record(|r| {
                 for (e, push) in self.eyes.iter().enumerate() {
                     r.dispatch(&self.name(e, "temporal"), pipeline, push, groups);
@@ -294,7 +297,7 @@ impl FramePasses<'_> {
             };
             g.pass()
                 .reads(BINDING_LAYERS, &t.layers)
-                .reads(BINDING_DENOISE_SURFACES, surfaces)
+                .reads(BINDING_SURFACE_TEXELS, surfaces)
                 .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
                 .reads(BINDING_DENOISE_INPUT, from)
                 .writes(BINDING_DENOISE, into)
