@@ -402,6 +402,19 @@ fn a_camera_path_renders_one_frame_per_row_and_bad_paths_say_what_is_wrong() {
         }
     }
     assert!(!out.join("frame_0003.png").exists());
+    assert!(!text.contains("gpu pass"), "{text}");
+    // --pass-times: every frame's passes after its line, history's among them.
+    let (ok, text) = render(&[
+        "--camera-path",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--pass-times",
+    ]);
+    assert!(ok, "{text}");
+    for pass in ["gpu pass trace:", "gpu pass resolve:", "gpu pass temporal:"] {
+        assert_eq!(text.matches(pass).count(), 3, "{pass}\n{text}");
+    }
     let (ok, text) = render(&[
         "--camera-path",
         path.to_str().unwrap(),

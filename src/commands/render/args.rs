@@ -127,6 +127,10 @@ pub struct SequenceArgs {
     #[arg(long, default_value_t = TemporalSettings::default().cap, requires = "camera_path",
           value_parser = whole_number("a number of samples, 1 or more".into()))]
     pub temporal_cap: u32,
+    /// With --camera-path: after each frame's line, its GPU time per pass (timestamp
+    /// queries), as a single frame prints them.
+    #[arg(long, requires = "camera_path")]
+    pub pass_times: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

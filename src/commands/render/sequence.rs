@@ -93,6 +93,11 @@ pub fn run(
             s.paths,
             file.display()
         );
+        if args.sequence.pass_times {
+            for (pass, ms) in &s.pass_ms {
+                println!("  gpu pass {pass}: {ms:.2} ms");
+            }
+        }
     }
     drop(renderer);
     check_validation(ctx)?;
