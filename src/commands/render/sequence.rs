@@ -9,10 +9,10 @@ use anyhow::{bail, Context, Result};
 use fovea::foveation::{FoveationConfig, GazeTrace, TraceReplay};
 use fovea::gpu::GpuContext;
 use fovea::render::accumulate::frame_seed;
-use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, output, DebugView, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
+use fovea::render::{FrameOptions, FrameStats};
 use fovea::scene::{self, CameraPath};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -78,26 +78,7 @@ pub fn run(
         output::write_frame(&frame, &file, &display)?;
         let s = &frame.stats;
         overflows += s.stack_overflows;
-        // What history and denoising cost of the frame's GPU time.
-        let ms_of = |pass: &str| -> f64 {
-            s.pass_ms
-                .iter()
-                .filter(|(name, _)| name.ends_with(pass))
-                .fold(0.0, |sum, (_, ms)| sum + ms)
-        };
-        println!(
-            "frame {k}: {:.2} ms GPU (temporal {:.2}, denoise {:.2}), {} samples, wrote {}",
-            s.gpu_ms(),
-            ms_of("temporal"),
-            ms_of("denoise"),
-            s.paths,
-            file.display()
-        );
-        if args.sequence.pass_times {
-            for (pass, ms) in &s.pass_ms {
-                println!("  gpu pass {pass}: {ms:.2} ms");
-            }
-        }
+        print_frame(k, s, &file, args.sequence.pass_times);
     }
     drop(renderer);
     check_validation(ctx)?;
@@ -105,4 +86,28 @@ pub fn run(
         bail!("{overflows} BVH traversals overflowed their stack: frames are missing geometry");
     }
     Ok(())
+}
+
+/// Frame k's line: its GPU time, what history and denoising cost of it, its samples and its
+/// file; with `pass_times`, every pass's time after it.
+fn print_frame(k: usize, s: &FrameStats, file: &Path, pass_times: bool) {
+    let ms_of = |pass: &str| -> f64 {
+        s.pass_ms
+            .iter()
+            .filter(|(name, _)| name.ends_with(pass))
+            .fold(0.0, |sum, (_, ms)| sum + ms)
+    };
+    println!(
+        "frame {k}: {:.2} ms GPU (temporal {:.2}, denoise {:.2}), {} samples, wrote {}",
+        s.gpu_ms(),
+        ms_of("temporal"),
+        ms_of("denoise"),
+        s.paths,
+        file.display()
+    );
+    if pass_times {
+        for (pass, ms) in &s.pass_ms {
+            println!("  gpu pass {pass}: {ms:.2} ms");
+        }
+    }
 }
