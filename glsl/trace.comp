@@ -63,78 +63,118 @@ uvec4 centre_surface(ivec2 p, float pixel_angle, inout uint overflows, out vec3 
     return uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(n)), h.object, load_object_ids(h.object).y);
 }
 
-void main() {
-    uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
-                + gl_GlobalInvocationID.x;
-    uint block = pc.eye.index * STAT_COUNT; // each eye counts in its own block
-    if (thread >= stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
-    uint item = work[pc.eye.index * pc.eye.work_stride + thread];
-    uint k;
-    uint entry; // the point's LATTICE index
-    work_item(item, k, entry);
-    ivec2 ij = lattice_point(k, entry);
-    ivec2 pixel = lattice_pixel(k, ij);
-    uint spp = layers[k].spp;
-    if (PROFILE) {
-        for (uint c = 0u; c < PROFILE_COUNTERS; ++c) profile_counts[c] = 0u;
-    }
+// Each lane's share of its point: the samples it traced summed in order, and its counts.
+struct LaneSum {
+    vec3 sum;
+    uint rays;
+    uint nonfinite;
+    uint overflows;
+};
 
+// The lane's samples of layer k's point at `pixel`: s = part, part + TRACE_SPLIT, ... < spp.
+// One path at a time per invocation, the next sample's started as soon as one ends (see
+// Path): sample s's random numbers and camera ray are the same as in a loop over samples,
+// and the samples are summed in the same order, so the image is too.
+LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, float pixel_angle) {
+    LaneSum r = LaneSum(vec3(0.0), 0u, 0u, 0u);
     uint pixel_index = uint(pixel.y) * pc.eye.width + uint(pixel.x);
     uint seed = pc.eye.seed + pc.eye.index * 0x9E3779B9u; // eye 0 keeps the user's seed
-    vec3 sum = vec3(0.0);
-    uint rays = 0u;
-    uint nonfinite = 0u;
-    uint overflows = 0u;
-    // One path at a time per invocation, the next sample's started as soon as one ends (see
-    // Path): sample s's random numbers and camera ray are the same as in a loop over samples,
-    // and the samples are summed in the same order, so the image is too.
-    uint s = 0u;
     // The sampler's point: the pixel in units of the spacing (floored; the offset keeps the
     // margin's negative pixels apart), so a spacing-1 layer numbers pixels as a regular frame.
     uint spacing = uint(layers[k].spacing);
     ivec2 point = ivec2(uvec2(pixel + 4096 * layers[k].spacing) / spacing);
     SamplerPoint sampled = sampler_point(point, spacing, pixel_index, spp, seed);
-    Sampler smp = sampler_start(sampled, 0u);
-    // The pixel's angular height at the image centre, times the layer's lattice spacing.
-    float pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
+    // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer), and a
+    // lane with no sample of its point's: the loop must not depend on a path ending to end.
+    uint s = part;
+    if (s >= spp) return r;
+    Sampler smp = sampler_start(sampled, s);
     Path path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
     bool overflow = false;
-    // `s < spp` also ends at once a layer whose spp reads 0 (a corrupt layer buffer): the loop
-    // must not depend on a path ending to end.
     while (s < spp) {
         if (INTEGRATOR == INTEGRATOR_SEED) {
-            seed_step(path, smp, rays, overflow);
+            seed_step(path, smp, r.rays, overflow);
         } else {
-            pt_step(path, smp, rays, overflow);
+            pt_step(path, smp, r.rays, overflow);
         }
         if (!path.done) continue;
-        if (overflow) overflows++;
+        if (overflow) r.overflows++;
         // A non-finite sample is dropped (counted as black) and reported, never written.
         if (any(isnan(path.L)) || any(isinf(path.L))) {
-            nonfinite++;
+            r.nonfinite++;
         } else {
-            sum += path.L;
+            r.sum += path.L;
         }
-        if (++s == spp) break;
+        s += TRACE_SPLIT;
+        if (s >= spp) break;
         smp = sampler_start(sampled, s);
         path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
         overflow = false;
     }
-    lattice[entry] = vec4(sum / float(spp), 1.0);
-#ifdef KEEPS_SURFACES
-    // History on: the surface at the point's pixel centre, which temporal.comp reprojects
-    // and tests history against, and its albedo while a layer denoises. One more camera ray
-    // (counted), traced after the samples.
-    rays++;
-    vec3 albedo;
-    lattice_surface[entry] = centre_surface(pixel, pixel_angle, overflows, albedo);
-    if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(albedo);
-#endif
-    if (nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], nonfinite);
-    if (overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], overflows);
-    atomicAdd(stats[block + STAT_PATHS], spp);
-    atomicAdd(stats[block + STAT_RAYS], rays);
+    return r;
+}
+
+// With TRACE_SPLIT > 1, each lane's sum, which the point's first lane adds up in lane order.
+shared vec3 lane_sums[TRACE_WORKGROUP_SIZE];
+
+void main() {
+    uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
+                + gl_GlobalInvocationID.x;
+    uint block = pc.eye.index * STAT_COUNT; // each eye counts in its own block
+    // TRACE_SPLIT lanes per point, side by side in one workgroup (a power of two that
+    // divides its size): one point's samples spread over as many threads, so that a sparse
+    // or small layer still fills a GPU. On a CPU driver it is 1 (renderer.rs says why).
+    uint part = thread % TRACE_SPLIT;
+    uint index = thread / TRACE_SPLIT;
+    bool listed = index < stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT];
+    // With one lane per point no lane waits at the barrier below, so the past-the-end ones
+    // may leave now; with more, every lane of the workgroup must reach it.
+    if (TRACE_SPLIT == 1u && !listed) return;
     if (PROFILE) {
+        for (uint c = 0u; c < PROFILE_COUNTERS; ++c) profile_counts[c] = 0u;
+    }
+    uint k = 0u;
+    uint entry = 0u; // the point's LATTICE index
+    ivec2 pixel = ivec2(0);
+    uint spp = 0u;
+    float pixel_angle = 0.0;
+    LaneSum r = LaneSum(vec3(0.0), 0u, 0u, 0u);
+    if (listed) {
+        uint item = work[pc.eye.index * pc.eye.work_stride + index];
+        work_item(item, k, entry);
+        pixel = lattice_pixel(k, lattice_point(k, entry));
+        spp = layers[k].spp;
+        // The pixel's angular height at the image centre, times the layer's lattice spacing.
+        pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
+        r = trace_samples(k, pixel, spp, part, pixel_angle);
+    }
+    vec3 sum = r.sum;
+    if (TRACE_SPLIT > 1u) {
+        uint lane = gl_LocalInvocationID.x;
+        lane_sums[lane] = r.sum;
+        barrier();
+        // In lane order, from zero: with spp <= TRACE_SPLIT the same additions as one lane's
+        // loop (sample s is lane s's), so the same bits.
+        sum = vec3(0.0);
+        for (uint p = 0u; p < TRACE_SPLIT; ++p) sum += lane_sums[lane - part + p];
+    }
+    if (listed && part == 0u) {
+        lattice[entry] = vec4(sum / float(spp), 1.0);
+#ifdef KEEPS_SURFACES
+        // History on: the surface at the point's pixel centre, which temporal.comp
+        // reprojects and tests history against, and its albedo while a layer denoises. One
+        // more camera ray (counted), traced after the samples.
+        r.rays++;
+        vec3 albedo;
+        lattice_surface[entry] = centre_surface(pixel, pixel_angle, r.overflows, albedo);
+        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(albedo);
+#endif
+        atomicAdd(stats[block + STAT_PATHS], spp);
+    }
+    if (r.nonfinite > 0u) atomicAdd(stats[block + STAT_NONFINITE], r.nonfinite);
+    if (r.overflows > 0u) atomicAdd(stats[block + STAT_STACK_OVERFLOW], r.overflows);
+    if (r.rays > 0u) atomicAdd(stats[block + STAT_RAYS], r.rays);
+    if (PROFILE && listed) {
         for (uint c = 0u; c < PROFILE_COUNTERS; ++c) {
             add_64(STAT_PROFILE + (pc.eye.index * PROFILE_COUNTERS + c) * 2u, profile_counts[c]);
         }

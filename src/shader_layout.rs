@@ -14,7 +14,8 @@ include!(concat!(env!("OUT_DIR"), "/shared_consts.rs"));
 const _: () = assert!(STAT_LAYER_POINTS == STAT_EYES * STAT_COUNT);
 const _: () = assert!(STAT_DISPATCH == STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS);
 const _: () = assert!(STAT_FILL_DISPATCH == STAT_DISPATCH + STAT_EYES * 4);
-const _: () = assert!(STAT_PROFILE == STAT_FILL_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_TRACE_DISPATCH == STAT_FILL_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_PROFILE == STAT_TRACE_DISPATCH + STAT_EYES * 4);
 const _: () = assert!(STAT_WORDS == STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2);
 const _: () = assert!(MAX_LAYERS as usize == crate::foveation::config::MAX_LAYERS);
 

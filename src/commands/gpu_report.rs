@@ -4,6 +4,7 @@
 use super::{check_validation, gpu_context, GpuArgs};
 use anyhow::{bail, Result};
 use clap::Args;
+use fovea::foveation::FoveationConfig;
 use fovea::realtime::{self, RealtimePlan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -19,11 +20,33 @@ pub struct GpuReportArgs {
     /// Each eye's image, WIDTHxHEIGHT (the Vive Pro Eye's 1440x1600 by default).
     #[arg(long, value_parser = super::parse_size, default_value = "1440x1600")]
     pub size: [u32; 2],
-    /// Only these built-in scenes, comma-separated (default: all of them).
+    /// Only these scenes, comma-separated: built-in ones or .gltf/.glb files (default: every
+    /// built-in scene).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
+    /// Also time this layer config, NAME=FILE.toml (repeatable): its rows are named NAME.
+    #[arg(long = "config", value_name = "NAME=FILE")]
+    pub configs: Vec<String>,
+    /// Time every frame with the temporal history on, the camera still (as a headset shows
+    /// it; the denoiser and the lattice filter run only with it).
+    #[arg(long)]
+    pub history: bool,
+    /// The trace's threads per lattice point, a power of two up to 64 (default 1; see
+    /// reports/gpu-h100-split-1440x1600).
+    #[arg(long, value_name = "N")]
+    pub trace_split: Option<u32>,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// NAME=FILE of `--config`.
+fn named_config(text: &str) -> Result<(&str, &str)> {
+    match text.split_once('=') {
+        Some((name, path)) if !name.is_empty() && !path.is_empty() => Ok((name, path)),
+        _ => {
+            bail!("--config '{text}': give NAME=FILE.toml (a layer config, see assets/foveation/)")
+        }
+    }
 }
 
 pub fn run(args: &GpuReportArgs) -> Result<()> {
@@ -34,11 +57,24 @@ pub fn run(args: &GpuReportArgs) -> Result<()> {
     };
     if !args.scenes.is_empty() {
         let known = &plan.scenes;
-        if let Some(unknown) = args.scenes.iter().find(|s| !known.contains(s)) {
-            bail!("--scenes: '{unknown}' is not a built-in scene; give some of {known:?}");
+        let missing = |s: &String| match fovea::scene::is_scene_file(s) {
+            true => !std::path::Path::new(s).is_file(),
+            false => !known.contains(s),
+        };
+        if let Some(unknown) = args.scenes.iter().find(|s| missing(s)) {
+            bail!(
+                "--scenes: '{unknown}' is neither a built-in scene nor a .gltf/.glb file that \
+                 exists; give some of {known:?} or a glTF file's path"
+            );
         }
         plan.scenes = args.scenes.clone();
     }
+    for named in &args.configs {
+        let (name, path) = named_config(named)?;
+        plan.add_mode(name, FoveationConfig::load(std::path::Path::new(path))?);
+    }
+    plan.history = args.history;
+    plan.trace_split = args.trace_split;
     let ctx = gpu_context(&args.gpu)?;
     println!(
         "fovea gpu-report on {} ({}, Vulkan {}): {} scenes at {width}x{height} per eye{}",

@@ -95,6 +95,7 @@ pub fn time_case(
         eyes,
         debug: DebugView::None,
     };
+    renderer.reset_history(); // each case's history is its own
     let stats = timed_frames(renderer, &request, plan.warmup, plan.frames)?;
     Ok(summarize_case(
         scene,

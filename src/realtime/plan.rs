@@ -47,6 +47,11 @@ pub struct RealtimePlan {
     pub frames_in_flight: Vec<u32>,
     pub xr_scene: String,
     pub quick: bool,
+    /// Frames with the temporal history on (camera still), as the headset shows them; the
+    /// denoiser and the lattice filter run only with it.
+    pub history: bool,
+    /// The trace's threads per lattice point; None: the device's (preferred_trace_split).
+    pub trace_split: Option<u32>,
 }
 
 impl RealtimePlan {
@@ -69,6 +74,8 @@ impl RealtimePlan {
             frames_in_flight: vec![1, 2, 3],
             xr_scene: "cornell".into(),
             quick: false,
+            history: false,
+            trace_split: None,
         }
     }
 
@@ -83,6 +90,14 @@ impl RealtimePlan {
             quick: true,
             ..Self::full(width, height)
         }
+    }
+
+    /// Adds `config` to the modes, under `name`.
+    pub fn add_mode(&mut self, name: &str, config: FoveationConfig) {
+        self.modes.push(Mode {
+            name: name.to_string(),
+            config,
+        });
     }
 
     /// The config whose fovea spp the search varies: the thesis' layers, the innermost at

@@ -29,6 +29,10 @@ pub struct RealtimeReport<'a> {
     pub width: u32,
     pub height: u32,
     pub quick: bool,
+    /// Whether the frames ran with the temporal history on.
+    pub history: bool,
+    /// The trace's threads per lattice point.
+    pub trace_split: u32,
     pub cases: Vec<CaseTiming>,
     pub spp: Vec<SppResult>,
     pub sessions: Vec<SessionTiming>,
@@ -181,6 +185,8 @@ impl RealtimeReport<'_> {
             "written_at": self.written_at,
             "eye_size": [self.width, self.height],
             "quick": self.quick,
+            "history": self.history,
+            "trace_split": self.trace_split,
             "peak_gpu_memory_bytes": self.peak_memory,
             "frames": self.cases.iter().map(|c| serde_json::json!({
                 "scene": c.scene, "mode": c.mode, "eyes": c.eyes,
@@ -220,11 +226,18 @@ impl RealtimeReport<'_> {
         let _ = writeln!(md, "Command: `{}`\n", self.command);
         let _ = writeln!(
             md,
-            "Each eye {}x{} (Vive Pro Eye field of view), path tracer, 8 bounces, gaze forward. \
+            "Each eye {}x{} (Vive Pro Eye field of view), path tracer, 8 bounces, gaze forward, \
+             {}, {} trace thread{} per lattice point. \
              GPU time from timestamps around every pass, median and p99 over the timed frames \
              after warm-up{}. Peak GPU memory held by fovea while timing: {:.1} MiB.\n",
             self.width,
             self.height,
+            match self.history {
+                true => "temporal history on (camera still)",
+                false => "no history",
+            },
+            self.trace_split,
+            if self.trace_split == 1 { "" } else { "s" },
             if self.quick { " (--quick)" } else { "" },
             self.peak_memory as f64 / (1024.0 * 1024.0)
         );

@@ -7,7 +7,7 @@ use super::report::{RealtimeReport, SppResult};
 use super::sessions::run_sessions;
 use super::spp_search::Probes;
 use crate::gpu::GpuContext;
-use crate::render::Renderer;
+use crate::render::{Renderer, TemporalSettings};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -30,6 +30,10 @@ pub fn run(
         width: plan.width,
         height: plan.height,
         quick: plan.quick,
+        history: plan.history,
+        trace_split: plan
+            .trace_split
+            .unwrap_or(crate::render::preferred_trace_split(ctx)),
         cases: Vec::new(),
         spp: Vec::new(),
         sessions: Vec::new(),
@@ -58,6 +62,14 @@ fn measure_scene(
     let aspect = plan.width as f32 / plan.height as f32;
     let scene = crate::scene::load(name, aspect).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::new(ctx, &scene).map_err(|e| e.to_string())?;
+    if let Some(split) = plan.trace_split {
+        renderer.set_trace_split(split).map_err(|e| e.to_string())?;
+    }
+    if plan.history {
+        renderer
+            .set_temporal(Some(TemporalSettings::default()))
+            .map_err(|e| e.to_string())?;
+    }
     for traversal in renderer.traversals() {
         renderer
             .set_traversal(traversal)

@@ -79,6 +79,7 @@ pub(super) fn frame_results(
             pass_start_ms: passes.iter().map(|p| p.start_ms).collect(),
             layer_samples,
             filled_points: counted.filled_points[..eyes].iter().sum(),
+            trace_workgroups: counted.trace_workgroups[..eyes].iter().sum(),
             plan_ms: known.plan_ms,
             record_ms: known.record_ms,
             traversal: known.profile_traversal.then(|| {

@@ -35,7 +35,7 @@ pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
 pub use regular::regular_frame;
-pub use renderer::Renderer;
+pub use renderer::{preferred_trace_split, Renderer};
 pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
 };

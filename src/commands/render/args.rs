@@ -90,6 +90,11 @@ pub struct RenderArgs {
     /// unchanged, the frame is slower. See tools/profile-trace.sh.
     #[arg(long, conflicts_with = "bench")]
     pub profile_traversal: bool,
+    /// The trace's threads per lattice point, a power of two up to 64 (default 1; see
+    /// reports/gpu-h100-split-1440x1600). The image is the same up to rounding; where every
+    /// layer's spp is at most N, bit for bit.
+    #[arg(long, value_name = "N", conflicts_with_all = ["bench", "camera_path"])]
+    pub trace_split: Option<u32>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

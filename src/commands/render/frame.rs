@@ -29,6 +29,9 @@ pub fn run(
     let scene = scene::load(&args.scene, aspect)?;
     let read = started.elapsed();
     let mut renderer = load(ctx, &scene, read, args.profile_traversal)?;
+    if let Some(split) = args.trace_split {
+        renderer.set_trace_split(split)?;
+    }
     let eyes = frame_eyes(args, &scene, settings, trace);
     let request = FrameRequest {
         settings: *settings,
