@@ -22,6 +22,9 @@ pub struct SessionTiming {
     pub frame_period_ms: Option<Summary>,
     /// Display periods no frame of ours was ready for.
     pub missed_frames: u64,
+    /// Those after the second frame: without the first frame's pipelines and caches, which
+    /// the periods before the second frame wait for.
+    pub missed_after_start: u64,
     pub gaze_to_photon_ms: Option<Summary>,
     /// Fraction of frames submitted while an earlier frame still ran on the GPU.
     pub overlapped: f64,
@@ -71,6 +74,14 @@ fn run_session(exe: &Path, plan: &RealtimePlan, in_flight: u32, dir: &Path) -> R
     Ok(())
 }
 
+/// The display periods `frames` missed (each row's count is of the periods before it).
+fn missed(frames: &[&FrameRow]) -> u64 {
+    frames
+        .iter()
+        .map(|r| r.missed_frames.unwrap_or(0) as u64)
+        .sum()
+}
+
 fn read_session(in_flight: u32, dir: &Path) -> Result<SessionTiming, String> {
     let path = dir.join("frames.csv");
     let (_, rows) =
@@ -92,13 +103,30 @@ fn read_session(in_flight: u32, dir: &Path) -> Result<SessionTiming, String> {
         frames_in_flight: in_flight,
         frames: frames.len(),
         frame_period_ms: stat(|r| r.frame_period_ms),
-        missed_frames: frames
-            .iter()
-            .map(|r| r.missed_frames.unwrap_or(0) as u64)
-            .sum(),
+        missed_frames: missed(&frames),
+        missed_after_start: missed(&frames[frames.len().min(2)..]),
         gaze_to_photon_ms: stat(|r| r.gaze_to_photon_ms),
         overlapped,
         gpu_ms: stat(|r| Some(r.frame_gpu_ms)),
         gpu_mib_max: frames.iter().filter_map(|r| r.gpu_mib).fold(0.0, f64::max),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_frames_wait_is_counted_apart() {
+        let rows: Vec<FrameRow> = [None, Some(108), Some(0), Some(2)]
+            .into_iter()
+            .map(|missed_frames| FrameRow {
+                missed_frames,
+                ..Default::default()
+            })
+            .collect();
+        let frames: Vec<&FrameRow> = rows.iter().collect();
+        assert_eq!(missed(&frames), 110);
+        assert_eq!(missed(&frames[2..]), 2);
+    }
 }
