@@ -20,7 +20,7 @@ layout(constant_id = SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = true;
 layout(constant_id = SPEC_HAS_SINGLE_SIDED) const bool HAS_SINGLE_SIDED = true;
 layout(constant_id = SPEC_HAS_ENV_MAP) const bool HAS_ENV_MAP = true;
 layout(constant_id = SPEC_SAMPLER) const uint SAMPLER = SAMPLER_ZSOBOL;
-layout(constant_id = SPEC_TRACE_SPLIT) const uint TRACE_SPLIT = 1u;
+layout(constant_id = SPEC_TRACE_SHARES) const bool TRACE_SHARES = false;
 
 // The scene's arrays are uniform texel buffers of RGBA32UI texels (uvec4[5] per BVH node, a
 // struct's vec4s and uint quads in order): lavapipe loads a texel per lane with one vector

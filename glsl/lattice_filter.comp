@@ -112,9 +112,11 @@ void main() {
                 + gl_GlobalInvocationID.x;
     if (thread >= stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT]) return;
     uint item = work[pc.eye.index * pc.eye.work_stride + thread];
+    if (item == WORK_EMPTY) return; // a slot that pads the plan's reservation
     uint k;
     uint entry;
     work_item(item, k, entry);
+    if ((thread & (layers[k].lanes - 1u)) != 0u) return; // a point's later trace lanes
     vec4 centre = uintBitsToFloat(texelFetch(lattice_texels, int(entry)));
     if (layers[k].filter_mar <= 0.0 && layers[k].filter_px <= 0.0) {
         lattice_filtered[entry] = centre;

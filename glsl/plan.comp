@@ -62,12 +62,21 @@ void main() {
     uint first = lattice_index(k, ij) | (layer << WORK_LAYER_SHIFT);
     uint count = bitCount(traced);
     if (count > 0u) {
+        // GpuLayer.lanes slots (trace threads) per point, the reservation padded with
+        // WORK_EMPTY to a multiple of lane_unit: every reservation starts at a multiple of it,
+        // so each point's lanes are aligned and share a workgroup (trace.comp adds them up).
+        uint lanes = layers[k].lanes;
+        uint unit = layers[k].lane_unit;
+        uint slots = count * lanes;
+        uint reserved = (slots + unit - 1u) / unit * unit;
         uint slot = pc.eye.index * pc.eye.work_stride
-                  + atomicAdd(stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], count);
+                  + atomicAdd(stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT], reserved);
         atomicAdd(stats[STAT_LAYER_POINTS + pc.eye.index * MAX_LAYERS + layer], count);
         for (; traced != 0u; traced &= traced - 1u) {
-            work[slot++] = first + uint(findLSB(traced));
+            uint item = first + uint(findLSB(traced));
+            for (uint p = 0u; p < lanes; ++p) work[slot++] = item;
         }
+        for (; slots < reserved; ++slots) work[slot++] = WORK_EMPTY;
     }
     uint fills = bitCount(filled);
     if (fills > 0u) {

@@ -111,7 +111,7 @@
 #define SPEC_HAS_SINGLE_SIDED 12 // some mesh instance is OBJECT_SINGLE_SIDED
 #define SPEC_HAS_ENV_MAP 13 // the sky is an HDR environment (BINDING_ENVIRONMENT), a light
 #define SPEC_SAMPLER 14 // where a path's random numbers come from (sampler.glsl)
-#define SPEC_TRACE_SPLIT 15 // trace.comp's threads per lattice point (a power of two <= 64)
+#define SPEC_TRACE_SHARES 15 // some layer has several trace lanes per point (GpuLayer.lanes)
 
 #define INTEGRATOR_PT 0
 #define INTEGRATOR_SEED 1
@@ -145,8 +145,9 @@
 #define STAT_EYES 2            // one block of STAT_COUNT counters per eye: stats[eye * STAT_COUNT + STAT_*]
 #define MAX_LAYERS 8           // src/foveation/config.rs's limit
 // The plan pass's results, in the same host-visible buffer (reset by the host every frame):
-// lattice points traced per eye and layer, then per eye a dispatch of one thread per work-list
-// entry (VkDispatchIndirectCommand x, y, z: the lattice filter's) and the list's length.
+// lattice points traced per eye and layer, then per eye the trace dispatch's
+// VkDispatchIndirectCommand (x, y, z) and the length of the eye's work list: one slot per
+// thread, GpuLayer.lanes of them per traced point, and WORK_EMPTY ones that pad.
 #define STAT_LAYER_POINTS 8    // STAT_EYES * STAT_COUNT; + eye * MAX_LAYERS + layer
 #define STAT_DISPATCH 24       // STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS; + eye * 4
 #define STAT_WORK_COUNT 3      // within an eye's STAT_DISPATCH block, after x, y, z
@@ -154,13 +155,9 @@
 // fill list: the lattice points a fractional layer skips this frame but needs (plan.comp writes
 // them from the top of the eye's WORK segment down, lattice_fill.comp fills them).
 #define STAT_FILL_DISPATCH 32  // STAT_DISPATCH + STAT_EYES * 4; + eye * 4 (count: STAT_WORK_COUNT)
-// Per eye the trace dispatch's VkDispatchIndirectCommand (x, y, z; the fourth word unused):
-// TRACE_SPLIT threads per entry of the work list, where STAT_DISPATCH's has one (the
-// lattice filter's).
-#define STAT_TRACE_DISPATCH 40 // STAT_FILL_DISPATCH + STAT_EYES * 4; + eye * 4
 // With SPEC_PROFILE, per eye PROFILE_COUNTERS 64-bit counters (low word, then high word) of
 // the traversal's work: PROFILE_* below.
-#define STAT_PROFILE 48        // STAT_TRACE_DISPATCH + STAT_EYES * 4; + (eye * PROFILE_COUNTERS + counter) * 2
+#define STAT_PROFILE 40        // STAT_FILL_DISPATCH + STAT_EYES * 4; + (eye * PROFILE_COUNTERS + counter) * 2
 #define PROFILE_COUNTERS 8
 #define PROFILE_TLAS_NODES 0        // TLAS nodes intersected (8 children each)
 #define PROFILE_BLAS_NODES 1        // BLAS nodes intersected
@@ -170,7 +167,7 @@
 #define PROFILE_TLAS_GROUP_STEPS 5  // the same loop's iterations per subgroup (one per step of any lane)
 #define PROFILE_BLAS_LANE_STEPS 6   // iterations of the BLAS loop, summed over invocations
 #define PROFILE_BLAS_GROUP_STEPS 7  // the same per subgroup
-#define STAT_WORDS 80          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
+#define STAT_WORDS 72          // STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2
 #define WORK_LAYER_SHIFT 28    // work items: lattice index in the low 28 bits, layer above
 
 // ---- debug views (PushEye.debug) -------------------------------------------------------
@@ -195,7 +192,8 @@
 // box (consecutive lattice entries) and reserves their work-list slots with one atomic.
 #define PLAN_RUN 16
 #define TRACE_WORKGROUP_SIZE 64 // trace.comp is 1D over the eye's work list
-#define MAX_TRACE_SPLIT 64 // TRACE_SPLIT's largest: one point's lanes share a workgroup
+#define MAX_TRACE_LANES 64 // GpuLayer.lanes' largest: one point's lanes share a workgroup
+#define WORK_EMPTY 0xFFFFFFFFu // a work-list slot that pads a run's reservation (no point)
 #define PLAN_WORKGROUP_SIZE 64  // plan.comp is 1D over the eye's layers' runs
 #define MAX_GROUPS_X 65535 // the guaranteed maxComputeWorkGroupCount[0]; larger dispatches use y
 
@@ -433,8 +431,12 @@ struct GpuLayer {
     // neighbours. The phase turns with the history, so every point is traced in turn.
     uint fraction;
     uint fraction_phase;
-    uint pad0;
-    uint pad1;
+    // The trace's threads for each of this layer's points (a power of two, at most
+    // MAX_TRACE_LANES): lane p traces samples p, p + lanes, ... (renderer.rs, trace_lanes).
+    uint lanes;
+    // The largest `lanes` of the eye's layers, the same in each: plan.comp reserves work-list
+    // slots in multiples of it, so a point's lanes are aligned and share a workgroup.
+    uint lane_unit;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------

@@ -71,11 +71,11 @@ struct LaneSum {
     uint overflows;
 };
 
-// The lane's samples of layer k's point at `pixel`: s = part, part + TRACE_SPLIT, ... < spp.
+// The lane's samples of layer k's point at `pixel`: s = part, part + lanes, ... < spp.
 // One path at a time per invocation, the next sample's started as soon as one ends (see
 // Path): sample s's random numbers and camera ray are the same as in a loop over samples,
 // and the samples are summed in the same order, so the image is too.
-LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, float pixel_angle) {
+LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, uint lanes, float pixel_angle) {
     LaneSum r = LaneSum(vec3(0.0), 0u, 0u, 0u);
     uint pixel_index = uint(pixel.y) * pc.eye.width + uint(pixel.x);
     uint seed = pc.eye.seed + pc.eye.index * 0x9E3779B9u; // eye 0 keeps the user's seed
@@ -105,7 +105,7 @@ LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, float pixel_angl
         } else {
             r.sum += path.L;
         }
-        s += TRACE_SPLIT;
+        s += lanes;
         if (s >= spp) break;
         smp = sampler_start(sampled, s);
         path = camera_path(vec2(pixel), sample_2d(smp), pixel_angle);
@@ -114,49 +114,57 @@ LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, float pixel_angl
     return r;
 }
 
-// With TRACE_SPLIT > 1, each lane's sum, which the point's first lane adds up in lane order.
+// While some layer has several lanes per point, each lane's sum, which the point's first
+// lane adds up in lane order.
 shared vec3 lane_sums[TRACE_WORKGROUP_SIZE];
 
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
                 + gl_GlobalInvocationID.x;
     uint block = pc.eye.index * STAT_COUNT; // each eye counts in its own block
-    // TRACE_SPLIT lanes per point, side by side in one workgroup (a power of two that
-    // divides its size): one point's samples spread over as many threads, so that a sparse
-    // or small layer still fills a GPU. On a CPU driver it is 1 (renderer.rs says why).
-    uint part = thread % TRACE_SPLIT;
-    uint index = thread / TRACE_SPLIT;
-    bool listed = index < stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT];
-    // With one lane per point no lane waits at the barrier below, so the past-the-end ones
-    // may leave now; with more, every lane of the workgroup must reach it.
-    if (TRACE_SPLIT == 1u && !listed) return;
+    // One slot of the work list per thread: GpuLayer.lanes consecutive slots per point,
+    // aligned, so that a point with few threads left to fill a GPU spreads its samples over
+    // several (renderer.rs, trace_lanes); WORK_EMPTY slots pad.
+    bool listed = thread < stats[STAT_DISPATCH + pc.eye.index * 4u + STAT_WORK_COUNT];
+    uint item = listed ? work[pc.eye.index * pc.eye.work_stride + thread] : WORK_EMPTY;
+    listed = item != WORK_EMPTY;
+    // With one lane per point in every layer (a CPU driver's choice) no lane waits at the
+    // barrier below, so the unlisted ones may leave now; else every lane must reach it. A
+    // specialization constant, so that without lanes the barrier and its shared memory are
+    // compiled away (on an H100 they cost mirror-room's 1-spp frame about 9% when they were
+    // only skipped at run time).
+    bool shares = TRACE_SHARES;
+    if (!shares && !listed) return;
     if (PROFILE) {
         for (uint c = 0u; c < PROFILE_COUNTERS; ++c) profile_counts[c] = 0u;
     }
     uint k = 0u;
     uint entry = 0u; // the point's LATTICE index
+    uint part = 0u;
+    uint lanes = 1u;
     ivec2 pixel = ivec2(0);
     uint spp = 0u;
     float pixel_angle = 0.0;
     LaneSum r = LaneSum(vec3(0.0), 0u, 0u, 0u);
     if (listed) {
-        uint item = work[pc.eye.index * pc.eye.work_stride + index];
         work_item(item, k, entry);
+        lanes = layers[k].lanes;
+        part = thread & (lanes - 1u);
         pixel = lattice_pixel(k, lattice_point(k, entry));
         spp = layers[k].spp;
         // The pixel's angular height at the image centre, times the layer's lattice spacing.
         pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
-        r = trace_samples(k, pixel, spp, part, pixel_angle);
+        r = trace_samples(k, pixel, spp, part, lanes, pixel_angle);
     }
     vec3 sum = r.sum;
-    if (TRACE_SPLIT > 1u) {
+    if (shares) {
         uint lane = gl_LocalInvocationID.x;
         lane_sums[lane] = r.sum;
         barrier();
-        // In lane order, from zero: with spp <= TRACE_SPLIT the same additions as one lane's
-        // loop (sample s is lane s's), so the same bits.
+        // In lane order, from zero: with spp <= lanes the same additions as one lane's loop
+        // (sample s is lane s's), so the same bits.
         sum = vec3(0.0);
-        for (uint p = 0u; p < TRACE_SPLIT; ++p) sum += lane_sums[lane - part + p];
+        for (uint p = 0u; p < lanes; ++p) sum += lane_sums[lane + p];
     }
     if (listed && part == 0u) {
         lattice[entry] = vec4(sum / float(spp), 1.0);

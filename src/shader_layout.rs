@@ -14,8 +14,7 @@ include!(concat!(env!("OUT_DIR"), "/shared_consts.rs"));
 const _: () = assert!(STAT_LAYER_POINTS == STAT_EYES * STAT_COUNT);
 const _: () = assert!(STAT_DISPATCH == STAT_LAYER_POINTS + STAT_EYES * MAX_LAYERS);
 const _: () = assert!(STAT_FILL_DISPATCH == STAT_DISPATCH + STAT_EYES * 4);
-const _: () = assert!(STAT_TRACE_DISPATCH == STAT_FILL_DISPATCH + STAT_EYES * 4);
-const _: () = assert!(STAT_PROFILE == STAT_TRACE_DISPATCH + STAT_EYES * 4);
+const _: () = assert!(STAT_PROFILE == STAT_FILL_DISPATCH + STAT_EYES * 4);
 const _: () = assert!(STAT_WORDS == STAT_PROFILE + STAT_EYES * PROFILE_COUNTERS * 2);
 const _: () = assert!(MAX_LAYERS as usize == crate::foveation::config::MAX_LAYERS);
 
@@ -289,8 +288,10 @@ pub struct GpuLayer {
     /// `fraction_phase` (foveation/fraction.rs); lattice_fill.comp fills the rest it needs.
     pub fraction: u32,
     pub fraction_phase: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    /// The trace's threads for each of this layer's points (render::TraceLanes).
+    pub lanes: u32,
+    /// The largest `lanes` of the eye's layers: plan.comp's reservation unit.
+    pub lane_unit: u32,
 }
 
 #[repr(C)]

@@ -279,8 +279,8 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             denoise_mar,
             fraction,
             fraction_phase,
-            pad0,
-            pad1
+            lanes,
+            lane_unit
         }
     );
     check!(s, GpuProbeRay { origin, direction });

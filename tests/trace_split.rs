@@ -1,39 +1,40 @@
-//! The trace's threads per lattice point (`Renderer::set_trace_split`): a GPU spreads each
+//! The trace's threads per lattice point (`Renderer::set_trace_lanes`): a GPU spreads each
 //! point's samples over several threads so that a sparse layer still fills it. Lavapipe runs
-//! one thread per point by default; here it runs every split, and the frame must be the
-//! same: the same counts and traversal work, the same bits where a layer's spp is at most
-//! the split, the same image up to rounding where it is more.
+//! one thread per point by default; here it runs several rules, and the frame must be the
+//! same: the same counts and traversal work, the same bits where each layer's spp is at most
+//! its lanes, the same image up to rounding where it is more.
 
 mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::render::{
     eye_views, DebugView, FovChoice, Frame, FrameOptions, FrameRequest, Integrator, Renderer,
-    TemporalSettings,
+    TemporalSettings, TraceLanes,
 };
 
 const SIZE: u32 = 48;
 const WORKGROUP: u64 = fovea::shader_layout::TRACE_WORKGROUP_SIZE as u64;
 
-/// The thesis' layers with the fovea at 8 spp (the others at 4): one layer with more
-/// samples than splits 2 and 4, every layer with fewer than 8.
+/// The thesis' layers with the fovea at 8 spp and the background at 1 (the others at 4):
+/// layers of 8, 4 and 1 lanes side by side, whose work-list runs are padded.
 fn config() -> FoveationConfig {
     let mut config = FoveationConfig::thesis();
     config.layers[0].spp = 8;
+    config.layers[3].spp = 1;
     config
 }
 
-/// One frame of `config` traced with `split` threads per point, history on (the trace also
-/// writes each point's surface) and the traversal counted.
-fn frame(renderer: &mut Renderer, split: u32, config: &FoveationConfig) -> Frame {
-    renderer.set_trace_split(split).unwrap();
+/// One frame of `config` traced with `lanes`, history on (the trace also writes each
+/// point's surface) and the traversal counted.
+fn frame(renderer: &mut Renderer, lanes: TraceLanes, config: &FoveationConfig) -> Frame {
+    renderer.set_trace_lanes(lanes);
     renderer.reset_history();
-    let scene_camera = fovea::scene::load("cornell", 1.0).unwrap().camera;
+    let camera = fovea::scene::load("cornell", 1.0).unwrap().camera;
     let forward = GazeChoice {
         left: Gaze::Forward,
         right: Gaze::Forward,
     };
-    let eyes = eye_views(&scene_camera, 1.0, FovChoice::Scene, false, forward);
+    let eyes = eye_views(&camera, 1.0, FovChoice::Scene, false, forward);
     let request = FrameRequest {
         settings: common::settings(SIZE, SIZE, 1, 7, Integrator::Pt),
         foveation: config,
@@ -44,6 +45,15 @@ fn frame(renderer: &mut Renderer, split: u32, config: &FoveationConfig) -> Frame
         .frame(&request, FrameOptions::measure())
         .map(Option::unwrap)
         .unwrap()
+}
+
+/// The largest difference between two images, relative where a value exceeds 1.
+fn worst_difference(a: &Frame, b: &Frame) -> f32 {
+    a.rgb
+        .iter()
+        .zip(&b.rgb)
+        .map(|(x, y)| (x - y).abs() / y.abs().max(1.0))
+        .fold(0.0, f32::max)
 }
 
 #[test]
@@ -57,32 +67,44 @@ fn spreading_a_points_samples_over_threads_changes_no_count_and_the_image_at_mos
     renderer.set_traversal_profile(true);
     renderer.set_output_image(true);
     assert_eq!(
-        renderer.trace_split(),
-        1,
-        "the default: one thread per point"
+        renderer.trace_lanes(),
+        TraceLanes::ONE,
+        "lavapipe's default"
     );
     let config = config();
 
-    let one = frame(&mut renderer, 1, &config);
-    let points: u64 = one
+    let one = frame(&mut renderer, TraceLanes::ONE, &config);
+    let points: Vec<u64> = one
         .stats
         .layer_samples
         .iter()
         .zip(&config.layers)
         .map(|(samples, layer)| samples / layer.spp as u64)
-        .sum();
-    assert!(points > 0 && one.stats.paths > 0);
+        .collect();
+    let all_points: u64 = points.iter().sum();
+    assert!(all_points > 0 && one.stats.paths > 0);
+    assert_eq!(one.stats.trace_workgroups, all_points.div_ceil(WORKGROUP));
     assert!(one.rgb.iter().all(|v| v.is_finite()));
     let work = one.stats.traversal.unwrap();
-    for split in [2u32, 4, 8, 64] {
-        let f = frame(&mut renderer, split, &config);
-        assert_eq!(
-            f.stats.trace_workgroups,
-            (points * split as u64).div_ceil(WORKGROUP),
-            "split {split}: the trace ran {split} threads per traced point"
+    for (max_lanes, samples_per_lane) in [(2, 1), (4, 1), (8, 1), (64, 1), (8, 2)] {
+        let lanes = TraceLanes::new(max_lanes, samples_per_lane).unwrap();
+        let what = format!("at most {max_lanes} lanes of {samples_per_lane}+ samples");
+        let f = frame(&mut renderer, lanes, &config);
+        // Each point has its layer's lanes; runs are padded to the most lanes of a layer.
+        let slots: u64 = points
+            .iter()
+            .zip(&config.layers)
+            .map(|(p, l)| p * lanes.of_layer(l.spp) as u64)
+            .sum();
+        let unit = lanes.unit(&config) as u64;
+        assert!(
+            f.stats.trace_workgroups >= slots.div_ceil(WORKGROUP)
+                && f.stats.trace_workgroups <= (all_points * unit).div_ceil(WORKGROUP),
+            "{what}: {} trace workgroups for {slots} lanes",
+            f.stats.trace_workgroups
         );
-        assert_eq!(f.stats.paths, one.stats.paths, "split {split}: paths");
-        assert_eq!(f.stats.rays, one.stats.rays, "split {split}: rays");
+        assert_eq!(f.stats.paths, one.stats.paths, "{what}: paths");
+        assert_eq!(f.stats.rays, one.stats.rays, "{what}: rays");
         assert_eq!(f.stats.layer_samples, one.stats.layer_samples);
         assert_eq!(f.stats.nonfinite_samples, one.stats.nonfinite_samples);
         assert_eq!(f.stats.stack_overflows, one.stats.stack_overflows);
@@ -95,29 +117,18 @@ fn spreading_a_points_samples_over_threads_changes_no_count_and_the_image_at_mos
                 work.triangles,
                 work.tlas_lane_steps
             ),
-            "split {split}: the same traversal work, lane by lane"
+            "{what}: the same traversal work, lane by lane"
         );
-        if split >= 8 {
+        if config.layers.iter().all(|l| l.spp <= lanes.of_layer(l.spp)) {
             assert!(
                 f.rgb == one.rgb,
-                "split {split} >= every layer's spp: same bits"
+                "{what}: each spp within its lanes: same bits"
             );
         } else {
-            let worst = f
-                .rgb
-                .iter()
-                .zip(&one.rgb)
-                .map(|(a, b)| (a - b).abs() / b.abs().max(1.0))
-                .fold(0.0f32, f32::max);
-            assert!(
-                worst < 1e-5,
-                "split {split}: differs by {worst}, not rounding"
-            );
+            let worst = worst_difference(&f, &one);
+            assert!(worst < 1e-5, "{what}: differs by {worst}, not rounding");
         }
     }
-    assert!(renderer.set_trace_split(3).is_err());
-    let too_many = renderer.set_trace_split(128).unwrap_err().to_string();
-    assert!(too_many.contains("power of two"), "{too_many}");
     drop(renderer);
     common::assert_no_validation_messages(&ctx);
 }

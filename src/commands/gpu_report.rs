@@ -31,10 +31,8 @@ pub struct GpuReportArgs {
     /// it; the denoiser and the lattice filter run only with it).
     #[arg(long)]
     pub history: bool,
-    /// The trace's threads per lattice point, a power of two up to 64 (default 1; see
-    /// reports/gpu-h100-split-1440x1600).
-    #[arg(long, value_name = "N")]
-    pub trace_split: Option<u32>,
+    #[command(flatten)]
+    pub lanes: super::trace_lanes_args::TraceLaneArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -74,8 +72,8 @@ pub fn run(args: &GpuReportArgs) -> Result<()> {
         plan.add_mode(name, FoveationConfig::load(std::path::Path::new(path))?);
     }
     plan.history = args.history;
-    plan.trace_split = args.trace_split;
     let ctx = gpu_context(&args.gpu)?;
+    plan.trace_lanes = args.lanes.lanes(&ctx)?;
     println!(
         "fovea gpu-report on {} ({}, Vulkan {}): {} scenes at {width}x{height} per eye{}",
         ctx.info.name,

@@ -9,6 +9,7 @@ mod error_text;
 pub mod gpu_report;
 pub mod render;
 pub mod scenes;
+pub mod trace_lanes_args;
 pub mod tune;
 pub mod view;
 pub mod xr;

@@ -2,6 +2,7 @@
 //! and the headset sessions. The full plan fits 8 minutes on a GPU, `--quick` 2.
 
 use crate::foveation::FoveationConfig;
+use crate::render::TraceLanes;
 
 /// One 90 Hz stereo frame's time, and 120 Hz's.
 pub const BUDGETS_MS: [f64; 2] = [1000.0 / 90.0, 1000.0 / 120.0];
@@ -50,8 +51,8 @@ pub struct RealtimePlan {
     /// Frames with the temporal history on (camera still), as the headset shows them; the
     /// denoiser and the lattice filter run only with it.
     pub history: bool,
-    /// The trace's threads per lattice point; None: the device's (preferred_trace_split).
-    pub trace_split: Option<u32>,
+    /// The trace's lanes; None: the device's (render::preferred_trace_lanes).
+    pub trace_lanes: Option<TraceLanes>,
 }
 
 impl RealtimePlan {
@@ -75,7 +76,7 @@ impl RealtimePlan {
             xr_scene: "cornell".into(),
             quick: false,
             history: false,
-            trace_split: None,
+            trace_lanes: None,
         }
     }
 

@@ -7,7 +7,7 @@ use super::sessions::SessionTiming;
 use super::spp_search::{Probes, SppAnswer};
 use crate::bench::stats::Summary;
 use crate::gpu::DeviceInfo;
-use crate::render::Traversal;
+use crate::render::{TraceLanes, Traversal};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -31,8 +31,8 @@ pub struct RealtimeReport<'a> {
     pub quick: bool,
     /// Whether the frames ran with the temporal history on.
     pub history: bool,
-    /// The trace's threads per lattice point.
-    pub trace_split: u32,
+    /// The trace's lanes per lattice point.
+    pub trace_lanes: TraceLanes,
     pub cases: Vec<CaseTiming>,
     pub spp: Vec<SppResult>,
     pub sessions: Vec<SessionTiming>,
@@ -187,7 +187,10 @@ impl RealtimeReport<'_> {
             "eye_size": [self.width, self.height],
             "quick": self.quick,
             "history": self.history,
-            "trace_split": self.trace_split,
+            "trace_lanes": {
+                "max_lanes": self.trace_lanes.max_lanes,
+                "samples_per_lane": self.trace_lanes.samples_per_lane,
+            },
             "peak_gpu_memory_bytes": self.peak_memory,
             "frames": self.cases.iter().map(|c| serde_json::json!({
                 "scene": c.scene, "mode": c.mode, "eyes": c.eyes,
@@ -228,7 +231,7 @@ impl RealtimeReport<'_> {
         let _ = writeln!(
             md,
             "Each eye {}x{} (Vive Pro Eye field of view), path tracer, 8 bounces, gaze forward, \
-             {}, {} trace thread{} per lattice point. \
+             {}, trace lanes per lattice point: spp / {}, at most {}. \
              GPU time from timestamps around every pass, median and p99 over the timed frames \
              after warm-up{}. Peak GPU memory held by fovea while timing: {:.1} MiB.\n",
             self.width,
@@ -237,8 +240,8 @@ impl RealtimeReport<'_> {
                 true => "temporal history on (camera still)",
                 false => "no history",
             },
-            self.trace_split,
-            if self.trace_split == 1 { "" } else { "s" },
+            self.trace_lanes.samples_per_lane,
+            self.trace_lanes.max_lanes,
             if self.quick { " (--quick)" } else { "" },
             self.peak_memory as f64 / (1024.0 * 1024.0)
         );

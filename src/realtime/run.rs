@@ -31,9 +31,9 @@ pub fn run(
         height: plan.height,
         quick: plan.quick,
         history: plan.history,
-        trace_split: plan
-            .trace_split
-            .unwrap_or(crate::render::preferred_trace_split(ctx)),
+        trace_lanes: plan
+            .trace_lanes
+            .unwrap_or(crate::render::preferred_trace_lanes(ctx)),
         cases: Vec::new(),
         spp: Vec::new(),
         sessions: Vec::new(),
@@ -62,8 +62,8 @@ fn measure_scene(
     let aspect = plan.width as f32 / plan.height as f32;
     let scene = crate::scene::load(name, aspect).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::new(ctx, &scene).map_err(|e| e.to_string())?;
-    if let Some(split) = plan.trace_split {
-        renderer.set_trace_split(split).map_err(|e| e.to_string())?;
+    if let Some(lanes) = plan.trace_lanes {
+        renderer.set_trace_lanes(lanes);
     }
     if plan.history {
         renderer

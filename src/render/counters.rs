@@ -30,7 +30,7 @@ pub struct CountedFrame {
     pub layer_points: Vec<Vec<u64>>,
     /// Per eye, lattice points the fill pass filled.
     pub filled_points: Vec<u64>,
-    /// Per eye, the workgroups the trace ran (TRACE_SPLIT threads per traced point).
+    /// Per eye, the workgroups the trace ran (GpuLayer::lanes threads per traced point).
     pub trace_workgroups: Vec<u64>,
     /// Per eye, the traversal's work (zero unless the trace pipeline profiles).
     pub traversal: Vec<TraversalCounts>,
@@ -104,11 +104,11 @@ impl FrameCounters {
             .chunks_exact(MAX_LAYERS as usize)
             .map(|c| c.iter().map(|&n| n as u64).collect())
             .collect();
-        let filled_points = words[STAT_FILL_DISPATCH as usize..STAT_TRACE_DISPATCH as usize]
+        let filled_points = words[STAT_FILL_DISPATCH as usize..STAT_PROFILE as usize]
             .chunks_exact(4)
             .map(|c| c[STAT_WORK_COUNT as usize] as u64)
             .collect();
-        let trace_workgroups = words[STAT_TRACE_DISPATCH as usize..STAT_PROFILE as usize]
+        let trace_workgroups = words[STAT_DISPATCH as usize..STAT_FILL_DISPATCH as usize]
             .chunks_exact(4)
             .map(|c| c[..3].iter().map(|&n| n as u64).product())
             .collect();

@@ -6,6 +6,7 @@
 //! (glsl/plan.comp); nothing here visits a lattice point.
 
 use super::request::FrameRequest;
+use super::trace_lanes::TraceLanes;
 use crate::foveation::fraction::phase;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
@@ -33,9 +34,9 @@ impl EyeLayers {
 }
 
 /// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
-/// everything its recorded commands hold. All eyes' lattice values and work lists are
-/// `buffer.offsets.len()` entries apart.
-pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush {
+/// everything its recorded commands hold. All eyes' lattice values are `buffer.offsets.len()`
+/// entries apart, their work lists `work_stride` slots.
+pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_stride: u32) -> EyePush {
     let s = &request.settings;
     EyePush {
         cam: push_camera(&request.eyes[e].camera),
@@ -45,7 +46,7 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush
             index: e as u32,
             seed: s.seed,
             layer_count: buffer.layers.len() as u32,
-            work_stride: buffer.offsets.len() as u32,
+            work_stride,
             debug: request.debug.id(),
             ..Default::default()
         },
@@ -54,17 +55,22 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer) -> EyePush
     }
 }
 
-/// Plans eye `e` of `request` looking at `gaze` on `image`, whose ray buffer is `buffer`.
-/// `history_frame` shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted) and
-/// turns the fractional layers' patterns (`fraction::phase`).
-pub fn eye_layers(
-    request: &FrameRequest,
-    e: usize,
-    gaze: Gaze,
-    buffer: &RayBuffer,
-    image: &ImageGeometry,
-    history_frame: u32,
-) -> EyeLayers {
+/// Where eye `e`'s layers are planned: its image and the frame's ray buffer, lattice shift
+/// and trace lanes.
+pub struct EyePlanInput<'a> {
+    pub buffer: &'a RayBuffer,
+    pub image: &'a ImageGeometry,
+    /// Shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted) and turns the
+    /// fractional layers' patterns (`fraction::phase`).
+    pub history_frame: u32,
+    pub lanes: TraceLanes,
+    /// TargetKey::lane_unit, which the work lists were sized for.
+    pub lane_unit: u32,
+}
+
+/// Plans eye `e` of `request` looking at `gaze`.
+pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanInput) -> EyeLayers {
+    let (buffer, image, history_frame) = (input.buffer, input.image, input.history_frame);
     let (gaze_px, fix) = gaze.resolve(image);
     match fix {
         GazeFix::None => {}
@@ -130,7 +136,8 @@ pub fn eye_layers(
                 denoise_mar: request.foveation.layers[k].denoise_mar,
                 fraction: l.fraction,
                 fraction_phase: phase(history_frame, l.spacing, l.fraction),
-                ..Default::default()
+                lanes: input.lanes.of_layer(l.spp),
+                lane_unit: input.lane_unit,
             }
         })
         .collect();

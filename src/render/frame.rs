@@ -38,7 +38,7 @@ pub struct FrameStats {
     /// Lattice points the fill pass filled from their traced neighbours (fractional layers:
     /// points skipped this frame but needed), all eyes.
     pub filled_points: u64,
-    /// Workgroups the trace pass ran, all eyes (Renderer::set_trace_split threads per traced
+    /// Workgroups the trace pass ran, all eyes (Renderer::set_trace_lanes threads per traced
     /// point, TRACE_WORKGROUP_SIZE per workgroup).
     pub trace_workgroups: u64,
     /// CPU milliseconds spent planning the frame (gaze → every eye's layer parameters; which

@@ -26,6 +26,7 @@ mod scene_textures;
 mod settings;
 mod slots;
 mod targets;
+mod trace_lanes;
 mod version;
 mod visibility;
 
@@ -35,13 +36,14 @@ pub use compose::LatticePoint;
 pub use frame::{EyeCounters, Frame, FrameStats, TraversalCounts};
 pub use history::TemporalSettings;
 pub use regular::regular_frame;
-pub use renderer::{preferred_trace_split, Renderer};
+pub use renderer::{preferred_trace_lanes, Renderer};
 pub use request::{
     eye_views, AfterFrame, DebugView, EyeView, FovChoice, FrameOptions, FrameRequest, IPD,
 };
 pub use scene_buffers::SceneMemory;
 pub use settings::{Integrator, RenderSettings, Sampler, Traversal, TraversalChoice, MAX_SIDE};
 pub use slots::MAX_FRAMES_IN_FLIGHT;
+pub use trace_lanes::TraceLanes;
 pub use version::renderer_version;
 
 use crate::gpu::GpuError;

@@ -173,9 +173,7 @@ impl FramePasses<'_> {
                 .writes(BINDING_LATTICE_SURFACE, &h.lattice_surfaces)
                 .writes(BINDING_LATTICE_ALBEDO, &h.lattice_albedos);
         }
-        pass.record(|r| {
-            self.each_eye_indirect(r, "trace", self.pipelines.trace, STAT_TRACE_DISPATCH)
-        });
+        pass.record(|r| self.each_eye_indirect(r, "trace", self.pipelines.trace, STAT_DISPATCH));
     }
 
     /// Fill (when a layer traces a fraction of its points; after trace): per eye, one thread

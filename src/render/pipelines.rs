@@ -25,8 +25,9 @@ pub struct TraceKey {
     pub keeps_surfaces: bool,
     /// Sampler::id.
     pub sampler: u32,
-    /// Threads per lattice point (SPEC_TRACE_SPLIT; Renderer::set_trace_split).
-    pub split: u32,
+    /// Some layer has several lanes per point (SPEC_TRACE_SHARES: the lanes' sums meet in
+    /// shared memory).
+    pub shares_lanes: bool,
 }
 
 impl TraceKey {
@@ -35,7 +36,7 @@ impl TraceKey {
         profile: bool,
         traversal: Traversal,
         history: bool,
-        split: u32,
+        shares_lanes: bool,
     ) -> Self {
         Self {
             integrator: settings.integrator.id(),
@@ -44,7 +45,7 @@ impl TraceKey {
             traversal,
             keeps_surfaces: history,
             sampler: settings.sampler.id(),
-            split,
+            shares_lanes,
         }
     }
 
@@ -58,12 +59,12 @@ impl TraceKey {
     }
 }
 
-/// A pass made once: plan, dispatch sizes (per trace split), the fill (without and with
-/// history), lattice filter, resolve, temporal, denoise.
+/// A pass made once: plan, dispatch sizes, the fill (without and with history), lattice
+/// filter, resolve, temporal, denoise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Fixed {
     Plan,
-    DispatchSizes(u32),
+    DispatchSizes,
     Fill,
     FillSurfaces,
     LatticeFilter,
@@ -76,20 +77,13 @@ impl Fixed {
     fn shader(self) -> (&'static str, &'static [u8]) {
         match self {
             Fixed::Plan => ("plan", shaders::PLAN),
-            Fixed::DispatchSizes(_) => ("dispatch sizes", shaders::PLAN_ARGS),
+            Fixed::DispatchSizes => ("dispatch sizes", shaders::PLAN_ARGS),
             Fixed::Fill => ("lattice fill", shaders::LATTICE_FILL),
             Fixed::FillSurfaces => ("lattice fill", shaders::LATTICE_FILL_SURFACES),
             Fixed::LatticeFilter => ("lattice filter", shaders::LATTICE_FILTER),
             Fixed::Resolve => ("resolve", shaders::RESOLVE),
             Fixed::Temporal => ("temporal", shaders::TEMPORAL),
             Fixed::Denoise => ("denoise", shaders::DENOISE),
-        }
-    }
-
-    fn specialization(self) -> Vec<(u32, u32)> {
-        match self {
-            Fixed::DispatchSizes(split) => vec![(SPEC_TRACE_SPLIT, split)],
-            _ => Vec::new(),
         }
     }
 }
@@ -152,15 +146,11 @@ impl Pipelines {
             let mut spec = self.specialization(trace.integrator, trace.max_bounces);
             spec.push((SPEC_PROFILE, trace.profile as u32));
             spec.push((SPEC_SAMPLER, trace.sampler));
-            spec.push((SPEC_TRACE_SPLIT, trace.split));
+            spec.push((SPEC_TRACE_SHARES, trace.shares_lanes as u32));
             let p = ComputePipeline::new(&self.ctx, &self.layout, "trace", trace.spirv(), &spec)?;
             self.trace.insert(trace, p);
         }
-        let mut wanted = vec![
-            Fixed::Plan,
-            Fixed::DispatchSizes(trace.split),
-            Fixed::Resolve,
-        ];
+        let mut wanted = vec![Fixed::Plan, Fixed::DispatchSizes, Fixed::Resolve];
         match trace.keeps_surfaces {
             true => wanted.extend([
                 Fixed::FillSurfaces,
@@ -173,8 +163,7 @@ impl Pipelines {
         for pass in wanted {
             if !self.fixed.contains_key(&pass) {
                 let (name, spirv) = pass.shader();
-                let spec = pass.specialization();
-                let p = ComputePipeline::new(&self.ctx, &self.layout, name, spirv, &spec)?;
+                let p = ComputePipeline::new(&self.ctx, &self.layout, name, spirv, &[])?;
                 self.fixed.insert(pass, p);
             }
         }
@@ -199,7 +188,7 @@ impl Pipelines {
         };
         FramePipelines {
             plan: fixed(Fixed::Plan),
-            plan_args: fixed(Fixed::DispatchSizes(trace.split)),
+            plan_args: fixed(Fixed::DispatchSizes),
             trace: &self.trace[&trace],
             fill: fractional.then(|| fixed(fill)),
             lattice_filter: (history && filters).then(|| fixed(Fixed::LatticeFilter)),

@@ -4,7 +4,7 @@
 //! the gaze, plan each eye for it on the CPU (O(layers) numbers, eye_params.rs), write the layers where the
 //! recorded commands read them, and submit. The frame is left in flight (in_flight.rs).
 
-use super::eye_params::{eye_layers, eye_push, EyeLayers};
+use super::eye_params::{eye_layers, eye_push, EyeLayers, EyePlanInput};
 use super::graph::FrameGraph;
 use super::in_flight::{FrameKnown, PendingFrame};
 use super::passes::FramePasses;
@@ -73,7 +73,7 @@ impl Renderer {
         let history = self.history.as_ref().filter(|_| traced);
         (0..request.eyes.len())
             .map(|e| {
-                let mut push = eye_push(request, e, &targets.buffer);
+                let mut push = eye_push(request, e, &targets.buffer, targets.work_stride());
                 push.eye.layer_base = targets.layer_base(slot);
                 push.eye.history = history.map_or(0, |h| h.push_word(slot));
                 push
@@ -154,14 +154,14 @@ impl Renderer {
         let eyes = (0..request.eyes.len())
             .map(|e| {
                 let gaze = gazes.get(e).copied().unwrap_or(request.eyes[e].gaze);
-                eye_layers(
-                    request,
-                    e,
-                    gaze,
-                    &targets.buffer,
-                    &targets.images[e],
+                let input = EyePlanInput {
+                    buffer: &targets.buffer,
+                    image: &targets.images[e],
                     history_frame,
-                )
+                    lanes: self.trace_lanes(),
+                    lane_unit: targets.key.lane_unit,
+                };
+                eye_layers(request, e, gaze, &input)
             })
             .collect();
         (eyes, planning.elapsed().as_secs_f64() * 1e3)

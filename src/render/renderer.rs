@@ -15,12 +15,12 @@ use super::request::{FrameOptions, FrameRequest};
 use super::scene_buffers::{SceneBuffers, SceneMemory};
 use super::settings::Traversal;
 use super::targets::{TargetCache, TargetKey};
+use super::trace_lanes::TraceLanes;
 use super::visibility::Visibility;
 use super::RenderError;
 use crate::foveation::VisibilityMask;
 use crate::gpu::{GpuContext, StorageImage};
 use crate::scene::{Scene, SceneFeatures};
-use crate::shader_layout::MAX_TRACE_SPLIT;
 use std::sync::Arc;
 
 pub struct Renderer {
@@ -39,8 +39,8 @@ pub struct Renderer {
     /// Whether the trace counts its traversal work (FrameStats::traversal).
     pub(super) profile_traversal: bool,
     pub(super) traversal: Traversal,
-    /// The trace's threads per lattice point (`set_trace_split`).
-    trace_split: u32,
+    /// How many trace threads each layer's points get (`set_trace_lanes`).
+    trace_lanes: TraceLanes,
     /// Whether frames also land in an image (`output_image`).
     output_image: bool,
     /// The display transform of what is presented (`set_display`), where it needs a pass.
@@ -63,7 +63,7 @@ impl Renderer {
             scene,
             profile_traversal: false,
             traversal: Traversal::preferred(ctx),
-            trace_split: preferred_trace_split(ctx),
+            trace_lanes: preferred_trace_lanes(ctx),
             output_image: false,
             display: None,
             ctx: ctx.clone(),
@@ -188,23 +188,16 @@ impl Renderer {
         self.traversal
     }
 
-    /// How many threads trace one lattice point's samples (a power of two up to
-    /// MAX_TRACE_SPLIT): lane p traces samples p, p + split, ... and the point's first lane
-    /// adds the lanes' sums in order. A layer whose spp is at most the split gets the same
-    /// bits as with 1; a larger spp, the same sum up to rounding.
-    pub fn set_trace_split(&mut self, split: u32) -> Result<(), RenderError> {
-        if !split.is_power_of_two() || split > MAX_TRACE_SPLIT {
-            return Err(RenderError::Settings(format!(
-                "trace split {split}: give a power of two from 1 to {MAX_TRACE_SPLIT} \
-                 (threads per lattice point)"
-            )));
-        }
-        self.trace_split = split;
-        Ok(())
+    /// How many threads trace each layer's lattice points from the next frame on
+    /// (TraceLanes' rule): lane p traces samples p, p + lanes, ... and the point's first lane
+    /// adds the lanes' sums in order. A layer whose spp is at most its lanes gets the same
+    /// bits as with one; more, the same sum up to rounding.
+    pub fn set_trace_lanes(&mut self, lanes: TraceLanes) {
+        self.trace_lanes = lanes;
     }
 
-    pub fn trace_split(&self) -> u32 {
-        self.trace_split
+    pub fn trace_lanes(&self) -> TraceLanes {
+        self.trace_lanes
     }
 
     /// The traversals this renderer can run: software, and ray queries where enabled.
@@ -241,7 +234,7 @@ impl Renderer {
             self.profile_traversal,
             self.traversal,
             history,
-            self.trace_split,
+            self.trace_lanes.unit(request.foveation) > 1,
         )
     }
 
@@ -274,6 +267,7 @@ impl Renderer {
             height: s.height,
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
             image: self.output_image,
+            lane_unit: self.trace_lanes.unit(request.foveation),
         })?;
         if let (Some(stage), Some(output)) = (&mut self.display, self.targets.current()) {
             if let Some(frame) = &output.output {
@@ -340,12 +334,15 @@ impl Renderer {
     }
 }
 
-/// The trace's threads per lattice point on `ctx`'s device: 1. A CPU driver runs a
-/// workgroup's invocations as SIMD batches on a few cores, where more threads add work, not
-/// parallelism. On an H100 (reports/gpu-h100-split-1440x1600) a split of 4 let the thesis'
-/// layers' fovea take 2.8x the spp within 90 Hz, but made a regular 1-spp frame 2.4x and the
-/// textured room's 4-spp frame 1.3x slower: a lane with one sample idles while its
-/// workgroup's longest path runs, where one with several starts its next sample.
-pub fn preferred_trace_split(_ctx: &GpuContext) -> u32 {
-    1
+/// The trace's lanes on `ctx`'s device. A CPU driver: one thread per point, which runs
+/// best there. A GPU: up to 16 threads per point, each with at least 4 samples (measured on
+/// an H100: reports/gpu-h100-lanes-1440x1600).
+pub fn preferred_trace_lanes(ctx: &GpuContext) -> TraceLanes {
+    match ctx.info.kind.as_str() {
+        "CPU" => TraceLanes::ONE,
+        _ => TraceLanes {
+            max_lanes: 16,
+            samples_per_lane: 4,
+        },
+    }
 }

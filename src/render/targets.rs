@@ -23,6 +23,9 @@ pub struct TargetKey {
     pub fovs: Vec<EyeFov>,
     /// Whether frames also land in an image (`FrameTargets::output`).
     pub image: bool,
+    /// The most trace lanes of a layer (TraceLanes::unit): the work lists hold that many
+    /// slots per lattice point.
+    pub lane_unit: u32,
 }
 
 pub struct FrameTargets {
@@ -118,9 +121,20 @@ impl TargetKey {
                 self.describe()
             )));
         }
+        if entries * self.lane_unit as u64 > u32::MAX as u64 {
+            return Err(RenderError::Settings(format!(
+                "{} need {entries} lattice points at {} trace lanes each, more work-list slots \
+                 than a 32-bit index reaches; use a smaller --trace-split or {ADVICE}",
+                self.describe(),
+                self.lane_unit
+            )));
+        }
         let mut plan = self.image_plan();
         plan.push(PlannedAllocation::storage("lattice values", entries * 16));
-        plan.push(PlannedAllocation::storage("work lists", entries * 4));
+        plan.push(PlannedAllocation::storage(
+            "work lists",
+            entries * self.lane_unit as u64 * 4,
+        ));
         Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
     }
 
@@ -157,7 +171,7 @@ impl FrameTargets {
         let work = Buffer::new(
             ctx,
             "work lists",
-            entries * 4,
+            entries * key.lane_unit as u64 * 4,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
@@ -228,6 +242,12 @@ impl FrameTargets {
     }
 
     /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
+    /// Work-list slots per eye: every lattice point with the most lanes (eyes' lists are this
+    /// far apart).
+    pub fn work_stride(&self) -> u32 {
+        self.buffer.offsets.len() as u32 * self.key.lane_unit
+    }
+
     pub fn layer_base(&self, slot: usize) -> u32 {
         (slot * self.key.fovs.len() * self.buffer.layers.len()) as u32
     }

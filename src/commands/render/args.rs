@@ -75,7 +75,7 @@ pub struct RenderArgs {
     pub display: DisplayArgs,
     /// Instead of one image, time every built-in scene: regular, and with --foveation other
     /// than off also forward and corner gaze (and the trace's gaze with --gaze-trace).
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["trace_split", "samples_per_lane"])]
     pub bench: bool,
     /// Frames timed per scene and mode in --bench (the median is reported).
     #[arg(long, default_value_t = 3, allow_negative_numbers = true,
@@ -90,11 +90,8 @@ pub struct RenderArgs {
     /// unchanged, the frame is slower. See tools/profile-trace.sh.
     #[arg(long, conflicts_with = "bench")]
     pub profile_traversal: bool,
-    /// The trace's threads per lattice point, a power of two up to 64 (default 1; see
-    /// reports/gpu-h100-split-1440x1600). The image is the same up to rounding; where every
-    /// layer's spp is at most N, bit for bit.
-    #[arg(long, value_name = "N", conflicts_with_all = ["bench", "camera_path"])]
-    pub trace_split: Option<u32>,
+    #[command(flatten)]
+    pub lanes: crate::commands::trace_lanes_args::TraceLaneArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -121,7 +118,11 @@ pub struct SequenceArgs {
     /// in metres, then turned right, up and clockwise in degrees), written to the --out
     /// directory as frame_NNNN.png and .exr. Frame k uses seed --seed + k and, with
     /// --gaze-trace, row k of the trace.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["bench", "debug", "trace_frame"])]
+    #[arg(
+        long,
+        value_name = "FILE",
+        conflicts_with_all = ["bench", "debug", "trace_frame", "trace_split", "samples_per_lane"]
+    )]
     pub camera_path: Option<PathBuf>,
     /// With --camera-path: keep a temporal history (every pixel accumulates the samples
     /// traced at it, reprojected as the camera moves; sparse layers shift their lattices

@@ -29,8 +29,8 @@ pub fn run(
     let scene = scene::load(&args.scene, aspect)?;
     let read = started.elapsed();
     let mut renderer = load(ctx, &scene, read, args.profile_traversal)?;
-    if let Some(split) = args.trace_split {
-        renderer.set_trace_split(split)?;
+    if let Some(lanes) = args.lanes.lanes(ctx)? {
+        renderer.set_trace_lanes(lanes);
     }
     let eyes = frame_eyes(args, &scene, settings, trace);
     let request = FrameRequest {
