@@ -157,16 +157,20 @@ void main() {
         r = trace_samples(k, pixel, spp, part, lanes, pixel_angle);
     }
     vec3 sum = r.sum;
+    bool first_lane = listed && part == 0u;
     if (shares) {
         uint lane = gl_LocalInvocationID.x;
         lane_sums[lane] = r.sum;
         barrier();
-        // In lane order, from zero: with spp <= lanes the same additions as one lane's loop
-        // (sample s is lane s's), so the same bits.
-        sum = vec3(0.0);
-        for (uint p = 0u; p < lanes; ++p) sum += lane_sums[lane + p];
+        // The point's first lane, in lane order, from zero: with spp <= lanes the same
+        // additions as one lane's loop (sample s is lane s's), so the same bits. Only it
+        // reads: its lanes end within the workgroup, a later lane's would not.
+        if (first_lane) {
+            sum = vec3(0.0);
+            for (uint p = 0u; p < lanes; ++p) sum += lane_sums[lane + p];
+        }
     }
-    if (listed && part == 0u) {
+    if (first_lane) {
         lattice[entry] = vec4(sum / float(spp), 1.0);
 #ifdef KEEPS_SURFACES
         // History on: the surface at the point's pixel centre, which temporal.comp
