@@ -86,17 +86,33 @@ fn spreading_a_points_samples_over_threads_changes_no_count_and_the_image_at_mos
     assert_eq!(one.stats.trace_workgroups, all_points.div_ceil(WORKGROUP));
     assert!(one.rgb.iter().all(|v| v.is_finite()));
     let work = one.stats.traversal.unwrap();
-    for (max_lanes, samples_per_lane) in [(2, 1), (4, 1), (8, 1), (64, 1), (8, 2)] {
-        let lanes = TraceLanes::new(max_lanes, samples_per_lane).unwrap();
-        let what = format!("at most {max_lanes} lanes of {samples_per_lane}+ samples");
+    let spp: Vec<u32> = config.layers.iter().map(|l| l.spp).collect();
+    let rules = [
+        (2, 1, 0),
+        (4, 1, 0),
+        (8, 1, 0),
+        (64, 1, 0),
+        (8, 2, 0),
+        (16, 4, 1 << 30),
+    ];
+    for (max_lanes, samples_per_lane, fill) in rules {
+        let lanes = TraceLanes::new(max_lanes, samples_per_lane)
+            .unwrap()
+            .with_fill_threads(fill);
+        let what =
+            format!("at most {max_lanes} lanes of {samples_per_lane}+ samples, {fill} threads");
         let f = frame(&mut renderer, lanes, &config);
         // Each point has its layer's lanes; runs are padded to the most lanes of a layer.
+        let layer_lanes = lanes.of_layers(&spp, &points);
+        if fill > 0 {
+            assert_eq!(layer_lanes, spp, "{what}: filled up to one sample a lane");
+        }
         let slots: u64 = points
             .iter()
-            .zip(&config.layers)
-            .map(|(p, l)| p * lanes.of_layer(l.spp) as u64)
+            .zip(&layer_lanes)
+            .map(|(&p, &l)| p * l as u64)
             .sum();
-        let unit = lanes.unit(&config) as u64;
+        let unit = *layer_lanes.iter().max().unwrap() as u64;
         assert!(
             f.stats.trace_workgroups >= slots.div_ceil(WORKGROUP)
                 && f.stats.trace_workgroups <= (all_points * unit).div_ceil(WORKGROUP),
@@ -119,7 +135,7 @@ fn spreading_a_points_samples_over_threads_changes_no_count_and_the_image_at_mos
             ),
             "{what}: the same traversal work, lane by lane"
         );
-        if config.layers.iter().all(|l| l.spp <= lanes.of_layer(l.spp)) {
+        if spp.iter().zip(&layer_lanes).all(|(s, l)| s <= l) {
             assert!(
                 f.rgb == one.rgb,
                 "{what}: each spp within its lanes: same bits"

@@ -148,12 +148,14 @@ def write_configs(out, paths):
 
 def gpu_report(frames_paths, paths):
     """S with each config's one-eye GPU median from gpu-reports' frames.csv (comma-separated
-    paths) as its cost."""
+    paths; a config in several, at its fastest) as its cost."""
     ms = {}
     for frames_path in frames_paths.split(","):
         for f in csv.DictReader(open(frames_path)):
             if f["eyes"] == "1":
-                ms[(f["scene"], f["mode"])] = float(f["median_ms"])
+                # A config timed in several runs (rules of the trace) counts at its fastest.
+                key = (f["scene"], f["mode"])
+                ms[key] = min(ms.get(key, math.inf), float(f["median_ms"]))
     for scene, pool in pooled_runs(paths).items():
         rows = [r for r in pool.values() if (scene, gpu_name(r["config"])) in ms]
         missing = len(pool) - len(rows)

@@ -1,5 +1,5 @@
-//! `--trace-split N --samples-per-lane M`: how many threads trace each lattice point
-//! (render::TraceLanes), for `fovea render` and `fovea gpu-report`.
+//! `--trace-split N --samples-per-lane M --trace-threads T`: how many threads trace each
+//! lattice point (render::TraceLanes), for `fovea render` and `fovea gpu-report`.
 
 use anyhow::Result;
 use clap::Args;
@@ -17,12 +17,20 @@ pub struct TraceLaneArgs {
     /// on a GPU): a layer gets the largest power of two <= spp / M threads per point.
     #[arg(long, value_name = "M")]
     pub samples_per_lane: Option<u32>,
+    /// While an eye's trace has fewer than T threads, the layer whose threads keep the most
+    /// samples gets twice the lanes, up to N and its spp (default: the device's, 0 on a CPU,
+    /// 524288 on a GPU; 0: never).
+    #[arg(long, value_name = "T")]
+    pub trace_threads: Option<u64>,
 }
 
 impl TraceLaneArgs {
     /// The lanes asked for, each flag not given from the device's; None when neither is.
     pub fn lanes(&self, ctx: &GpuContext) -> Result<Option<TraceLanes>> {
-        if self.trace_split.is_none() && self.samples_per_lane.is_none() {
+        if self.trace_split.is_none()
+            && self.samples_per_lane.is_none()
+            && self.trace_threads.is_none()
+        {
             return Ok(None);
         }
         let device = preferred_trace_lanes(ctx);
@@ -30,7 +38,8 @@ impl TraceLaneArgs {
             self.trace_split.unwrap_or(device.max_lanes),
             self.samples_per_lane.unwrap_or(device.samples_per_lane),
         )
-        .map_err(anyhow::Error::msg)?;
+        .map_err(anyhow::Error::msg)?
+        .with_fill_threads(self.trace_threads.unwrap_or(device.fill_threads));
         Ok(Some(lanes))
     }
 }

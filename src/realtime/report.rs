@@ -190,6 +190,7 @@ impl RealtimeReport<'_> {
             "trace_lanes": {
                 "max_lanes": self.trace_lanes.max_lanes,
                 "samples_per_lane": self.trace_lanes.samples_per_lane,
+                "fill_threads": self.trace_lanes.fill_threads,
             },
             "peak_gpu_memory_bytes": self.peak_memory,
             "frames": self.cases.iter().map(|c| serde_json::json!({
@@ -231,7 +232,8 @@ impl RealtimeReport<'_> {
         let _ = writeln!(
             md,
             "Each eye {}x{} (Vive Pro Eye field of view), path tracer, 8 bounces, gaze forward, \
-             {}, trace lanes per lattice point: spp / {}, at most {}. \
+             {}, trace lanes per lattice point: spp / {}, at most {}, doubled while an eye has \
+             fewer than {} threads. \
              GPU time from timestamps around every pass, median and p99 over the timed frames \
              after warm-up{}. Peak GPU memory held by fovea while timing: {:.1} MiB.\n",
             self.width,
@@ -242,6 +244,7 @@ impl RealtimeReport<'_> {
             },
             self.trace_lanes.samples_per_lane,
             self.trace_lanes.max_lanes,
+            self.trace_lanes.fill_threads,
             if self.quick { " (--quick)" } else { "" },
             self.peak_memory as f64 / (1024.0 * 1024.0)
         );

@@ -6,7 +6,6 @@
 //! (glsl/plan.comp); nothing here visits a lattice point.
 
 use super::request::FrameRequest;
-use super::trace_lanes::TraceLanes;
 use crate::foveation::fraction::phase;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
@@ -56,15 +55,16 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_strid
 }
 
 /// Where eye `e`'s layers are planned: its image and the frame's ray buffer, lattice shift
-/// and trace lanes.
+/// and trace lanes (FrameTargets::layer_lanes and lane_unit).
 pub struct EyePlanInput<'a> {
     pub buffer: &'a RayBuffer,
     pub image: &'a ImageGeometry,
     /// Shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted) and turns the
     /// fractional layers' patterns (`fraction::phase`).
     pub history_frame: u32,
-    pub lanes: TraceLanes,
-    /// TargetKey::lane_unit, which the work lists were sized for.
+    /// Trace threads per point of each layer.
+    pub layer_lanes: &'a [u32],
+    /// The most of them, which the work lists were sized for.
     pub lane_unit: u32,
 }
 
@@ -136,7 +136,7 @@ pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanI
                 denoise_mar: request.foveation.layers[k].denoise_mar,
                 fraction: l.fraction,
                 fraction_phase: phase(history_frame, l.spacing, l.fraction),
-                lanes: input.lanes.of_layer(l.spp),
+                lanes: input.layer_lanes[k],
                 lane_unit: input.lane_unit,
             }
         })

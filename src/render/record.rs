@@ -158,8 +158,8 @@ impl Renderer {
                     buffer: &targets.buffer,
                     image: &targets.images[e],
                     history_frame,
-                    lanes: self.trace_lanes(),
-                    lane_unit: targets.key.lane_unit,
+                    layer_lanes: &targets.layer_lanes,
+                    lane_unit: targets.lane_unit(),
                 };
                 eye_layers(request, e, gaze, &input)
             })

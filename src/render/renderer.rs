@@ -234,7 +234,7 @@ impl Renderer {
             self.profile_traversal,
             self.traversal,
             history,
-            self.trace_lanes.unit(request.foveation) > 1,
+            self.targets.current().is_some_and(|t| t.lane_unit() > 1),
         )
     }
 
@@ -260,15 +260,16 @@ impl Renderer {
                 request.eyes.len()
             )));
         }
-        self.pipelines.ensure(self.trace_key(request))?;
         self.ensure_targets(TargetKey {
             config: request.foveation.clone(),
             width: s.width,
             height: s.height,
             fovs: request.eyes.iter().map(|e| e.fov()).collect(),
             image: self.output_image,
-            lane_unit: self.trace_lanes.unit(request.foveation),
+            lanes: self.trace_lanes,
         })?;
+        // After the targets: whether the trace shares lanes follows their layers' lanes.
+        self.pipelines.ensure(self.trace_key(request))?;
         if let (Some(stage), Some(output)) = (&mut self.display, self.targets.current()) {
             if let Some(frame) = &output.output {
                 stage.ensure_image(&self.ctx, frame)?;
@@ -336,13 +337,21 @@ impl Renderer {
 
 /// The trace's lanes on `ctx`'s device. A CPU driver: one thread per point, which runs
 /// best there. A GPU: up to 16 threads per point, each with at least 4 samples (measured on
-/// an H100: reports/gpu-h100-lanes-1440x1600).
+/// an H100: reports/gpu-h100-lanes-1440x1600), more while an eye's trace has fewer than
+/// GPU_FILL_THREADS threads.
 pub fn preferred_trace_lanes(ctx: &GpuContext) -> TraceLanes {
     match ctx.info.kind.as_str() {
         "CPU" => TraceLanes::ONE,
         _ => TraceLanes {
             max_lanes: 16,
             samples_per_lane: 4,
+            fill_threads: GPU_FILL_THREADS,
         },
     }
 }
+
+/// Threads per eye that keep a large GPU busy: about two waves of an H100's or H200's 132
+/// SMs × 2048 resident threads. Regular 1 spp at 720×800 (576 000 points) already has them
+/// (reports/gpu-h200-candidates-720x800: it traced at the rate of 288 000 points of 2 spp and
+/// twice that of 144 000 points of 4).
+pub const GPU_FILL_THREADS: u64 = 1 << 19;

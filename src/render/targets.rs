@@ -7,8 +7,9 @@
 use super::eye_params::EyeLayers;
 use super::settings::MAX_SIDE;
 use super::slots::MAX_FRAMES_IN_FLIGHT;
+use super::trace_lanes::TraceLanes;
 use super::RenderError;
-use crate::foveation::{EyeFov, FoveationConfig, ImageGeometry, RayBuffer};
+use crate::foveation::{EyeFov, EyePlan, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
 use crate::shader_layout::{GpuLayer, MAX_GROUPS_X, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
 use gpu_allocator::MemoryLocation;
@@ -23,15 +24,17 @@ pub struct TargetKey {
     pub fovs: Vec<EyeFov>,
     /// Whether frames also land in an image (`FrameTargets::output`).
     pub image: bool,
-    /// The most trace lanes of a layer (TraceLanes::unit): the work lists hold that many
-    /// slots per lattice point.
-    pub lane_unit: u32,
+    /// How many trace threads each layer's points get (`FrameTargets::layer_lanes`).
+    pub lanes: TraceLanes,
 }
 
 pub struct FrameTargets {
     pub key: TargetKey,
     pub buffer: RayBuffer,
     pub images: Vec<ImageGeometry>,
+    /// Trace threads per point of each layer (GpuLayer::lanes): `key.lanes`' rule for the
+    /// points each layer traces with the gaze ahead.
+    pub layer_lanes: Vec<u32>,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
     /// The same values as texels, which is how resolve reads them (BINDING_LATTICE_TEXELS).
@@ -112,28 +115,34 @@ impl TargetKey {
         plan
     }
 
-    /// Checks that `entries` lattice points (all eyes') can be addressed by a work list and
-    /// that their buffers fit the device beside the images.
-    fn check_lattice(&self, ctx: &GpuContext, entries: u64) -> Result<(), RenderError> {
+    /// Checks that `entries` lattice points (all eyes') of up to `lane_unit` trace lanes each
+    /// can be addressed by a work list and that their buffers fit the device beside the
+    /// images.
+    fn check_lattice(
+        &self,
+        ctx: &GpuContext,
+        entries: u64,
+        lane_unit: u32,
+    ) -> Result<(), RenderError> {
         if entries >= 1 << WORK_LAYER_SHIFT {
             return Err(RenderError::Settings(format!(
                 "{} need {entries} lattice points, more than a work list can address (2^{WORK_LAYER_SHIFT}); {ADVICE}",
                 self.describe()
             )));
         }
-        if entries * self.lane_unit as u64 > u32::MAX as u64 {
+        if entries * lane_unit as u64 > u32::MAX as u64 {
             return Err(RenderError::Settings(format!(
                 "{} need {entries} lattice points at {} trace lanes each, more work-list slots \
                  than a 32-bit index reaches; use a smaller --trace-split or {ADVICE}",
                 self.describe(),
-                self.lane_unit
+                lane_unit
             )));
         }
         let mut plan = self.image_plan();
         plan.push(PlannedAllocation::storage("lattice values", entries * 16));
         plan.push(PlannedAllocation::storage(
             "work lists",
-            entries * self.lane_unit as u64 * 4,
+            entries * lane_unit as u64 * 4,
         ));
         Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
     }
@@ -155,9 +164,11 @@ impl FrameTargets {
             .map(|f| ImageGeometry::new(key.width, key.height, *f))
             .collect();
         let buffer = RayBuffer::build(&key.config, &images);
+        let layer_lanes = layer_lanes(&key.lanes, &buffer, &images);
+        let lane_unit = layer_lanes.iter().copied().max().unwrap_or(1);
         let eyes = images.len() as u64;
         let entries = eyes * buffer.offsets.len() as u64;
-        key.check_lattice(ctx, entries)?;
+        key.check_lattice(ctx, entries, lane_unit)?;
         let lattice = Buffer::new(
             ctx,
             "lattice values",
@@ -171,7 +182,7 @@ impl FrameTargets {
         let work = Buffer::new(
             ctx,
             "work lists",
-            entries * key.lane_unit as u64 * 4,
+            entries * lane_unit as u64 * 4,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
@@ -201,6 +212,7 @@ impl FrameTargets {
             key,
             buffer,
             images,
+            layer_lanes,
             lattice,
             lattice_texels,
             work,
@@ -241,13 +253,19 @@ impl FrameTargets {
         Ok(())
     }
 
-    /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
+    /// The most trace lanes of a layer: the plan pads each run's work-list slots to a
+    /// multiple of it (GpuLayer::lane_unit), and every point may take that many.
+    pub fn lane_unit(&self) -> u32 {
+        self.layer_lanes.iter().copied().max().unwrap_or(1)
+    }
+
     /// Work-list slots per eye: every lattice point with the most lanes (eyes' lists are this
     /// far apart).
     pub fn work_stride(&self) -> u32 {
-        self.buffer.offsets.len() as u32 * self.key.lane_unit
+        self.buffer.offsets.len() as u32 * self.lane_unit()
     }
 
+    /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
     pub fn layer_base(&self, slot: usize) -> u32 {
         (slot * self.key.fovs.len() * self.buffer.layers.len()) as u32
     }
@@ -330,6 +348,23 @@ impl TargetCache {
     pub fn current_mut(&mut self) -> Option<&mut FrameTargets> {
         self.current.as_mut()
     }
+}
+
+/// `lanes`' rule for the layers of `buffer`: its filling counts the points each layer traces
+/// with the gaze ahead, in the eye that traces most.
+fn layer_lanes(lanes: &TraceLanes, buffer: &RayBuffer, images: &[ImageGeometry]) -> Vec<u32> {
+    let spp: Vec<u32> = buffer.layers.iter().map(|l| l.spp).collect();
+    let mut points = vec![0u64; spp.len()];
+    if lanes.fill_threads > 0 {
+        for image in images {
+            let ahead = [image.width as f64 / 2.0, image.height as f64 / 2.0];
+            let plan = EyePlan::new(buffer, image, ahead);
+            for (p, layer) in points.iter_mut().zip(&plan.layers) {
+                *p = (*p).max(layer.targets);
+            }
+        }
+    }
+    lanes.of_layers(&spp, &points)
 }
 
 /// Bytes of one eye's plan dispatch in `FrameTargets::plan_dispatch` (VkDispatchIndirectCommand

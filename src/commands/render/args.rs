@@ -75,7 +75,7 @@ pub struct RenderArgs {
     pub display: DisplayArgs,
     /// Instead of one image, time every built-in scene: regular, and with --foveation other
     /// than off also forward and corner gaze (and the trace's gaze with --gaze-trace).
-    #[arg(long, conflicts_with_all = ["trace_split", "samples_per_lane"])]
+    #[arg(long, conflicts_with_all = ["trace_split", "samples_per_lane", "trace_threads"])]
     pub bench: bool,
     /// Frames timed per scene and mode in --bench (the median is reported).
     #[arg(long, default_value_t = 3, allow_negative_numbers = true,
@@ -121,7 +121,7 @@ pub struct SequenceArgs {
     #[arg(
         long,
         value_name = "FILE",
-        conflicts_with_all = ["bench", "debug", "trace_frame", "trace_split", "samples_per_lane"]
+        conflicts_with_all = ["bench", "debug", "trace_frame", "trace_split", "samples_per_lane", "trace_threads"]
     )]
     pub camera_path: Option<PathBuf>,
     /// With --camera-path: keep a temporal history (every pixel accumulates the samples
