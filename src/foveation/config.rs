@@ -9,19 +9,12 @@
 use super::fraction::FRACTIONS;
 use std::path::{Path, PathBuf};
 
-/// The most layers a config may have; the GPU side sizes its per-layer tables by this.
-pub const MAX_LAYERS: usize = 8;
-/// The thesis config's occlusion radius in degrees (see [`FoveationConfig::thesis`]).
-pub const THESIS_OCCLUSION_DEG: f32 = 56.0;
-/// The coarsest lattice spacing, in pixels, a layer may use.
-pub const MAX_SPACING: u32 = 64;
-/// The most samples per target pixel a layer may take.
-pub const MAX_LAYER_SPP: u32 = 1 << 20;
-
-/// Samples per target pixel when a TOML layer leaves out `spp` (the thesis' value).
-const DEFAULT_SPP: u32 = 4;
-/// Blend band width when a TOML file leaves out `blend_deg` (the same as [`FoveationConfig::thesis`]).
-const DEFAULT_BLEND_DEG: f32 = 1.0;
+mod limits;
+use limits::{DEFAULT_BLEND_DEG, DEFAULT_SPP};
+pub use limits::{
+    MAX_DENOISE, MAX_FILTER_MAR, MAX_FILTER_PX, MAX_LAYERS, MAX_LAYER_SPP, MAX_SPACING,
+    THESIS_OCCLUSION_DEG,
+};
 
 /// What `--foveation` accepts, for error messages.
 const ACCEPTED_ARGS: &str = "'off' (regular rendering), 'thesis' (the thesis' evaluation config) \
@@ -76,84 +69,6 @@ impl Layer {
     pub fn filters(&self) -> bool {
         self.filter_mar > 0.0 || self.filter_px > 0.0
     }
-}
-
-/// serde's `skip_serializing_if = "..."` needs a function path.
-fn is_zero(n: &u32) -> bool {
-    *n == 0
-}
-
-/// serde's `skip_serializing_if = "..."` needs a function path.
-fn is_one(n: &u32) -> bool {
-    *n == 1
-}
-
-/// serde's `default = "..."` needs a function path.
-fn one() -> u32 {
-    1
-}
-
-/// serde's `skip_serializing_if = "..."` needs a function path.
-fn is_zero_f32(x: &f32) -> bool {
-    *x == 0.0
-}
-
-/// The widest lattice filter a layer may ask for, in minimum angles of resolution and in
-/// pixels (the filter reaches two lattice steps, so wider ones only flatten its Gaussian).
-pub const MAX_FILTER_MAR: f32 = 16.0;
-pub const MAX_FILTER_PX: f32 = 64.0;
-
-/// The most denoiser iterations a layer may ask for (a reach of 125 pixels).
-pub const MAX_DENOISE: u32 = 5;
-
-/// A layer's whole-number field, read with a message that says what it takes (serde's own
-/// says "expected u32" for `spacing = -1` or `spp = 1.5`). The range is checked by `validate`.
-#[derive(Clone, Copy)]
-enum WholeNumber {
-    Spacing,
-    Spp,
-}
-
-impl serde::de::Visitor<'_> for WholeNumber {
-    type Value = u32;
-
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        match self {
-            WholeNumber::Spacing => write!(f, "a whole number of pixels from 1 to {MAX_SPACING}"),
-            WholeNumber::Spp => write!(
-                f,
-                "a whole number of samples per target pixel from 1 to {MAX_LAYER_SPP}"
-            ),
-        }
-    }
-
-    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<u32, E> {
-        u32::try_from(v).map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
-    }
-
-    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<u32, E> {
-        u32::try_from(v).map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
-    }
-}
-
-/// serde's `deserialize_with = "..."` needs a function path.
-fn deserialize_spacing<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    d.deserialize_u32(WholeNumber::Spacing)
-}
-
-/// serde's `deserialize_with = "..."` needs a function path.
-fn deserialize_spp<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    d.deserialize_u32(WholeNumber::Spp)
-}
-
-/// serde's `default = "..."` needs a function path.
-fn default_spp() -> u32 {
-    DEFAULT_SPP
-}
-
-/// serde's `default = "..."` needs a function path.
-fn default_blend_deg() -> f32 {
-    DEFAULT_BLEND_DEG
 }
 
 /// A complete foveation setup: layers from the gaze outward, blend band and occlusion mask.
@@ -591,6 +506,12 @@ fn toml_float(value: f32) -> String {
         format!("{value:?}")
     }
 }
+
+mod serde_fields;
+use serde_fields::{
+    default_blend_deg, default_spp, deserialize_spacing, deserialize_spp, is_one, is_zero,
+    is_zero_f32, one,
+};
 
 #[cfg(test)]
 mod tests;
