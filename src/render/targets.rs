@@ -11,7 +11,9 @@ use super::trace_lanes::TraceLanes;
 use super::RenderError;
 use crate::foveation::{EyeFov, EyePlan, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
-use crate::shader_layout::{GpuLayer, MAX_GROUPS_X, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT};
+use crate::shader_layout::{
+    GpuLayer, MAX_GROUPS_X, PLAN_RUN, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT,
+};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -35,6 +37,7 @@ pub struct FrameTargets {
     /// Trace threads per point of each layer (GpuLayer::lanes): `key.lanes`' rule for the
     /// points each layer traces with the gaze ahead.
     pub layer_lanes: Vec<u32>,
+    work_stride: u32,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
     /// The same values as texels, which is how resolve reads them (BINDING_LATTICE_TEXELS).
@@ -115,14 +118,14 @@ impl TargetKey {
         plan
     }
 
-    /// Checks that `entries` lattice points (all eyes') of up to `lane_unit` trace lanes each
-    /// can be addressed by a work list and that their buffers fit the device beside the
-    /// images.
+    /// Checks that `entries` lattice points (all eyes') can be addressed by a work list, that
+    /// `work_slots` (all eyes') can be indexed, and that their buffers fit the device beside
+    /// the images.
     fn check_lattice(
         &self,
         ctx: &GpuContext,
         entries: u64,
-        lane_unit: u32,
+        work_slots: u64,
     ) -> Result<(), RenderError> {
         if entries >= 1 << WORK_LAYER_SHIFT {
             return Err(RenderError::Settings(format!(
@@ -130,20 +133,17 @@ impl TargetKey {
                 self.describe()
             )));
         }
-        if entries * lane_unit as u64 > u32::MAX as u64 {
+        if work_slots > u32::MAX as u64 {
             return Err(RenderError::Settings(format!(
-                "{} need {entries} lattice points at {} trace lanes each, more work-list slots \
-                 than a 32-bit index reaches; use a smaller --trace-split or {ADVICE}",
-                self.describe(),
-                lane_unit
+                "{} need {work_slots} work-list slots (lattice points times their trace \
+                 lanes), more than a 32-bit index reaches; use a smaller --trace-split or \
+                 {ADVICE}",
+                self.describe()
             )));
         }
         let mut plan = self.image_plan();
         plan.push(PlannedAllocation::storage("lattice values", entries * 16));
-        plan.push(PlannedAllocation::storage(
-            "work lists",
-            entries * lane_unit as u64 * 4,
-        ));
+        plan.push(PlannedAllocation::storage("work lists", work_slots * 4));
         Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
     }
 
@@ -165,10 +165,10 @@ impl FrameTargets {
             .collect();
         let buffer = RayBuffer::build(&key.config, &images);
         let layer_lanes = layer_lanes(&key.lanes, &buffer, &images);
-        let lane_unit = layer_lanes.iter().copied().max().unwrap_or(1);
+        let work_stride = work_slots(&buffer, &layer_lanes);
         let eyes = images.len() as u64;
         let entries = eyes * buffer.offsets.len() as u64;
-        key.check_lattice(ctx, entries, lane_unit)?;
+        key.check_lattice(ctx, entries, eyes * work_stride)?;
         let lattice = Buffer::new(
             ctx,
             "lattice values",
@@ -182,7 +182,7 @@ impl FrameTargets {
         let work = Buffer::new(
             ctx,
             "work lists",
-            entries * lane_unit as u64 * 4,
+            eyes * work_stride * 4,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
@@ -213,6 +213,7 @@ impl FrameTargets {
             buffer,
             images,
             layer_lanes,
+            work_stride: work_stride as u32,
             lattice,
             lattice_texels,
             work,
@@ -259,10 +260,9 @@ impl FrameTargets {
         self.layer_lanes.iter().copied().max().unwrap_or(1)
     }
 
-    /// Work-list slots per eye: every lattice point with the most lanes (eyes' lists are this
-    /// far apart).
+    /// Work-list slots per eye (`work_slots`; eyes' lists are this far apart).
     pub fn work_stride(&self) -> u32 {
-        self.buffer.offsets.len() as u32 * self.lane_unit()
+        self.work_stride
     }
 
     /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
@@ -350,6 +350,23 @@ impl TargetCache {
     }
 }
 
+/// Work-list slots one eye may fill: each lattice point of layer k traced in `lanes[k]` slots
+/// (or filled from a neighbour, in one slot from the list's top: never both), and each plan
+/// run's reservation padded by at most `unit - lanes[k]` to a multiple of the most lanes
+/// (glsl/plan.comp; lanes are powers of two, so the padding is that at most).
+fn work_slots(buffer: &RayBuffer, lanes: &[u32]) -> u64 {
+    let unit = lanes.iter().copied().max().unwrap_or(1) as u64;
+    buffer
+        .layers
+        .iter()
+        .zip(lanes)
+        .map(|(l, &lanes)| {
+            let runs = (l.cols() as u64).div_ceil(PLAN_RUN as u64) * l.rows() as u64;
+            l.len() as u64 * lanes as u64 + runs * (unit - lanes as u64)
+        })
+        .sum()
+}
+
 /// `lanes`' rule for the layers of `buffer`: its filling counts the points each layer traces
 /// with the gaze ahead, in the eye that traces most.
 fn layer_lanes(lanes: &TraceLanes, buffer: &RayBuffer, images: &[ImageGeometry]) -> Vec<u32> {
@@ -396,4 +413,56 @@ fn slot_buffers(
         MemoryLocation::CpuToGpu,
     )?;
     Ok((layers, plan_dispatch))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::foveation::EyeFov;
+
+    /// Every lattice point traced, in the plan pass's runs of PLAN_RUN points per box row,
+    /// each reservation padded to the most lanes: the most a frame can put in a work list.
+    fn every_point_traced(buffer: &RayBuffer, lanes: &[u32]) -> u64 {
+        let unit = *lanes.iter().max().unwrap() as u64;
+        let mut slots = 0;
+        for (l, &lanes) in buffer.layers.iter().zip(lanes) {
+            for _row in 0..l.rows() {
+                let mut left = l.cols() as u64;
+                while left > 0 {
+                    let run = left.min(PLAN_RUN as u64);
+                    slots += (run * lanes as u64).div_ceil(unit) * unit;
+                    left -= run;
+                }
+            }
+        }
+        slots
+    }
+
+    #[test]
+    fn work_lists_hold_every_point_with_its_lanes_and_padding_and_no_more_than_that() {
+        let mut config = FoveationConfig::thesis();
+        config.layers[0].spp = 64;
+        let image = ImageGeometry::new(200, 180, EyeFov::VIVE_PRO_EYE_LEFT);
+        let buffer = RayBuffer::build(&config, &[image]);
+        let entries = buffer.offsets.len() as u64;
+        for lanes in [vec![1, 1, 1, 1], vec![16, 4, 4, 1], vec![16, 1, 1, 1]] {
+            let worst = every_point_traced(&buffer, &lanes);
+            let slots = work_slots(&buffer, &lanes);
+            assert!(
+                worst <= slots,
+                "{lanes:?}: {worst} slots used, {slots} held"
+            );
+            let unit = *lanes.iter().max().unwrap() as u64;
+            assert!(
+                slots <= entries * unit,
+                "{lanes:?}: more than every point at the most lanes"
+            );
+            if lanes == [1, 1, 1, 1] {
+                assert_eq!(slots, entries, "one lane: one slot a point");
+            }
+        }
+        // A fovea of 16 lanes in a background of one: far fewer slots than every point at 16.
+        let mixed = work_slots(&buffer, &[16, 1, 1, 1]);
+        assert!(mixed * 2 < entries * 16, "{mixed} of {}", entries * 16);
+    }
 }
