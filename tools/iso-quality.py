@@ -47,13 +47,12 @@ def regular_cost(curve, jod):
 
 def report(path, jod_column):
     rows = list(csv.DictReader(open(path)))
-    judged = [r for r in rows if r[jod_column] not in ("", "NaN", "nan")]
-    regular = [r for r in judged if r["config"].startswith("bg:1x") and r["config"][5:].isdigit()]
-    regular.sort(key=lambda r: int(r["config"][5:]))
+    judged_rows = [r for r in rows if judged(r, jod_column)]
+    regular = regular_rows(judged_rows)
     # ms per unit of pace: the budget config's (pace 1) median, from any row's ms / pace.
     ms = float(regular[-1]["gpu_ms"]) / float(regular[-1]["pace_ratio"])
     counts = ["paths_per_pixel"]
-    if all(r.get("rays_per_pixel", "") not in ("", "NaN", "nan") for r in judged):
+    if all("rays_per_pixel" in r and judged(r, "rays_per_pixel") for r in judged_rows):
         counts.append("rays_per_pixel")
     names = {"paths_per_pixel": "paths", "rays_per_pixel": "rays"}
     print(f"\n{path} ({jod_column})")
@@ -62,7 +61,7 @@ def report(path, jod_column):
     print("|---|---:|---|---:|---:|---:|" + "---:|" * len(counts))
     for target_row in regular:
         target = float(target_row[jod_column])
-        reach = [r for r in judged if float(r[jod_column]) >= target - 1e-9]
+        reach = [r for r in judged_rows if float(r[jod_column]) >= target - 1e-9]
         by_ms = min(reach, key=lambda r: float(r["pace_ratio"]))
         curve_ms = [(float(r["pace_ratio"]), float(r[jod_column])) for r in regular]
         need_ms = regular_cost(curve_ms, target)
@@ -78,6 +77,12 @@ def report(path, jod_column):
             f"{float(by_ms['pace_ratio']) * ms:.1f} | "
             f"{s_ms:.2f} | " + " | ".join(by_count) + " |"
         )
+
+
+def regular_rows(rows):
+    """The unfiltered regular baselines (`bg:1xN`), by spp."""
+    regular = [r for r in rows if r["config"].startswith("bg:1x") and r["config"][5:].isdigit()]
+    return sorted(regular, key=lambda r: int(r["config"][5:]))
 
 
 def scene_of(row):
@@ -153,7 +158,6 @@ def gpu_report(frames_paths, paths):
     for frames_path in frames_paths.split(","):
         for f in csv.DictReader(open(frames_path)):
             if f["eyes"] == "1":
-                # A config timed in several runs (rules of the trace) counts at its fastest.
                 key = (f["scene"], f["mode"])
                 ms[key] = min(ms.get(key, math.inf), float(f["median_ms"]))
     for scene, pool in pooled_runs(paths).items():
@@ -161,8 +165,7 @@ def gpu_report(frames_paths, paths):
         missing = len(pool) - len(rows)
         for r in rows:
             r["gpu_ms"] = ms[(scene, gpu_name(r["config"]))]
-        regular = [r for r in rows if r["config"].startswith("bg:1x") and r["config"][5:].isdigit()]
-        regular.sort(key=lambda r: int(r["config"][5:]))
+        regular = regular_rows(rows)
         if not regular:
             print(f"\n{scene}: no regular config timed in {frames_paths}")
             continue

@@ -16,6 +16,12 @@ pub use limits::{
     THESIS_OCCLUSION_DEG,
 };
 
+mod serde_fields;
+use serde_fields::{
+    default_blend_deg, default_spp, deserialize_spacing, deserialize_spp, is_one, is_zero,
+    is_zero_f32, one,
+};
+
 /// What `--foveation` accepts, for error messages.
 const ACCEPTED_ARGS: &str = "'off' (regular rendering), 'thesis' (the thesis' evaluation config) \
      or the path of a foveation TOML file (examples in assets/foveation/)";
@@ -506,12 +512,6 @@ fn toml_float(value: f32) -> String {
         format!("{value:?}")
     }
 }
-
-mod serde_fields;
-use serde_fields::{
-    default_blend_deg, default_spp, deserialize_spacing, deserialize_spp, is_one, is_zero,
-    is_zero_f32, one,
-};
 
 #[cfg(test)]
 mod tests;

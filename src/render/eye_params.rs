@@ -6,6 +6,7 @@
 //! (glsl/plan.comp); nothing here visits a lattice point.
 
 use super::request::FrameRequest;
+use super::trace_lanes::lane_unit;
 use crate::foveation::fraction::phase;
 use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
@@ -55,7 +56,7 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_strid
 }
 
 /// Where eye `e`'s layers are planned: its image and the frame's ray buffer, lattice shift
-/// and trace lanes (FrameTargets::layer_lanes and lane_unit).
+/// and trace lanes (FrameTargets::layer_lanes).
 pub struct EyePlanInput<'a> {
     pub buffer: &'a RayBuffer,
     pub image: &'a ImageGeometry,
@@ -64,8 +65,6 @@ pub struct EyePlanInput<'a> {
     pub history_frame: u32,
     /// Trace threads per point of each layer.
     pub layer_lanes: &'a [u32],
-    /// The most of them, which the work lists were sized for.
-    pub lane_unit: u32,
 }
 
 /// Plans eye `e` of `request` looking at `gaze`.
@@ -137,7 +136,7 @@ pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanI
                 fraction: l.fraction,
                 fraction_phase: phase(history_frame, l.spacing, l.fraction),
                 lanes: input.layer_lanes[k],
-                lane_unit: input.lane_unit,
+                lane_unit: lane_unit(input.layer_lanes),
             }
         })
         .collect();

@@ -159,7 +159,6 @@ impl Renderer {
                     image: &targets.images[e],
                     history_frame,
                     layer_lanes: &targets.layer_lanes,
-                    lane_unit: targets.lane_unit(),
                 };
                 eye_layers(request, e, gaze, &input)
             })

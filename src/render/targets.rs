@@ -7,7 +7,7 @@
 use super::eye_params::EyeLayers;
 use super::settings::MAX_SIDE;
 use super::slots::MAX_FRAMES_IN_FLIGHT;
-use super::trace_lanes::TraceLanes;
+use super::trace_lanes::{lane_unit, TraceLanes};
 use super::RenderError;
 use crate::foveation::{EyeFov, EyePlan, FoveationConfig, ImageGeometry, RayBuffer};
 use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
@@ -37,7 +37,6 @@ pub struct FrameTargets {
     /// Trace threads per point of each layer (GpuLayer::lanes): `key.lanes`' rule for the
     /// points each layer traces with the gaze ahead.
     pub layer_lanes: Vec<u32>,
-    work_stride: u32,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
     /// The same values as texels, which is how resolve reads them (BINDING_LATTICE_TEXELS).
@@ -213,7 +212,6 @@ impl FrameTargets {
             buffer,
             images,
             layer_lanes,
-            work_stride: work_stride as u32,
             lattice,
             lattice_texels,
             work,
@@ -254,15 +252,15 @@ impl FrameTargets {
         Ok(())
     }
 
-    /// The most trace lanes of a layer: the plan pads each run's work-list slots to a
-    /// multiple of it (GpuLayer::lane_unit), and every point may take that many.
+    /// The most trace lanes of a layer (`trace_lanes::lane_unit`).
     pub fn lane_unit(&self) -> u32 {
-        self.layer_lanes.iter().copied().max().unwrap_or(1)
+        lane_unit(&self.layer_lanes)
     }
 
-    /// Work-list slots per eye (`work_slots`; eyes' lists are this far apart).
+    /// Work-list slots per eye (`work_slots`; eyes' lists are this far apart). Checked to fit
+    /// a u32 when the targets were built.
     pub fn work_stride(&self) -> u32 {
-        self.work_stride
+        work_slots(&self.buffer, &self.layer_lanes) as u32
     }
 
     /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
@@ -355,7 +353,7 @@ impl TargetCache {
 /// run's reservation padded by at most `unit - lanes[k]` to a multiple of the most lanes
 /// (glsl/plan.comp; lanes are powers of two, so the padding is that at most).
 fn work_slots(buffer: &RayBuffer, lanes: &[u32]) -> u64 {
-    let unit = lanes.iter().copied().max().unwrap_or(1) as u64;
+    let unit = lane_unit(lanes) as u64;
     buffer
         .layers
         .iter()

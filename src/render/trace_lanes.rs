@@ -15,7 +15,7 @@ use crate::shader_layout::MAX_TRACE_LANES;
 /// at most `max_lanes`; then, while an eye's trace has fewer than `fill_threads` threads,
 /// the layer whose threads keep the most samples gets twice its lanes (at most its spp and
 /// `max_lanes`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TraceLanes {
     pub max_lanes: u32,
     pub samples_per_lane: u32,
@@ -84,6 +84,12 @@ impl TraceLanes {
         }
         lanes
     }
+}
+
+/// The most lanes of the layers: the plan pads each run's work-list slots to a multiple of
+/// it (GpuLayer::lane_unit), and the work lists are sized for that padding.
+pub fn lane_unit(layer_lanes: &[u32]) -> u32 {
+    layer_lanes.iter().copied().max().unwrap_or(1)
 }
 
 #[cfg(test)]
