@@ -221,6 +221,28 @@ fn bad_input_gets_a_message() {
         assert!(!ok, "{args:?}");
         assert!(text.contains(expected), "{args:?}: {text}");
     }
+    // A window larger than the display's eye image, one too small to hold the off-axis
+    // gaze, or one beside --width, is refused.
+    let windowed = |window: &str| {
+        let mut a = tune_args(out, &["--budget-ms", "5", "--display", "varjo-xr-4"]);
+        a.splice(3..7, ["--window".to_string(), window.to_string()]);
+        a
+    };
+    let mut beside = windowed("1600x1560");
+    beside.extend(["--width".to_string(), "48".to_string()]);
+    let refused = [
+        (
+            windowed("4000x100"),
+            "larger than the varjo-xr-4's 3840x3744",
+        ),
+        (windowed("48x54"), "does not hold the off-axis gaze"),
+        (beside, "--width"),
+    ];
+    for (args, expected) in refused {
+        let (ok, text) = run(&args);
+        assert!(!ok && text.contains(expected), "{args:?}: {text}");
+    }
+
     // A drawn config far over the budget is timed on the first scene and not judged: its
     // row says so and has no JOD (and nothing fits 1 µs, so the run ends with the message).
     // (On the Varjo XR-4's field of view and photometry, at the small size given: the plan

@@ -53,6 +53,11 @@ pub struct TuneArgs {
     pub width: Option<u32>,
     #[arg(long)]
     pub height: Option<u32>,
+    /// Judge the central WIDTHxHEIGHT pixels of the --display's eye image, at its pixel
+    /// density over the part of its field of view they see: a high-density headset measured
+    /// where its whole panel would take hours (foveation saves most in the periphery left out).
+    #[arg(long, value_name = "WIDTHxHEIGHT", value_parser = super::parse_size, conflicts_with_all = ["width", "height", "fov"])]
+    pub window: Option<[u32; 2]>,
     /// GPU milliseconds one eye's frame may take (median of the timed frames).
     #[arg(
         long,
@@ -113,11 +118,17 @@ impl TuneArgs {
             SpaceChoice::Standard => Space::standard(),
             SpaceChoice::Small => Space::small(),
         };
+        let (panel_width, panel_height) = self.display_profile.eye_size();
+        let [width, height] = (self.window).unwrap_or([
+            (self.width).unwrap_or(panel_width),
+            (self.height).unwrap_or(panel_height),
+        ]);
         Ok(TunePlan {
             scenes: self.scene.clone(),
-            width: (self.width).unwrap_or(self.display_profile.eye_size().0),
-            height: (self.height).unwrap_or(self.display_profile.eye_size().1),
+            width,
+            height,
             fov: (self.fov).unwrap_or(self.display_profile.fov()),
+            window_of: self.window.map(|_| [panel_width, panel_height]),
             profile: self.display_profile,
             objective: self.objective,
             budget: match (self.budget_ms, self.budget_of_regular) {
@@ -158,12 +169,16 @@ pub fn run(args: &TuneArgs) -> Result<()> {
             .map_or_else(|| PathBuf::from("references"), |p| p.join("references"))
     });
     println!(
-        "fovea tune: {} configs on {} at {}x{} per eye ({} photometry), {} on {}",
+        "fovea tune: {} configs on {} at {}x{} per eye ({} photometry){}, {} on {}",
         plan.candidates,
         plan.scenes.join(", "),
         plan.width,
         plan.height,
         plan.profile.name(),
+        match plan.window_of {
+            Some([w, h]) => format!(", the centre of its {w}x{h} eye image"),
+            None => String::new(),
+        },
         match plan.budget {
             Budget::Ms(ms) => format!("budget {ms} ms"),
             Budget::Regular(spp) => format!("budget = regular {spp} spp's time"),

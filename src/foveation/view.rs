@@ -42,6 +42,21 @@ impl EyeFov {
     };
     /// Per-eye resolution of the Varjo XR-4's panels.
     pub const VARJO_XR_4_SIZE: (u32, u32) = (3840, 3744);
+
+    /// The field of view of the `window` pixels about the view axis of an image of `full`
+    /// pixels over this field: each tangent scaled by window ÷ full, so every pixel of the
+    /// window looks where the same pixel of the full image does (the same density, a smaller
+    /// field).
+    pub fn central_window(self, full: [u32; 2], window: [u32; 2]) -> EyeFov {
+        let cut = |angle: f32, of: f32| (angle.tan() * of).atan();
+        let [sx, sy] = [0, 1].map(|i| window[i] as f32 / full[i] as f32);
+        EyeFov {
+            left: cut(self.left, sx),
+            right: cut(self.right, sx),
+            up: cut(self.up, sy),
+            down: cut(self.down, sy),
+        }
+    }
 }
 
 /// The pixel grid of one eye's image over its field of view. Pixel `(x, y)` covers
@@ -144,6 +159,33 @@ mod tests {
         assert_eq!(g.tan_of(0.0, 0.0), [g.tan_left, g.tan_up]);
         let t = g.tan_of(1440.0, 1600.0);
         assert!((t[0] - g.tan_right).abs() < 1e-12 && (t[1] - g.tan_down).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_central_window_keeps_the_pixels_where_they_were() {
+        let full = ImageGeometry::new(3840, 3744, EyeFov::VARJO_XR_4);
+        let fov = EyeFov::VARJO_XR_4.central_window([3840, 3744], [1600, 1560]);
+        let window = ImageGeometry::new(1600, 1560, fov);
+        // Pixel (x, y) of the window is pixel (x + 1120, y + 1092) of the panel.
+        for (x, y) in [(0, 0), (799, 780), (1599, 1559), (17, 1200)] {
+            let a = window.pixel_centre_tan(x, y);
+            let b = full.pixel_centre_tan(x + 1120, y + 1092);
+            assert!(
+                (a[0] - b[0]).abs() < 1e-5 && (a[1] - b[1]).abs() < 1e-5,
+                "{a:?} {b:?}"
+            );
+        }
+        // An asymmetric field keeps its axis where it was, as a fraction of the image.
+        let vive = vive();
+        let cut = ImageGeometry::new(
+            720,
+            800,
+            EyeFov::VIVE_PRO_EYE_LEFT.central_window([1440, 1600], [720, 800]),
+        );
+        let (a, b) = (cut.axis_pixel(), vive.axis_pixel());
+        assert!((a[0] * 2.0 - b[0]).abs() < 1e-3 && (a[1] * 2.0 - b[1]).abs() < 1e-3);
+        let density = |g: &ImageGeometry| g.max_radians_per_pixel();
+        assert!((density(&cut) - density(&vive)).abs() < 1e-9);
     }
 
     #[test]

@@ -82,14 +82,19 @@ fn config_header(
             crate::build_version()
         ),
         format!(
-            "Judged on {} at {}x{} per eye ({}), gaze forward / off-axis (15 deg right, 10 down) / corner,",
+            "Judged on {} at {}x{} per eye ({}{}), gaze forward / off-axis (15 deg right, 10 down) / corner,",
             plan.scenes.join(", "),
             plan.width,
             plan.height,
-            crate::bench::protocol::flag_value(&plan.fov)
+            crate::bench::protocol::flag_value(&plan.fov),
+            match plan.window_of {
+                Some([w, h]) => format!(", the centre of its {w}x{h} image"),
+                None => String::new(),
+            }
         ),
         format!(
-            "by FovVideoVDP (foveated, HTC Vive Pro photometry) against {}-spp references.",
+            "by FovVideoVDP (foveated, {} photometry) against {}-spp references.",
+            plan.profile.name(),
             plan.reference_spp
         ),
         chosen_line(plan, chosen, budget),

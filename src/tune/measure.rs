@@ -7,14 +7,13 @@ use super::motion::MotionJudge;
 use super::plan::{Budget, Cost, Objective, TuneGaze, TunePlan};
 use crate::bench::quality;
 use crate::bench::BenchPlan;
-use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
+use crate::foveation::{FoveationConfig, ImageGeometry};
 use crate::gpu::GpuContext;
 use crate::metrics::jod::Fvvdp;
 use crate::metrics::{hidden_black, visible_pixels};
 use crate::render::FrameOptions;
 use crate::render::{
-    eye_views, DebugView, EyeView, FrameRequest, FrameStats, RenderSettings, Renderer,
-    TemporalSettings,
+    DebugView, EyeView, FrameRequest, FrameStats, RenderSettings, Renderer, TemporalSettings,
 };
 use std::path::Path;
 use std::sync::Arc;
@@ -113,12 +112,7 @@ impl SceneJudge {
             }
             Budget::Ms(_) => None,
         };
-        let forward = GazeChoice {
-            left: Gaze::Forward,
-            right: Gaze::Forward,
-        };
-        let aspect = plan.width as f32 / plan.height as f32;
-        let mono = eye_views(&scene.camera, aspect, plan.fov, false, forward)[0];
+        let mono = plan.eye(&scene.camera);
         let image = mono.image(plan.width, plan.height);
         let eyes: Vec<EyeView> = TuneGaze::ALL
             .iter()

@@ -14,13 +14,12 @@ use super::error::TuneError;
 use super::plan::TunePlan;
 use crate::bench::motion::MotionScript;
 use crate::bench::{quality, BenchPlan};
-use crate::foveation::{FoveationConfig, Gaze, GazeChoice, ImageGeometry};
+use crate::foveation::{FoveationConfig, Gaze, ImageGeometry};
 use crate::metrics::hidden_black;
 use crate::metrics::jod::{Fvvdp, JodInput};
 use crate::render::display::DisplayTransform;
 use crate::render::{
-    eye_views, DebugView, EyeView, FrameOptions, FrameRequest, RenderSettings, Renderer,
-    TemporalSettings,
+    DebugView, EyeView, FrameOptions, FrameRequest, RenderSettings, Renderer, TemporalSettings,
 };
 use crate::scene::Scene;
 use std::path::Path;
@@ -158,12 +157,7 @@ fn first_scored_frame(script: &MotionScript, warm_up: u32) -> u32 {
 /// gaze at the script's fixation.
 fn frame_eye(scene: &Scene, plan: &TunePlan, script: &MotionScript, k: u32) -> EyeView {
     let head = script.head_pose(k).apply(&scene.camera);
-    let aspect = plan.width as f32 / plan.height as f32;
-    let forward = GazeChoice {
-        left: Gaze::Forward,
-        right: Gaze::Forward,
-    };
-    let eye = eye_views(&head, aspect, plan.fov, false, forward)[0];
+    let eye = plan.eye(&head);
     let image = eye.image(plan.width, plan.height);
     let [x, y] = script.gaze_pixel(k, &scene.camera, &eye.camera, &image);
     EyeView {

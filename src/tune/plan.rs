@@ -2,10 +2,11 @@
 //! (`<out>-tune.json`) so that an interrupted run resumes only with the same plan.
 
 use super::space::Space;
-use crate::foveation::{Gaze, ImageGeometry};
+use crate::foveation::{Gaze, GazeChoice, ImageGeometry};
 use crate::render::display::DisplayChoice;
-use crate::render::{FovChoice, Integrator, Traversal};
+use crate::render::{eye_views, EyeView, FovChoice, Integrator, Traversal};
 use crate::scene::env_choice::EnvChoice;
+use crate::scene::Camera;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -91,6 +92,11 @@ pub struct TunePlan {
     pub width: u32,
     pub height: u32,
     pub fov: FovChoice,
+    /// `--window`: the eye image is the central width×height of the display's eye image of
+    /// this size, its field of view cut to match: the display's pixel density over a smaller
+    /// field. Absent: the whole field of view.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window_of: Option<[u32; 2]>,
     /// `--display`: the headset whose photometry FovVideoVDP judges on. Absent from older
     /// plans: the Vive Pro Eye.
     #[serde(default)]
@@ -133,8 +139,62 @@ pub struct TunePlan {
 }
 
 impl TunePlan {
+    /// One eye (mono) where `camera` looks, gaze forward, with the plan's field of view cut
+    /// to its window.
+    pub fn eye(&self, camera: &Camera) -> EyeView {
+        let forward = GazeChoice {
+            left: Gaze::Forward,
+            right: Gaze::Forward,
+        };
+        let aspect = self.width as f32 / self.height as f32;
+        let eye = eye_views(camera, aspect, self.fov, false, forward)[0];
+        let Some(full) = self.window_of else {
+            return eye;
+        };
+        let fov = eye.fov().central_window(full, [self.width, self.height]);
+        EyeView {
+            camera: Camera {
+                angle_left: fov.left,
+                angle_right: fov.right,
+                angle_up: fov.up,
+                angle_down: fov.down,
+                ..eye.camera
+            },
+            ..eye
+        }
+    }
+
+    /// A window must lie within the display's eye image and see the off-axis gaze every
+    /// config is judged at.
+    fn validate_window(&self, [w, h]: [u32; 2]) -> Result<(), String> {
+        let (profile, window) = (self.profile.name(), [self.width, self.height]);
+        if self.width > w || self.height > h {
+            return Err(format!(
+                "--window {}x{} is larger than the {profile}'s {w}x{h} eye image; give at most that",
+                self.width, self.height,
+            ));
+        }
+        let fov = self.profile.left_eye_fov().central_window([w, h], window);
+        let image = ImageGeometry::new(self.width, self.height, fov);
+        let Gaze::Pixel(x, y) = TuneGaze::OffAxis.gaze(&image) else {
+            unreachable!("the off-axis gaze is a pixel")
+        };
+        if !(0.0..self.width as f64).contains(&x) || !(0.0..self.height as f64).contains(&y) {
+            return Err(format!(
+                "--window {}x{} sees too little of the {profile}'s field: it does not hold the \
+                 off-axis gaze (15 deg right, 10 deg down) every config is judged at; give a \
+                 larger window (a third of the eye image each way holds it)",
+                self.width, self.height
+            ));
+        }
+        Ok(())
+    }
+
     /// Rejects plans that cannot run, saying which flag to change.
     pub fn validate(&self) -> Result<(), String> {
+        if let Some(full) = self.window_of {
+            self.validate_window(full)?;
+        }
         if self.scenes.is_empty() {
             return Err(
                 "no scene to tune on; give --scene NAME (or several, comma-separated)".into(),
@@ -201,4 +261,85 @@ pub struct TuneOptions {
     pub reference_cache: PathBuf,
     /// The command line, written into the chosen config's header.
     pub command_line: String,
+}
+
+#[cfg(test)]
+impl TunePlan {
+    /// A plan of the standard space on cornell at 64x72 with the Vive Pro Eye's field of view.
+    pub(crate) fn for_tests(seed: u64) -> TunePlan {
+        TunePlan {
+            scenes: vec!["cornell".into()],
+            width: 64,
+            height: 72,
+            fov: FovChoice::ViveProEye,
+            window_of: None,
+            profile: Default::default(),
+            objective: Default::default(),
+            budget: Budget::Regular(1),
+            cost: Cost::GpuTime,
+            candidates: 24,
+            seed,
+            frames: 1,
+            reference_spp: 256,
+            integrator: Integrator::Pt,
+            max_bounces: 8,
+            traversal: Traversal::Software,
+            space: Space::standard(),
+            include: vec![crate::foveation::FoveationConfig::thesis().with_spp(8)],
+            display: Default::default(),
+            environment: None,
+            sampler: Default::default(),
+            motion_warm_up: crate::tune::motion::WARM_UP,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::foveation::DisplayProfile;
+    use glam::Vec3;
+
+    #[test]
+    fn a_window_sees_the_centre_of_the_display_at_its_density() {
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, 1.0);
+        let whole = TunePlan {
+            width: 3840,
+            height: 3744,
+            fov: FovChoice::VarjoXr4,
+            profile: DisplayProfile::VarjoXr4,
+            ..TunePlan::for_tests(1)
+        };
+        let window = TunePlan {
+            width: 1600,
+            height: 1560,
+            window_of: Some([3840, 3744]),
+            ..whole.clone()
+        };
+        let (a, b) = (whole.eye(&camera), window.eye(&camera));
+        assert_eq!(
+            (a.camera.position, a.camera.forward),
+            (b.camera.position, b.camera.forward)
+        );
+        let (a, b) = (a.image(3840, 3744), b.image(1600, 1560));
+        assert!((a.max_radians_per_pixel() - b.max_radians_per_pixel()).abs() < 1e-7);
+        // 71.7 deg of the XR-4's 120 across: tan 35.8 deg = 1600/3840 tan 60 deg.
+        assert!(
+            (b.tan_right - 1600.0 / 3840.0 * 3f64.sqrt()).abs() < 1e-5,
+            "{b:?}"
+        );
+        assert_eq!(window.validate(), Ok(()));
+
+        let refused = |w, h| {
+            TunePlan {
+                width: w,
+                height: h,
+                ..window.clone()
+            }
+            .validate()
+        };
+        assert!(refused(4000, 1560).unwrap_err().contains("larger than"));
+        assert!(refused(400, 1560).unwrap_err().contains("off-axis gaze"));
+        assert!(refused(1600, 300).unwrap_err().contains("off-axis gaze"));
+    }
 }

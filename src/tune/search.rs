@@ -97,34 +97,9 @@ pub fn candidate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{FovChoice, Integrator, Traversal};
-    use crate::tune::plan::{Budget, Cost};
-    use crate::tune::space::Space;
 
     fn plan(seed: u64) -> TunePlan {
-        TunePlan {
-            scenes: vec!["cornell".into()],
-            width: 64,
-            height: 72,
-            fov: FovChoice::ViveProEye,
-            profile: Default::default(),
-            objective: Default::default(),
-            budget: Budget::Regular(1),
-            cost: Cost::GpuTime,
-            candidates: 24,
-            seed,
-            frames: 1,
-            reference_spp: 256,
-            integrator: Integrator::Pt,
-            max_bounces: 8,
-            traversal: Traversal::Software,
-            space: Space::standard(),
-            include: vec![FoveationConfig::thesis().with_spp(8)],
-            display: Default::default(),
-            environment: None,
-            sampler: Default::default(),
-            motion_warm_up: crate::tune::motion::WARM_UP,
-        }
+        TunePlan::for_tests(seed)
     }
 
     fn row(index: u32, config: &FoveationConfig, pace_ratio: f64, jod: f64) -> CandidateRow {
