@@ -24,17 +24,8 @@ use crate::render::{
 use crate::scene::Scene;
 use std::path::Path;
 
-/// Frames rendered (not scored) before the scored ones, so that the history has built up:
-/// the script's whole first fixation (250 ms), as on a headset that has been running. Eight,
-/// as before, scored histories still growing, which flattered sparse layers (theirs stop
-/// growing sooner): from 8 to 22 frames regular 1 spp gained 0.23 JOD on cornell at 720x800,
-/// the thesis' layers 0.11-0.20.
-pub const WARM_UP: u32 = 22;
-
-/// The warm-up of plans written before it was a plan field.
-pub fn warm_up_before_the_field() -> u32 {
-    8
-}
+// The warm-up is a plan field (plans before it rendered fewer); its value lives with the plan.
+pub use super::plan::{warm_up_before_the_field, WARM_UP};
 
 /// Frames scored: about 130 ms at 90 Hz, holding the end of a fixation, a saccade and the
 /// landing.
