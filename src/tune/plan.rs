@@ -141,8 +141,8 @@ pub struct TunePlan {
     /// `--objective`. Absent from older plans: still.
     #[serde(default)]
     pub objective: Objective,
-    /// `--objective motion`: frames rendered before the scored ones (tune/motion.rs's
-    /// [`WARM_UP`]). Plans written before the field rendered 8.
+    /// `--objective motion`: frames rendered before the scored ones ([`WARM_UP`]). Plans
+    /// written before the field rendered 8.
     #[serde(default = "warm_up_before_the_field")]
     pub motion_warm_up: u32,
     /// `--sampler`. Plans written before the flag ran with the independent sampler.
