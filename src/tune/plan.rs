@@ -83,11 +83,11 @@ impl TuneGaze {
     }
 }
 
-/// `--objective motion`: frames rendered (not scored) before the scored ones, so that the history has built up:
-/// the script's whole first fixation (250 ms), as on a headset that has been running. Eight,
-/// as before, scored histories still growing, which flattered sparse layers (theirs stop
-/// growing sooner): from 8 to 22 frames regular 1 spp gained 0.23 JOD on cornell at 720x800,
-/// the thesis' layers 0.11-0.20.
+/// `--objective motion`: frames rendered (not scored) before the scored ones, so that the
+/// history has built up: the script's whole first fixation (250 ms), as on a headset that has
+/// been running. Eight, as before, scored histories still growing, which flattered sparse
+/// layers (theirs stop growing sooner): from 8 to 22 frames regular 1 spp gained 0.23 JOD on
+/// cornell at 720x800, the thesis' layers 0.11-0.20.
 pub const WARM_UP: u32 = 22;
 
 /// The warm-up of plans written before it was a plan field.
