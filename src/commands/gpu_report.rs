@@ -4,7 +4,7 @@
 use super::{check_validation, gpu_context, GpuArgs};
 use anyhow::{bail, Result};
 use clap::Args;
-use fovea::foveation::FoveationConfig;
+use fovea::foveation::{DisplayProfile, FoveationConfig};
 use fovea::realtime::{self, RealtimePlan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -17,9 +17,14 @@ pub struct GpuReportArgs {
     /// Fewer layer configs and frames (60 timed per case): within 2 minutes on a GPU.
     #[arg(long)]
     pub quick: bool,
-    /// Each eye's image, WIDTHxHEIGHT (the Vive Pro Eye's 1440x1600 by default).
-    #[arg(long, value_parser = super::parse_size, default_value = "1440x1600")]
-    pub size: [u32; 2],
+    /// The headset whose eyes' fields of view the frames cover, and whose panel is each eye's
+    /// image unless --size says otherwise.
+    #[arg(long = "display", value_name = "HEADSET", value_enum, default_value_t = DisplayProfile::ViveProEye)]
+    pub display_profile: DisplayProfile,
+    /// Each eye's image, WIDTHxHEIGHT. Default: the --display's panel (1440x1600 for the Vive
+    /// Pro Eye, 3840x3744 for the Varjo XR-4).
+    #[arg(long, value_parser = super::parse_size)]
+    pub size: Option<[u32; 2]>,
     /// Only these scenes, comma-separated: built-in ones or .gltf/.glb files (default: every
     /// built-in scene).
     #[arg(long, value_delimiter = ',')]
@@ -48,11 +53,13 @@ fn named_config(text: &str) -> Result<(&str, &str)> {
 }
 
 pub fn run(args: &GpuReportArgs) -> Result<()> {
-    let [width, height] = args.size;
+    let (panel_width, panel_height) = args.display_profile.eye_size();
+    let [width, height] = args.size.unwrap_or([panel_width, panel_height]);
     let mut plan = match args.quick {
         true => RealtimePlan::quick(width, height),
         false => RealtimePlan::full(width, height),
     };
+    plan.display = args.display_profile;
     if !args.scenes.is_empty() {
         let known = &plan.scenes;
         let missing = |s: &String| match fovea::scene::is_scene_file(s) {
@@ -75,11 +82,13 @@ pub fn run(args: &GpuReportArgs) -> Result<()> {
     let ctx = gpu_context(&args.gpu)?;
     plan.trace_lanes = args.lanes.lanes(&ctx)?;
     println!(
-        "fovea gpu-report on {} ({}, Vulkan {}): {} scenes at {width}x{height} per eye{}",
+        "fovea gpu-report on {} ({}, Vulkan {}): {} scenes at {width}x{height} per eye over the \
+         {}'s field of view{}",
         ctx.info.name,
         ctx.info.driver,
         ctx.info.api_version,
         plan.scenes.len(),
+        plan.display.name(),
         if plan.quick { ", --quick" } else { "" }
     );
     let started = Instant::now();

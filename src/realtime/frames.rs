@@ -6,7 +6,7 @@ use crate::bench::stats::{summarize, Summary};
 use crate::foveation::{FoveationConfig, Gaze, GazeChoice};
 use crate::render::FrameOptions;
 use crate::render::{
-    eye_views, DebugView, EyeView, FovChoice, FrameRequest, FrameStats, Integrator, RenderError,
+    eye_views, DebugView, EyeView, FrameRequest, FrameStats, Integrator, RenderError,
     RenderSettings, Renderer, Traversal,
 };
 use crate::scene::Scene;
@@ -28,20 +28,14 @@ pub struct CaseTiming {
     pub msamples_per_s: f64,
 }
 
-/// The headset's eyes (its field of view, IPD apart) looking forward; one for mono.
+/// The display's eyes (its fields of view, IPD apart) looking forward; one for mono.
 pub fn eyes(scene: &Scene, plan: &RealtimePlan, stereo: bool) -> Vec<EyeView> {
     let forward = GazeChoice {
         left: Gaze::Forward,
         right: Gaze::Forward,
     };
     let aspect = plan.width as f32 / plan.height as f32;
-    eye_views(
-        &scene.camera,
-        aspect,
-        FovChoice::ViveProEye,
-        stereo,
-        forward,
-    )
+    eye_views(&scene.camera, aspect, plan.display.fov(), stereo, forward)
 }
 
 /// A frame of the plan's size; the layers carry the spp.
@@ -160,4 +154,28 @@ pub fn fovea_spp_ms(
     let stats = timed_frames(renderer, &request, 1, plan.search_frames)?;
     let ms: Vec<f64> = stats.iter().map(FrameStats::gpu_ms).collect();
     Ok(summarize(&ms).map_or(f64::NAN, |s| s.median))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::foveation::DisplayProfile;
+
+    #[test]
+    fn the_eyes_cover_the_plans_display() {
+        let scene = crate::scene::load("cornell", 1.0).expect("a built-in scene loads");
+        let mut plan = RealtimePlan::quick(64, 64);
+        for display in [DisplayProfile::ViveProEye, DisplayProfile::VarjoXr4] {
+            plan.display = display;
+            let mono = eyes(&scene, &plan, false);
+            assert_eq!(mono.len(), 1);
+            assert_eq!(mono[0].fov(), display.left_eye_fov(), "{}", display.name());
+            assert_eq!(eyes(&scene, &plan, true).len(), 2);
+        }
+        // The two fields differ, so the check above could fail.
+        assert_ne!(
+            DisplayProfile::ViveProEye.left_eye_fov(),
+            DisplayProfile::VarjoXr4.left_eye_fov()
+        );
+    }
 }

@@ -1,7 +1,7 @@
 //! What `fovea gpu-report` measures: the scenes, the layer configs, the frames, the budgets
 //! and the headset sessions. The full plan fits 8 minutes on a GPU, `--quick` 2.
 
-use crate::foveation::FoveationConfig;
+use crate::foveation::{DisplayProfile, FoveationConfig};
 use crate::render::TraceLanes;
 
 /// One 90 Hz stereo frame's time, and 120 Hz's.
@@ -28,7 +28,9 @@ pub struct Mode {
 
 #[derive(Clone, Debug)]
 pub struct RealtimePlan {
-    /// One eye's image.
+    /// The headset whose eyes' fields of view the frames cover.
+    pub display: DisplayProfile,
+    /// One eye's image (the display's panel unless asked otherwise).
     pub width: u32,
     pub height: u32,
     pub scenes: Vec<String>,
@@ -59,6 +61,7 @@ impl RealtimePlan {
     /// Everything, at `width`x`height` per eye (the headset's 1440x1600 by default).
     pub fn full(width: u32, height: u32) -> Self {
         Self {
+            display: DisplayProfile::ViveProEye,
             width,
             height,
             scenes: crate::scene::builtin::BUILTIN_SCENES

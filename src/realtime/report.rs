@@ -6,6 +6,7 @@ use super::frames::CaseTiming;
 use super::sessions::SessionTiming;
 use super::spp_search::{Probes, SppAnswer};
 use crate::bench::stats::Summary;
+use crate::foveation::DisplayProfile;
 use crate::gpu::DeviceInfo;
 use crate::render::{TraceLanes, Traversal};
 use serde::Serialize;
@@ -26,6 +27,8 @@ pub struct RealtimeReport<'a> {
     pub device: &'a DeviceInfo,
     pub command: String,
     pub written_at: String,
+    /// The headset whose fields of view the frames cover.
+    pub display: DisplayProfile,
     pub width: u32,
     pub height: u32,
     pub quick: bool,
@@ -184,6 +187,7 @@ impl RealtimeReport<'_> {
             "fovea": crate::build_version(),
             "command": self.command,
             "written_at": self.written_at,
+            "display": self.display.name(),
             "eye_size": [self.width, self.height],
             "quick": self.quick,
             "history": self.history,
@@ -231,13 +235,14 @@ impl RealtimeReport<'_> {
         let _ = writeln!(md, "Command: `{}`\n", self.command);
         let _ = writeln!(
             md,
-            "Each eye {}x{} (Vive Pro Eye field of view), path tracer, 8 bounces, gaze forward, \
+            "Each eye {}x{} ({} field of view), path tracer, 8 bounces, gaze forward, \
              {}, trace lanes per lattice point: spp / {}, at most {}, doubled while an eye has \
              fewer than {} threads. \
              GPU time from timestamps around every pass, median and p99 over the timed frames \
              after warm-up{}. Peak GPU memory held by fovea while timing: {:.1} MiB.\n",
             self.width,
             self.height,
+            self.display.name(),
             match self.history {
                 true => "temporal history on (camera still)",
                 false => "no history",
@@ -327,7 +332,8 @@ impl RealtimeReport<'_> {
         let _ = writeln!(
             md,
             "## Headset sessions (simulated headset, paced in real time at 90 Hz)\n\n\
-             `fovea xr --simulated` at the same size, thesis layers, temporal history on, a \
+             `fovea xr --simulated` at the same size (the simulated headset's Vive Pro Eye field \
+             of view, whatever the report's display), thesis layers, temporal history on, a \
              scripted gaze with saccades; files in session-K-in-flight/. Missed frames in \
              brackets: after the second frame, leaving out the periods that wait for the first \
              frame's pipelines.\n"

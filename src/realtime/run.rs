@@ -27,6 +27,7 @@ pub fn run(
         device: &ctx.info,
         command,
         written_at: crate::bench::summary::utc_now(),
+        display: plan.display,
         width: plan.width,
         height: plan.height,
         quick: plan.quick,
