@@ -22,6 +22,16 @@ pub struct SppResult {
     pub probes: Probes,
 }
 
+/// A case not timed because its buffers or images exceed what the device holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct OverLimit {
+    pub scene: String,
+    pub mode: String,
+    pub eyes: usize,
+    /// The renderer's message: which limit, by how much, and what to change.
+    pub why: String,
+}
+
 /// Everything one run measured.
 pub struct RealtimeReport<'a> {
     pub device: &'a DeviceInfo,
@@ -39,6 +49,8 @@ pub struct RealtimeReport<'a> {
     pub cases: Vec<CaseTiming>,
     pub spp: Vec<SppResult>,
     pub sessions: Vec<SessionTiming>,
+    /// The cases the device could not hold (in no other file's rows).
+    pub over_limits: Vec<OverLimit>,
     /// The most GPU memory fovea held while timing frames, bytes.
     pub peak_memory: u64,
     /// The goal: at 90 Hz stereo, at least this many spp in the fovea in every scene.
@@ -214,6 +226,7 @@ impl RealtimeReport<'_> {
                     .collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
             "sessions": self.sessions,
+            "over_limits": self.over_limits,
         })
     }
 
@@ -255,6 +268,7 @@ impl RealtimeReport<'_> {
         );
         self.markdown_spp(&mut md);
         self.markdown_frames(&mut md);
+        self.markdown_over_limits(&mut md);
         self.markdown_sessions(&mut md);
         md
     }
@@ -324,6 +338,20 @@ impl RealtimeReport<'_> {
                 c.frame_ms.p99,
                 c.msamples_per_s
             );
+        }
+        let _ = writeln!(md);
+    }
+
+    fn markdown_over_limits(&self, md: &mut String) {
+        if self.over_limits.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            md,
+            "## Cases this device cannot hold (not timed)\n\n| scene | config | eyes | why |\n|---|---|---:|---|"
+        );
+        for o in &self.over_limits {
+            let _ = writeln!(md, "| {} | {} | {} | {} |", o.scene, o.mode, o.eyes, o.why);
         }
         let _ = writeln!(md);
     }

@@ -3,11 +3,11 @@
 
 use super::frames::{eyes, fovea_spp_ms, time_case};
 use super::plan::RealtimePlan;
-use super::report::{RealtimeReport, SppResult};
+use super::report::{OverLimit, RealtimeReport, SppResult};
 use super::sessions::run_sessions;
 use super::spp_search::Probes;
-use crate::gpu::GpuContext;
-use crate::render::{Renderer, TemporalSettings};
+use crate::gpu::{GpuContext, GpuError};
+use crate::render::{RenderError, Renderer, TemporalSettings};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -38,6 +38,7 @@ pub fn run(
         cases: Vec::new(),
         spp: Vec::new(),
         sessions: Vec::new(),
+        over_limits: Vec::new(),
         peak_memory: 0,
         goal_spp: GOAL_SPP,
     };
@@ -50,6 +51,22 @@ pub fn run(
     progress("headset sessions");
     report.sessions = run_sessions(plan, dir)?;
     report.write(dir)
+}
+
+/// Whether `error` says the case's buffers or images exceed what the device holds (a
+/// per-resource limit or its memory), checked before anything is allocated: the report records
+/// the case and goes on with the others, as a headset at a display's full size meets it.
+fn over_device_limits(error: &RenderError) -> bool {
+    matches!(
+        error,
+        RenderError::Settings(_)
+            | RenderError::Gpu(
+                GpuError::Limit(_)
+                    | GpuError::ResourceTooLarge(_)
+                    | GpuError::NotEnoughMemory(_)
+                    | GpuError::OutOfMemory { .. }
+            )
+    )
 }
 
 /// Every case of one scene, then its fovea spp search, per traversal.
@@ -84,9 +101,19 @@ fn measure_scene(
                     if stereo { "stereo" } else { "mono" },
                     traversal.name()
                 ));
-                let case = time_case(&mut renderer, plan, name, &mode.name, &mode.config, &eyes)
-                    .map_err(|e| e.to_string())?;
-                report.cases.push(case);
+                match time_case(&mut renderer, plan, name, &mode.name, &mode.config, &eyes) {
+                    Ok(case) => report.cases.push(case),
+                    Err(e) if over_device_limits(&e) => {
+                        progress(&format!("{name}: {} not timed: {e}", mode.name));
+                        report.over_limits.push(OverLimit {
+                            scene: name.to_string(),
+                            mode: mode.name.clone(),
+                            eyes: eyes.len(),
+                            why: e.to_string(),
+                        });
+                    }
+                    Err(e) => return Err(e.to_string()),
+                }
             }
         }
         progress(&format!("{name}: fovea spp search, {}", traversal.name()));

@@ -1,0 +1,81 @@
+//! `fovea gpu-report` at a size where one config's lattice exceeds the device's limits in
+//! stereo (as a wide fovea does at the Varjo XR-4's whole panel): the report records that case
+//! with the renderer's reason and times every other case, the stereo frames after it too.
+
+mod common;
+
+use fovea::foveation::FoveationConfig;
+use fovea::realtime::{self, RealtimePlan};
+
+/// Seven gaze-anchored layers, each wide enough that its lattice spans twice the image each
+/// way (about 4 × width × height entries), and a background: about 29 lattice values per
+/// pixel of each eye.
+const WIDE: &str = "blend_deg = 1.0\n\
+    [[layer]]\nradius_deg = 45.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 50.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 55.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 60.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 65.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 70.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nradius_deg = 75.0\nspacing = 1\nspp = 1\n\
+    [[layer]]\nspacing = 1\nspp = 1\n";
+
+#[test]
+fn a_case_over_the_devices_limits_is_recorded_and_the_report_goes_on() {
+    let ctx = common::context();
+    // The most lattice values (16 bytes each) one buffer may hold: lavapipe's 128 MiB storage
+    // buffer range, NVIDIA's 2^27 texels. An image whose eye holds 3/4 of it fits mono, not
+    // stereo.
+    let limit = (ctx.info.max_storage_buffer_range / 16).min(ctx.info.max_texel_buffer_elements);
+    let side = ((0.75 * limit as f64 / 29.0).sqrt() as u32).min(4096);
+    let mut plan = RealtimePlan::quick(side, side);
+    plan.scenes = vec!["cornell".into()];
+    plan.modes.clear();
+    plan.add_mode(
+        "wide",
+        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
+    );
+    plan.add_mode("regular", FoveationConfig::regular(1));
+    (plan.warmup, plan.frames) = (0, 1);
+    plan.budgets_ms.clear(); // no fovea spp search
+    plan.frames_in_flight.clear(); // no headset sessions
+    let dir = common::test_dir("gpu_report_limits");
+    realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
+
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    let timed: Vec<(String, u64)> = report["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            (
+                f["mode"].as_str().unwrap().to_string(),
+                f["eyes"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    let traversals = report["frames"].as_array().unwrap().len() / 3;
+    assert!(traversals >= 1, "{timed:?}");
+    for eyes in [1, 2] {
+        assert!(timed.contains(&("regular".into(), eyes)), "{timed:?}");
+    }
+    assert!(
+        timed.contains(&("wide".into(), 1)),
+        "{timed:?} {}",
+        report["over_limits"]
+    );
+    assert!(!timed.contains(&("wide".into(), 2)), "{timed:?}");
+
+    let over = report["over_limits"].as_array().unwrap();
+    assert_eq!(over.len(), traversals, "{over:?}");
+    assert_eq!(over[0]["mode"], "wide");
+    assert_eq!(over[0]["eyes"], 2);
+    let why = over[0]["why"].as_str().unwrap();
+    let names_the_limit =
+        why.contains("maxStorageBufferRange") || why.contains("maxTexelBufferElements");
+    assert!(why.contains("lattice values") && names_the_limit, "{why}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("Cases this device cannot hold"), "{md}");
+    common::assert_no_validation_messages(&ctx);
+}
