@@ -175,10 +175,7 @@ pub fn run(args: &TuneArgs) -> Result<()> {
         plan.width,
         plan.height,
         plan.profile.name(),
-        match plan.window_of {
-            Some([w, h]) => format!(", the centre of its {w}x{h} eye image"),
-            None => String::new(),
-        },
+        plan.window_phrase(),
         match plan.budget {
             Budget::Ms(ms) => format!("budget {ms} ms"),
             Budget::Regular(spp) => format!("budget = regular {spp} spp's time"),

@@ -87,10 +87,7 @@ fn config_header(
             plan.width,
             plan.height,
             crate::bench::protocol::flag_value(&plan.fov),
-            match plan.window_of {
-                Some([w, h]) => format!(", the centre of its {w}x{h} image"),
-                None => String::new(),
-            }
+            plan.window_phrase()
         ),
         format!(
             "by FovVideoVDP (foveated, {} photometry) against {}-spp references.",

@@ -7,6 +7,7 @@ use crate::render::display::DisplayChoice;
 use crate::render::{eye_views, EyeView, FovChoice, Integrator, Traversal};
 use crate::scene::env_choice::EnvChoice;
 use crate::scene::Camera;
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -176,18 +177,34 @@ impl TunePlan {
         }
     }
 
+    /// What the run line and the configs' header say of a window: where the judged pixels lie.
+    pub fn window_phrase(&self) -> String {
+        match self.window_of {
+            Some([w, h]) => format!(", the centre of its {w}x{h} eye image"),
+            None => String::new(),
+        }
+    }
+
     /// A window must lie within the display's eye image and see the off-axis gaze every
     /// config is judged at.
     fn validate_window(&self, [w, h]: [u32; 2]) -> Result<(), String> {
-        let (profile, window) = (self.profile.name(), [self.width, self.height]);
+        let profile = self.profile.name();
         if self.width > w || self.height > h {
             return Err(format!(
                 "--window {}x{} is larger than the {profile}'s {w}x{h} eye image; give at most that",
                 self.width, self.height,
             ));
         }
-        let fov = self.profile.left_eye_fov().central_window([w, h], window);
-        let image = ImageGeometry::new(self.width, self.height, fov);
+        if self.fov == FovChoice::Scene {
+            return Err(format!(
+                "--window {}x{} needs the {profile}'s field of view, not the scene camera's",
+                self.width, self.height
+            ));
+        }
+        // The window the frames are rendered in: the plan's field, as `eye` crops it (the
+        // camera's place and direction do not change a display's field).
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, 1.0);
+        let image = ImageGeometry::new(self.width, self.height, self.eye(&camera).fov());
         let Gaze::Pixel(x, y) = TuneGaze::OffAxis.gaze(&image) else {
             unreachable!("the off-axis gaze is a pixel")
         };
@@ -353,5 +370,19 @@ mod tests {
         assert!(refused(4000, 1560).unwrap_err().contains("larger than"));
         assert!(refused(400, 1560).unwrap_err().contains("off-axis gaze"));
         assert!(refused(1600, 300).unwrap_err().contains("off-axis gaze"));
+        // The check sees the field the frames are rendered in (the plan's), not the profile's.
+        let scene_field = TunePlan {
+            fov: FovChoice::Scene,
+            ..window.clone()
+        };
+        assert!(scene_field
+            .validate()
+            .unwrap_err()
+            .contains("field of view"));
+        assert_eq!(
+            window.window_phrase(),
+            ", the centre of its 3840x3744 eye image"
+        );
+        assert_eq!(whole.window_phrase(), "");
     }
 }
