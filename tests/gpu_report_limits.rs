@@ -79,3 +79,44 @@ fn a_case_over_the_devices_limits_is_recorded_and_the_report_goes_on() {
     assert!(md.contains("Cases this device cannot hold"), "{md}");
     common::assert_no_validation_messages(&ctx);
 }
+
+#[test]
+fn a_lattice_over_the_texel_limit_is_refused_before_anything_is_allocated() {
+    let ctx = common::context();
+    // An image whose eye needs more lattice values than one texel view holds, even in mono.
+    let limit = ctx.info.max_texel_buffer_elements;
+    let side = ((1.1 * limit as f64 / 29.0).sqrt() as u32).min(ctx.info.max_image_dimension_2d);
+    let mut plan = RealtimePlan::quick(side, side);
+    plan.scenes = vec!["cornell".into()];
+    plan.modes.clear();
+    plan.add_mode(
+        "wide",
+        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
+    );
+    (plan.warmup, plan.frames) = (0, 1);
+    plan.budgets_ms.clear();
+    plan.frames_in_flight.clear();
+    let dir = common::test_dir("gpu_report_texel_limit");
+    realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
+
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["frames"].as_array().unwrap().len(), 0);
+    // Mono meets the lattice's limit; stereo may meet another first (lavapipe's 128 MiB
+    // storage buffers hold fewer pixels of two eyes).
+    let over = report["over_limits"].as_array().unwrap();
+    let with = |eyes: u64| over.iter().filter(|o| o["eyes"] == eyes).count();
+    assert!(with(1) >= 1 && with(1) == with(2), "{over:?}");
+    let mono = over.iter().find(|o| o["eyes"] == 1).expect("mono recorded");
+    let why = mono["why"].as_str().unwrap();
+    assert!(
+        why.contains("maxTexelBufferElements") && why.contains("radius_deg"),
+        "{why}"
+    );
+    assert!(
+        ctx.memory_peak() < 1 << 30,
+        "{} bytes held: the check comes before the allocations",
+        ctx.memory_peak()
+    );
+    common::assert_no_validation_messages(&ctx);
+}

@@ -140,6 +140,18 @@ impl TargetKey {
                 self.describe()
             )));
         }
+        // Passes read the lattice values through one texel view.
+        let texels = ctx.info.max_texel_buffer_elements;
+        if entries > texels {
+            return Err(RenderError::Settings(format!(
+                "{} need {entries} lattice values, more than this device's \
+                 maxTexelBufferElements ({texels}): a layer anchored at the gaze keeps a value \
+                 for every offset a gaze anywhere on the image could need, up to 4 per pixel for \
+                 a wide layer at spacing 1; give such layers a smaller radius_deg or a larger \
+                 spacing, or {ADVICE}",
+                self.describe()
+            )));
+        }
         let mut plan = self.image_plan();
         plan.push(PlannedAllocation::storage("lattice values", entries * 16));
         plan.push(PlannedAllocation::storage("work lists", work_slots * 4));
