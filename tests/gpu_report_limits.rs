@@ -5,7 +5,9 @@
 mod common;
 
 use fovea::foveation::FoveationConfig;
+use fovea::gpu::GpuContext;
 use fovea::realtime::{self, RealtimePlan};
+use std::sync::Arc;
 
 /// Seven gaze-anchored layers, each wide enough that its lattice spans twice the image each
 /// way (about 4 × width × height entries), and a background: about 29 lattice values per
@@ -20,6 +22,34 @@ const WIDE: &str = "blend_deg = 1.0\n\
     [[layer]]\nradius_deg = 75.0\nspacing = 1\nspp = 1\n\
     [[layer]]\nspacing = 1\nspp = 1\n";
 
+/// A quick report on cornell at `side`² per eye timing WIDE, then `also` if given, one frame
+/// each, with no fovea spp search and no headset sessions: its report.json.
+fn report_of(
+    ctx: &Arc<GpuContext>,
+    side: u32,
+    also: Option<FoveationConfig>,
+    name: &str,
+) -> serde_json::Value {
+    let mut plan = RealtimePlan::quick(side, side);
+    plan.scenes = vec!["cornell".into()];
+    plan.modes.clear();
+    plan.add_mode(
+        "wide",
+        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
+    );
+    if let Some(config) = also {
+        plan.add_mode("regular", config);
+    }
+    (plan.warmup, plan.frames) = (0, 1);
+    plan.budgets_ms.clear();
+    plan.frames_in_flight.clear();
+    let dir = common::test_dir(name);
+    realtime::run(ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("Cases this device cannot hold"), "{md}");
+    serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap()
+}
+
 #[test]
 fn a_case_over_the_devices_limits_is_recorded_and_the_report_goes_on() {
     let ctx = common::context();
@@ -28,22 +58,12 @@ fn a_case_over_the_devices_limits_is_recorded_and_the_report_goes_on() {
     // stereo.
     let limit = (ctx.info.max_storage_buffer_range / 16).min(ctx.info.max_texel_buffer_elements);
     let side = ((0.75 * limit as f64 / 29.0).sqrt() as u32).min(4096);
-    let mut plan = RealtimePlan::quick(side, side);
-    plan.scenes = vec!["cornell".into()];
-    plan.modes.clear();
-    plan.add_mode(
-        "wide",
-        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
+    let report = report_of(
+        &ctx,
+        side,
+        Some(FoveationConfig::regular(1)),
+        "gpu_report_limits",
     );
-    plan.add_mode("regular", FoveationConfig::regular(1));
-    (plan.warmup, plan.frames) = (0, 1);
-    plan.budgets_ms.clear(); // no fovea spp search
-    plan.frames_in_flight.clear(); // no headset sessions
-    let dir = common::test_dir("gpu_report_limits");
-    realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
-
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
     let timed: Vec<(String, u64)> = report["frames"]
         .as_array()
         .unwrap()
@@ -75,8 +95,6 @@ fn a_case_over_the_devices_limits_is_recorded_and_the_report_goes_on() {
     let names_the_limit =
         why.contains("maxStorageBufferRange") || why.contains("maxTexelBufferElements");
     assert!(why.contains("lattice values") && names_the_limit, "{why}");
-    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("Cases this device cannot hold"), "{md}");
     common::assert_no_validation_messages(&ctx);
 }
 
@@ -86,21 +104,7 @@ fn a_lattice_over_the_texel_limit_is_refused_before_anything_is_allocated() {
     // An image whose eye needs more lattice values than one texel view holds, even in mono.
     let limit = ctx.info.max_texel_buffer_elements;
     let side = ((1.1 * limit as f64 / 29.0).sqrt() as u32).min(ctx.info.max_image_dimension_2d);
-    let mut plan = RealtimePlan::quick(side, side);
-    plan.scenes = vec!["cornell".into()];
-    plan.modes.clear();
-    plan.add_mode(
-        "wide",
-        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
-    );
-    (plan.warmup, plan.frames) = (0, 1);
-    plan.budgets_ms.clear();
-    plan.frames_in_flight.clear();
-    let dir = common::test_dir("gpu_report_texel_limit");
-    realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
-
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    let report = report_of(&ctx, side, None, "gpu_report_texel_limit");
     assert_eq!(report["frames"].as_array().unwrap().len(), 0);
     // Mono meets the lattice's limit; stereo may meet another first (lavapipe's 128 MiB
     // storage buffers hold fewer pixels of two eyes).
