@@ -124,3 +124,22 @@ fn a_lattice_over_the_texel_limit_is_refused_before_anything_is_allocated() {
     );
     common::assert_no_validation_messages(&ctx);
 }
+
+#[test]
+fn a_config_that_cannot_run_as_asked_still_stops_the_report() {
+    // Bad input, not a device limit: denoising needs the history, which this plan leaves off.
+    let ctx = common::context();
+    let mut plan = RealtimePlan::quick(32, 32);
+    plan.scenes = vec!["cornell".into()];
+    plan.modes.clear();
+    let denoised = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/foveation/thesis-denoised.toml");
+    plan.add_mode("denoised", FoveationConfig::load(&denoised).unwrap());
+    (plan.warmup, plan.frames) = (0, 1);
+    plan.budgets_ms.clear();
+    plan.frames_in_flight.clear();
+    let dir = common::test_dir("gpu_report_bad_config");
+    let error = realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {})
+        .expect_err("a denoised config without history is refused");
+    assert!(error.contains("temporal history"), "{error}");
+}

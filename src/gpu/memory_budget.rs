@@ -18,6 +18,9 @@ pub struct PlannedAllocation {
     pub host_visible: bool,
     /// Bound as one storage buffer, so also limited by maxStorageBufferRange.
     pub storage_buffer: bool,
+    /// Also read through one texel view of 16-byte texels, so also limited by
+    /// maxTexelBufferElements.
+    pub texel_view: bool,
 }
 
 impl PlannedAllocation {
@@ -28,6 +31,16 @@ impl PlannedAllocation {
             bytes,
             host_visible: false,
             storage_buffer: true,
+            texel_view: false,
+        }
+    }
+
+    /// A device-local storage buffer that passes also read through a texel view
+    /// (`TexelView::of_frame`).
+    pub fn storage_with_texels(name: &str, bytes: u64) -> Self {
+        Self {
+            texel_view: true,
+            ..Self::storage(name, bytes)
         }
     }
 
@@ -38,6 +51,7 @@ impl PlannedAllocation {
             bytes,
             host_visible: false,
             storage_buffer: false,
+            texel_view: false,
         }
     }
 
@@ -48,6 +62,7 @@ impl PlannedAllocation {
             bytes,
             host_visible: true,
             storage_buffer,
+            texel_view: false,
         }
     }
 }
@@ -73,6 +88,8 @@ pub(super) struct MemoryFacts {
     pub(super) max_memory_allocation_size: u64,
     /// The largest storage buffer a shader can bind.
     pub(super) max_storage_buffer_range: u64,
+    /// The largest texel view, in bytes (maxTexelBufferElements 16-byte texels).
+    pub(super) max_texel_view_bytes: u64,
     pub(super) limit: Option<u64>,
 }
 
@@ -111,6 +128,7 @@ pub(super) fn memory_facts(
         budget: picked.budget,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         max_storage_buffer_range: picked.info.max_storage_buffer_range,
+        max_texel_view_bytes: picked.info.max_texel_buffer_elements.saturating_mul(16),
         limit,
     }
 }
@@ -301,9 +319,16 @@ impl MemoryBudget {
     }
 
     /// One item of a plan against the per-resource limits: maxStorageBufferRange for a
-    /// storage buffer, maxMemoryAllocationSize for all.
+    /// storage buffer, maxTexelBufferElements for one read through a texel view,
+    /// maxMemoryAllocationSize for all.
     fn check_item(&self, what: &str, p: &PlannedAllocation, advice: &str) -> Result<(), GpuError> {
         let limits = [
+            (
+                p.texel_view,
+                "texel view (16-byte texels)",
+                self.facts.max_texel_view_bytes,
+                "maxTexelBufferElements × 16",
+            ),
             (
                 p.storage_buffer,
                 "storage buffer",

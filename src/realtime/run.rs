@@ -59,13 +59,12 @@ pub fn run(
 fn over_device_limits(error: &RenderError) -> bool {
     matches!(
         error,
-        RenderError::Settings(_)
-            | RenderError::Gpu(
-                GpuError::Limit(_)
-                    | GpuError::ResourceTooLarge(_)
-                    | GpuError::NotEnoughMemory(_)
-                    | GpuError::OutOfMemory { .. }
-            )
+        RenderError::Gpu(
+            GpuError::Limit(_)
+                | GpuError::ResourceTooLarge(_)
+                | GpuError::NotEnoughMemory(_)
+                | GpuError::OutOfMemory { .. }
+        )
     )
 }
 

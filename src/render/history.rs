@@ -41,21 +41,22 @@ pub struct HistoryKey {
 }
 
 impl HistoryKey {
-    /// Every allocation of [`History::new`], for the memory check before it.
+    /// Every allocation of [`History::new`], for the memory check before it (all but the
+    /// views and the albedos are also read through texel views).
     pub fn allocations(&self) -> Vec<PlannedAllocation> {
         let plane = self.width as u64 * self.height as u64 * self.eyes as u64 * 16;
         vec![
-            PlannedAllocation::storage("history plane 0", plane),
-            PlannedAllocation::storage("history plane 1", plane),
-            PlannedAllocation::storage("history surfaces plane 0", plane),
-            PlannedAllocation::storage("history surfaces plane 1", plane),
-            PlannedAllocation::storage(
+            PlannedAllocation::storage_with_texels("history plane 0", plane),
+            PlannedAllocation::storage_with_texels("history plane 1", plane),
+            PlannedAllocation::storage_with_texels("history surfaces plane 0", plane),
+            PlannedAllocation::storage_with_texels("history surfaces plane 1", plane),
+            PlannedAllocation::storage_with_texels(
                 "lattice surfaces",
                 self.eyes as u64 * self.lattice_len * 16,
             ),
             PlannedAllocation::host("history views", views_bytes(), true),
-            PlannedAllocation::storage("denoiser pixels", plane),
-            PlannedAllocation::storage(
+            PlannedAllocation::storage_with_texels("denoiser pixels", plane),
+            PlannedAllocation::storage_with_texels(
                 "filtered lattice values",
                 self.eyes as u64 * self.lattice_len * 16,
             ),

@@ -69,7 +69,9 @@ fn host_buffer(ctx: &Arc<GpuContext>, name: &str, bytes: u64) -> Result<Buffer, 
 
 /// What to change when a frame's targets do not fit the device.
 const ADVICE: &str = "use a smaller --width/--height, mono instead of --stereo, or fewer \
-     layers";
+     layers (a layer anchored at the gaze keeps a lattice value for every offset a gaze anywhere \
+     on the image could need, up to 4 per pixel for a wide one at spacing 1: a smaller \
+     radius_deg or a larger spacing needs fewer)";
 
 impl TargetKey {
     /// The frame these targets are for, for messages: "the frame targets of a 512x512 stereo
@@ -99,7 +101,7 @@ impl TargetKey {
         let slots = MAX_FRAMES_IN_FLIGHT as u64;
         let texel = 16; // RGBA32F, StorageImage::FORMAT
         let mut plan = vec![
-            PlannedAllocation::storage("frame pixels", w * eyes * h * texel),
+            PlannedAllocation::storage_with_texels("frame pixels", w * eyes * h * texel),
             PlannedAllocation::host("frame read-back", w * eyes * h * texel, false),
             PlannedAllocation::host(
                 "frame layers",
@@ -140,20 +142,11 @@ impl TargetKey {
                 self.describe()
             )));
         }
-        // Passes read the lattice values through one texel view.
-        let texels = ctx.info.max_texel_buffer_elements;
-        if entries > texels {
-            return Err(RenderError::Settings(format!(
-                "{} need {entries} lattice values, more than this device's \
-                 maxTexelBufferElements ({texels}): a layer anchored at the gaze keeps a value \
-                 for every offset a gaze anywhere on the image could need, up to 4 per pixel for \
-                 a wide layer at spacing 1; give such layers a smaller radius_deg or a larger \
-                 spacing, or {ADVICE}",
-                self.describe()
-            )));
-        }
         let mut plan = self.image_plan();
-        plan.push(PlannedAllocation::storage("lattice values", entries * 16));
+        plan.push(PlannedAllocation::storage_with_texels(
+            "lattice values",
+            entries * 16,
+        ));
         plan.push(PlannedAllocation::storage("work lists", work_slots * 4));
         Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
     }
