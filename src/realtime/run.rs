@@ -54,14 +54,14 @@ pub fn run(
 }
 
 /// Whether `error` says the case's buffers or images exceed what the device holds (a
-/// per-resource limit or its memory), checked before anything is allocated: the report records
-/// the case and goes on with the others, as a headset at a display's full size meets it.
+/// per-resource limit, texel views' included, or its memory), checked before anything is
+/// allocated: the report records the case and goes on with the others, as a headset at a
+/// display's full size meets it. Other errors (bad input, a bug) stop the report.
 fn over_device_limits(error: &RenderError) -> bool {
     matches!(
         error,
         RenderError::Gpu(
-            GpuError::Limit(_)
-                | GpuError::ResourceTooLarge(_)
+            GpuError::ResourceTooLarge(_)
                 | GpuError::NotEnoughMemory(_)
                 | GpuError::OutOfMemory { .. }
         )
