@@ -173,9 +173,9 @@ layout(std430, set = 0, binding = BINDING_LATTICE) buffer LatticeBuf { vec4 latt
 #else
 layout(std430, set = 0, binding = BINDING_LATTICE) readonly buffer LatticeBuf { vec4 lattice[]; };
 #endif
-// The same buffer as texels: resolve reads its taps this way (one vector load per lane on
-// lavapipe, see the scene arrays above).
-layout(set = 0, binding = BINDING_LATTICE_TEXELS) uniform utextureBuffer lattice_texels;
+// The same buffer as texels, one view per eye (lattice_texels.glsl): resolve reads its taps
+// this way (one vector load per lane on lavapipe, see the scene arrays above).
+layout(set = 0, binding = BINDING_LATTICE_TEXELS) uniform utextureBuffer lattice_texels[EYE_TEXEL_VIEWS];
 layout(std430, set = 0, binding = BINDING_WORK) buffer WorkBuf { uint work[]; };
 layout(std430, set = 0, binding = BINDING_LAYERS) readonly buffer Layers { GpuLayer layers[]; };
 layout(std430, set = 0, binding = BINDING_VISIBILITY) readonly buffer Visibility { uint visibility[]; };
@@ -206,14 +206,12 @@ layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 deno
 // denoiser's three iterations at 720x800, cornell: 559 ms before, 299 after).
 layout(set = 0, binding = BINDING_HISTORY_TEXELS) uniform utextureBuffer history_texels;
 layout(set = 0, binding = BINDING_SURFACE_TEXELS) uniform utextureBuffer surface_texels;
-layout(set = 0, binding = BINDING_LATTICE_SURFACE_TEXELS) uniform utextureBuffer lattice_surface_texels;
+layout(set = 0, binding = BINDING_LATTICE_SURFACE_TEXELS) uniform utextureBuffer lattice_surface_texels[EYE_TEXEL_VIEWS];
 layout(set = 0, binding = BINDING_DENOISE_INPUT) uniform utextureBuffer denoise_input;
 // The frame before's history at pixel index i, and its surface (temporal); this frame's
 // surface at i once temporal has written it (the denoiser).
 vec4 history_before(uint i) { return uintBitsToFloat(texelFetch(history_texels, int(i))); }
 uvec4 pixel_surface(uint i) { return texelFetch(surface_texels, int(i)); }
-// The surface at lattice entry i.
-uvec4 lattice_surface_at(uint i) { return texelFetch(lattice_surface_texels, int(i)); }
 #ifdef WRITES_LATTICE_FILTERED
 layout(std430, set = 0, binding = BINDING_LATTICE_FILTERED) writeonly buffer LatticeFilteredBuf { vec4 lattice_filtered[]; };
 #else

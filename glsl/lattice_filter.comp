@@ -31,6 +31,7 @@
 #include "surface.glsl"
 #include "colour.glsl"
 #include "acuity.glsl"
+#include "lattice_texels.glsl"
 
 layout(local_size_x = TRACE_WORKGROUP_SIZE) in;
 
@@ -94,7 +95,7 @@ uint index_of(Lattice l, ivec2 q) {
 
 // Point q's traced value (through the texel view: one vector load on lavapipe).
 vec3 value_at(Lattice l, ivec2 q) {
-    return uintBitsToFloat(texelFetch(lattice_texels, int(index_of(l, q))).rgb);
+    return lattice_texel(index_of(l, q)).rgb;
 }
 
 // n^64 by squaring (pow is exp(log) per tap).
@@ -117,7 +118,7 @@ void main() {
     uint entry;
     work_item(item, k, entry);
     if ((thread & (layers[k].lanes - 1u)) != 0u) return; // a point's later trace lanes
-    vec4 centre = uintBitsToFloat(texelFetch(lattice_texels, int(entry)));
+    vec4 centre = lattice_texel(entry);
     if (layers[k].filter_mar <= 0.0 && layers[k].filter_px <= 0.0) {
         lattice_filtered[entry] = centre;
         return;

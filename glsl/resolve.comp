@@ -32,6 +32,7 @@
 #include "plan.glsl"
 #include "view.glsl"
 #include "colour.glsl"
+#include "lattice_texels.glsl"
 
 // The frame's pixel p of this eye (PIXELS: eye after eye, rows of pc.eye.width).
 void store_pixel(ivec2 p, vec3 c) {
@@ -94,7 +95,7 @@ void use_layer(inout Columns w, uint k, int y) {
 // The layer's lattice value at point ij, clamped to its points on the image.
 vec3 tap(Columns w, ivec2 ij) {
     ivec2 c = clamp(ij, w.lo, w.hi) - w.extent_min;
-    return uintBitsToFloat(texelFetch(lattice_texels, int(w.first + uint(c.y) * w.cols + uint(c.x))).rgb);
+    return lattice_texel(w.first + uint(c.y) * w.cols + uint(c.x)).rgb;
 }
 
 // Lattice column c's vertical cubic at this row (on a lattice row, ty = 0, its value there:

@@ -30,7 +30,9 @@
                                // planes of one bit per pixel (row-major, low bit first): the pixels
                                // the lens shows, then per layer the pixels whose lattice points are
                                // needed (the shown ones dilated by the layer's Catmull-Rom reach)
-#define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads
+#define BINDING_LATTICE_TEXELS 15 // LATTICE's buffer as RGBA32UI texels: what resolve reads; an
+                                  // array of EYE_TEXEL_VIEWS views, each eye's starting at its first
+                                  // entry (EyePush.lattice_base)
 #define BINDING_PIXELS 16      // vec4[]: the resolved frame, eye after eye, rows of pc.width; copied
                                // into OUTPUT only for what needs an image (presenting, accumulating)
 // Temporal history (render/history.rs, glsl/temporal.comp); no pass declares them while
@@ -78,8 +80,12 @@
 #define BINDING_DENOISE_INPUT 32 // the denoiser's input this iteration (PIXELS or DENOISE) as
                                  // RGBA32UI texels (a uniform texel buffer, like LATTICE_TEXELS)
 #define BINDING_LATTICE_SURFACE_TEXELS 33 // LATTICE_SURFACE as RGBA32UI texels: what temporal and
-                                          // the lattice filter read
+                                          // the lattice filter read; per eye, like LATTICE_TEXELS
 #define BINDING_COUNT 34
+// Views in the per-eye arrays of texel views (LATTICE_TEXELS, LATTICE_SURFACE_TEXELS): one per
+// eye, so that maxTexelBufferElements bounds one eye's lattice, not both; mono binds its one
+// view in every element.
+#define EYE_TEXEL_VIEWS 2
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
 #define BINDING_TLAS 34
@@ -346,7 +352,8 @@ struct EyePush {
     PushEye eye;
     uint albedo; // 1 while a layer denoises: trace writes LATTICE_ALBEDO, temporal shows the
                  // frame divided by it, denoise.comp's last iteration multiplies it back
-    uint pad1;
+    uint lattice_base; // this eye's first LATTICE entry, where its per-eye texel views start
+                       // (GpuLayer.first already counts it)
     uint pad2;
 };
 

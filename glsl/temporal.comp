@@ -30,6 +30,7 @@
 #include "view.glsl"
 #include "surface.glsl"
 #include "albedo.glsl"
+#include "lattice_texels.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
@@ -94,11 +95,6 @@ uint history_index(ivec2 p) {
     return eye_pixel_index(p);
 }
 
-// Lattice entry i's traced value (a: 1 traced, 0 filled by lattice_fill.comp).
-vec4 lattice_value(uint i) {
-    return uintBitsToFloat(texelFetch(lattice_texels, int(i)));
-}
-
 void history_store(uint i, vec4 v, uvec4 surface) {
     history_out[i] = v;
     history_surface_out[i] = surface;
@@ -153,7 +149,8 @@ void main() {
     bool sparse = layers[k].spacing > 1 || layers[k].fraction > 1u;
     ivec2 nearest = nearest_lattice_point(k, p);
     uint own_entry = lattice_index(k, nearest);
-    bool own_here = lattice_pixel(k, nearest) == p && lattice_value(own_entry).a > 0.5;
+    // Its own point, when traced (alpha 1) this frame, not filled (alpha 0, lattice_fill.comp).
+    bool own_here = lattice_pixel(k, nearest) == p && lattice_texel(own_entry).a > 0.5;
     uint own_spp = own_here ? layers[k].spp : 0u;
     // The pixel's surface now: its own, else its shown layer's nearest lattice point's.
     uint surface_entry = own_entry;
@@ -179,7 +176,7 @@ void main() {
             uvec2 kinds[9];
             for (int i = 0; i < 9; ++i) {
                 uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
-                vec3 v = lattice_value(entry).rgb;
+                vec3 v = lattice_texel(entry).rgb;
                 lo = min(lo, v);
                 hi = max(hi, v);
                 Surface s = decode(lattice_surface_at(entry));
@@ -240,7 +237,7 @@ void main() {
     uvec4 surface = n > 0.0 ? carried_packed : now_packed;
     vec3 spatial = pixels[out_index].rgb;
     if (own_spp > 0u) {
-        vec3 own = lattice_value(own_entry).rgb;
+        vec3 own = lattice_texel(own_entry).rgb;
         mean = (mean * n + own * float(own_spp)) / (n + float(own_spp));
         n += float(own_spp);
         surface = now_packed;

@@ -176,7 +176,9 @@ pub struct EyePush {
     /// 1 while a layer denoises: trace writes each point's albedo, temporal shows the frame
     /// divided by it, the denoiser's last iteration multiplies it back.
     pub albedo: u32,
-    pub pad1: u32,
+    /// This eye's first lattice entry, where its per-eye texel views start (`EyeTexels`;
+    /// GpuLayer::first already counts it).
+    pub lattice_base: u32,
     pub pad2: u32,
 }
 

@@ -9,7 +9,6 @@ use fovea::gpu::{GpuContext, GpuError, GpuOptions};
 use fovea::render::FrameOptions;
 use fovea::render::{
     eye_views, DebugView, FovChoice, FrameRequest, Integrator, RenderError, Renderer,
-    TemporalSettings,
 };
 use std::sync::Arc;
 
@@ -41,10 +40,7 @@ fn stereo_eyes(scene: &fovea::scene::Scene) -> Vec<fovea::render::EyeView> {
 fn a_stereo_frame_with_history_a_lattice_filter_and_five_denoise_iterations_times_every_pass() {
     let ctx = common::context();
     let scene = fovea::scene::load("cornell", 1.0).unwrap();
-    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
-    renderer
-        .set_temporal(Some(TemporalSettings::default()))
-        .unwrap();
+    let mut renderer = common::renderer_with_history(&ctx, &scene);
     renderer.set_output_image(true);
     let mut config = FoveationConfig::regular(1);
     config.layers[0].denoise = 5;

@@ -7,8 +7,8 @@ mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::gpu::{
-    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, PipelineLayout, StorageImage,
-    TexelView,
+    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, EyeTexels, PipelineLayout,
+    StorageImage,
 };
 use fovea::render::accumulate::{AccumulateRequest, Accumulator, Mean, Show};
 use fovea::render::FrameOptions;
@@ -40,7 +40,7 @@ fn an_out_of_bounds_read_is_reported() {
     };
     let (layers, visibility) = (small("too small for a layer"), small("no mask"));
     let lattice = small("lattice");
-    let lattice_texels = TexelView::new(&lattice, "lattice").unwrap();
+    let lattice_texels = EyeTexels::of_frame(&lattice, "lattice", 1, 1).unwrap();
     let mut descriptors = DescriptorArena::new(&ctx).unwrap();
     let set = descriptors
         .set(
@@ -50,7 +50,7 @@ fn an_out_of_bounds_read_is_reported() {
                 (BINDING_VISIBILITY, Bound::Storage(&visibility)),
                 (BINDING_LATTICE, Bound::Storage(&lattice)),
                 (BINDING_OUTPUT, Bound::Image(&frame)),
-                (BINDING_LATTICE_TEXELS, Bound::Texels(&lattice_texels)),
+                (BINDING_LATTICE_TEXELS, Bound::EyeTexels(&lattice_texels)),
             ],
         )
         .unwrap();

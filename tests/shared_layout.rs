@@ -195,7 +195,7 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             cam,
             eye,
             albedo,
-            pad1,
+            lattice_base,
             pad2
         }
     );

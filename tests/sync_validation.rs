@@ -6,8 +6,8 @@
 mod common;
 
 use fovea::gpu::{
-    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, GpuContext, PipelineLayout,
-    Scope, TexelView,
+    shaders, vk, Bound, Buffer, ComputePipeline, DescriptorArena, EyeTexels, GpuContext,
+    PipelineLayout, Scope,
 };
 use fovea::shader_layout::*;
 use gpu_allocator::MemoryLocation;
@@ -62,8 +62,8 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
         MemoryLocation::GpuOnly,
     )
     .unwrap();
-    // Resolve reads the values through a texel view of the same buffer.
-    let lattice_texels = TexelView::new(&lattice, "lattice").unwrap();
+    // Resolve reads the values through a texel view of the same buffer (one per eye).
+    let lattice_texels = EyeTexels::of_frame(&lattice, "lattice", 1, lattice.size / 16).unwrap();
     // One layer without limits: every pixel is its lattice point, row-major from (0, 0).
     let layer = GpuLayer {
         gaze: [0.0, 0.0, 1.0, 0.0],
@@ -89,7 +89,7 @@ fn copy_then_resolve(ctx: &Arc<GpuContext>, barrier: bool) -> (Vec<String>, Vec<
                 (BINDING_VISIBILITY, Bound::Storage(&visibility)),
                 (BINDING_LATTICE, Bound::Storage(&lattice)),
                 (BINDING_PIXELS, Bound::Storage(&frame)),
-                (BINDING_LATTICE_TEXELS, Bound::Texels(&lattice_texels)),
+                (BINDING_LATTICE_TEXELS, Bound::EyeTexels(&lattice_texels)),
             ],
         )
         .unwrap();

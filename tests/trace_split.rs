@@ -9,7 +9,7 @@ mod common;
 use fovea::foveation::{FoveationConfig, Gaze, GazeChoice};
 use fovea::render::{
     eye_views, DebugView, FovChoice, Frame, FrameOptions, FrameRequest, Integrator, Renderer,
-    TemporalSettings, TraceLanes,
+    TraceLanes,
 };
 
 const SIZE: u32 = 48;
@@ -60,10 +60,7 @@ fn worst_difference(a: &Frame, b: &Frame) -> f32 {
 fn spreading_a_points_samples_over_threads_changes_no_count_and_the_image_at_most_by_rounding() {
     let ctx = common::context();
     let scene = fovea::scene::load("cornell", 1.0).unwrap();
-    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
-    renderer
-        .set_temporal(Some(TemporalSettings::default()))
-        .unwrap();
+    let mut renderer = common::renderer_with_history(&ctx, &scene);
     renderer.set_traversal_profile(true);
     renderer.set_output_image(true);
     assert_eq!(

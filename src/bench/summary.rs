@@ -314,6 +314,7 @@ mod tests {
             timestamp_period_ns: 1.0,
             max_storage_buffer_range: 0,
             max_texel_buffer_elements: 0,
+            min_texel_buffer_offset_alignment: 16,
             subgroup_size: 8,
             max_image_dimension_2d: 4096,
             ray_query: None,

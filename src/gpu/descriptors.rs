@@ -11,10 +11,11 @@
 use super::accel::AccelStructures;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::memory::{Buffer, StorageImage, TexelView};
+use super::memory::{Buffer, StorageImage};
 use super::pipeline::PipelineLayout;
+use super::texel_view::{EyeTexels, TexelView};
 use super::texture::TextureSet;
-use crate::shader_layout::{BINDING_COUNT, MAX_TEXTURES};
+use crate::shader_layout::{BINDING_COUNT, EYE_TEXEL_VIEWS, MAX_TEXTURES};
 use ash::vk;
 use std::sync::Arc;
 
@@ -25,6 +26,8 @@ pub enum Bound<'a> {
     Storage(&'a Buffer),
     /// A uniform texel buffer (see TexelView).
     Texels(&'a TexelView),
+    /// An array of uniform texel buffers, one per eye (shared.h's EYE_TEXEL_VIEWS).
+    EyeTexels(&'a EyeTexels),
     /// A storage image (GENERAL layout).
     Image(&'a StorageImage),
     /// The top-level acceleration structure.
@@ -40,6 +43,7 @@ impl Bound<'_> {
         match self {
             Bound::Storage(b) => b.buffer.as_raw(),
             Bound::Texels(t) => t.buffer.as_raw(),
+            Bound::EyeTexels(t) => t.buffer().as_raw(),
             Bound::Image(i) => i.image.as_raw(),
             Bound::Tlas(a) => a.tlas.as_raw(),
             Bound::Textures(t) => t.resource(),
@@ -59,6 +63,12 @@ impl<'a> From<&'a TexelView> for Bound<'a> {
     }
 }
 
+impl<'a> From<&'a EyeTexels> for Bound<'a> {
+    fn from(t: &'a EyeTexels) -> Self {
+        Bound::EyeTexels(t)
+    }
+}
+
 impl<'a> From<&'a StorageImage> for Bound<'a> {
     fn from(i: &'a StorageImage) -> Self {
         Bound::Image(i)
@@ -68,8 +78,9 @@ impl<'a> From<&'a StorageImage> for Bound<'a> {
 /// Sets per arena: the most passes one frame records (plan, dispatch sizes, trace, resolve,
 /// temporal, denoise: one set each; their eyes and iterations share it), with room to spare.
 const SETS: u32 = 32;
-/// Descriptors of each type per set, at most: one per binding of shared.h.
-const PER_SET: u32 = BINDING_COUNT;
+/// Descriptors of each type per set, at most: one per binding of shared.h, and the rest of
+/// the two per-eye arrays of texel views.
+const PER_SET: u32 = BINDING_COUNT + 2 * (EYE_TEXEL_VIEWS - 1);
 
 pub struct DescriptorArena {
     ctx: Arc<GpuContext>,
@@ -180,11 +191,12 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
             _ => [vk::DescriptorImageInfo::default()],
         })
         .collect();
-    let views: Vec<[vk::BufferView; 1]> = bindings
+    let views: Vec<Vec<vk::BufferView>> = bindings
         .iter()
         .map(|(_, bound)| match bound {
-            Bound::Texels(t) => [t.view],
-            _ => [vk::BufferView::null()],
+            Bound::Texels(t) => vec![t.view],
+            Bound::EyeTexels(t) => eye_views(t),
+            _ => vec![vk::BufferView::null()],
         })
         .collect();
     let tlases: Vec<[vk::AccelerationStructureKHR; 1]> = bindings
@@ -223,7 +235,7 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
             Bound::Image(_) => write
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .image_info(&images[i]),
-            Bound::Texels(_) => write
+            Bound::Texels(_) | Bound::EyeTexels(_) => write
                 .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
                 .texel_buffer_view(&views[i]),
             Bound::Textures(_) => write
@@ -242,4 +254,13 @@ fn write_set(ctx: &GpuContext, set: vk::DescriptorSet, bindings: &[(u32, Bound)]
     // SAFETY: the set is new (no command buffer uses it); every resource is alive, and the
     // infos outlive the call.
     unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+}
+
+/// Every element of a per-eye array of views: each eye's own, and a mono frame's one view in
+/// the elements of eyes it does not have (shaders index only the eyes there are).
+fn eye_views(t: &EyeTexels) -> Vec<vk::BufferView> {
+    let last = t.views.len() - 1;
+    (0..EYE_TEXEL_VIEWS as usize)
+        .map(|e| t.views[e.min(last)].view)
+        .collect()
 }

@@ -57,6 +57,7 @@ pub(super) fn create_device(
         .host_query_reset(true)
         .buffer_device_address(ray_query)
         .shader_sampled_image_array_non_uniform_indexing(true)
+        .shader_uniform_texel_buffer_array_dynamic_indexing(true)
         .descriptor_binding_partially_bound(true);
     let mut sync2 = vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
     let mut accel_features =

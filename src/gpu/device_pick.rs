@@ -16,6 +16,8 @@ pub struct DeviceInfo {
     pub max_storage_buffer_range: u64,
     /// The most texels one texel-buffer view may span.
     pub max_texel_buffer_elements: u64,
+    /// The byte offsets a texel-buffer view may start at are multiples of this.
+    pub min_texel_buffer_offset_alignment: u64,
     /// Invocations per subgroup (SIMD width on lavapipe, warp or wave size on a GPU).
     pub subgroup_size: u32,
     /// The largest side of a 2D image (textures).
@@ -224,10 +226,12 @@ fn examine(
     {
         return Err(format!("{name} (no subgroup votes in compute shaders)"));
     }
-    // Textures are one partially bound array of samplers indexed per hit (textures.glsl).
-    if !sampled_image_indexing(instance, pd) {
+    // Textures are one partially bound array of samplers indexed per hit (textures.glsl);
+    // the lattice's texel views are arrays of one per eye, indexed by the eye.
+    if !descriptor_indexing(instance, pd) {
         return Err(format!(
-            "{name} (no non-uniform indexing of partially bound sampled-image arrays)"
+            "{name} (no non-uniform indexing of partially bound sampled-image arrays, or no \
+             dynamic indexing of uniform texel buffer arrays)"
         ));
     }
     let extensions = Extensions::of(instance, pd);
@@ -254,14 +258,17 @@ fn examine(
 }
 
 /// Whether the device indexes arrays of sampled images non-uniformly and binds them partially
-/// (Vulkan 1.2's descriptor-indexing features that the texture array needs).
-fn sampled_image_indexing(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
+/// (Vulkan 1.2's descriptor-indexing features that the texture array needs), and indexes
+/// arrays of uniform texel buffers by a dynamically uniform index (the lattice's per-eye
+/// views, indexed by the dispatch's eye).
+fn descriptor_indexing(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
     // SAFETY: pd was enumerated from this instance, a Vulkan 1.2 one (features2 is core).
     unsafe { instance.get_physical_device_features2(pd, &mut features) };
     v12.shader_sampled_image_array_non_uniform_indexing == vk::TRUE
         && v12.descriptor_binding_partially_bound == vk::TRUE
+        && v12.shader_uniform_texel_buffer_array_dynamic_indexing == vk::TRUE
 }
 
 /// The driver's name and version, and the subgroup properties.
@@ -322,6 +329,7 @@ fn device_info(
         timestamp_period_ns: props.limits.timestamp_period as f64,
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
+        min_texel_buffer_offset_alignment: props.limits.min_texel_buffer_offset_alignment,
         subgroup_size: subgroups.subgroup_size,
         max_image_dimension_2d: props.limits.max_image_dimension2_d,
         ray_query,

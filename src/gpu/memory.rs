@@ -74,7 +74,7 @@ fn allocation_error(what: &str, bytes: u64, e: gpu_allocator::AllocationError) -
 }
 
 pub struct Buffer {
-    ctx: Arc<GpuContext>,
+    pub(super) ctx: Arc<GpuContext>,
     pub(crate) buffer: vk::Buffer,
     allocation: Option<Allocation>,
     pub size: u64,
@@ -232,61 +232,6 @@ impl Buffer {
                 .device
                 .cmd_copy_buffer(cmd, self.buffer, to.buffer, &region)
         };
-    }
-}
-
-/// The whole of a [`Buffer::with_data`] buffer seen as a uniform texel buffer of RGBA32UI
-/// texels (`utextureBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
-/// vector load, where it splits a storage-buffer `uvec4` load into four bounds-checked scalar
-/// loads per lane: the scene's arrays and the lattice values go this way.
-pub struct TexelView {
-    ctx: Arc<GpuContext>,
-    pub(crate) view: vk::BufferView,
-    /// The buffer it views (the memory a pass reading the view accesses).
-    pub(crate) buffer: vk::Buffer,
-}
-
-impl TexelView {
-    /// A view of one of the scene's arrays.
-    pub fn new(buffer: &Buffer, what: &str) -> Result<Self, GpuError> {
-        Self::with_fix(buffer, what, "simplify the scene (fewer or smaller meshes)")
-    }
-
-    /// A view of a buffer sized by the frame (pixels, lattice points).
-    pub fn of_frame(buffer: &Buffer, what: &str) -> Result<Self, GpuError> {
-        Self::with_fix(buffer, what, "use a smaller --width/--height")
-    }
-
-    fn with_fix(buffer: &Buffer, what: &str, fix: &str) -> Result<Self, GpuError> {
-        let ctx = &buffer.ctx;
-        let texels = buffer.size / 16;
-        let limit = ctx.info.max_texel_buffer_elements;
-        if texels > limit {
-            return Err(GpuError::Limit(format!(
-                "{what}: {texels} 16-byte texels, more than this device's \
-                 maxTexelBufferElements ({limit}); {fix}"
-            )));
-        }
-        let info = vk::BufferViewCreateInfo::default()
-            .buffer(buffer.buffer)
-            .format(vk::Format::R32G32B32A32_UINT)
-            .range(texels * 16);
-        // SAFETY: the buffer was created with UNIFORM_TEXEL_BUFFER usage, R32G32B32A32_UINT
-        // supports it on every Vulkan device, and the range lies inside the buffer.
-        let view =
-            unsafe { ctx.device.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            view,
-            buffer: buffer.buffer,
-        })
-    }
-}
-
-impl Drop for TexelView {
-    fn drop(&mut self) {
-        // SAFETY: users wait for the GPU before dropping the resources they used.
-        unsafe { self.ctx.device.destroy_buffer_view(self.view, None) };
     }
 }
 

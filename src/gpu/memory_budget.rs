@@ -18,9 +18,9 @@ pub struct PlannedAllocation {
     pub host_visible: bool,
     /// Bound as one storage buffer, so also limited by maxStorageBufferRange.
     pub storage_buffer: bool,
-    /// Also read through one texel view of 16-byte texels, so also limited by
-    /// maxTexelBufferElements.
-    pub texel_view: bool,
+    /// Also read through texel views of 16-byte texels, the largest this many bytes, so also
+    /// limited by maxTexelBufferElements.
+    pub texel_view: Option<u64>,
 }
 
 impl PlannedAllocation {
@@ -31,15 +31,21 @@ impl PlannedAllocation {
             bytes,
             host_visible: false,
             storage_buffer: true,
-            texel_view: false,
+            texel_view: None,
         }
     }
 
     /// A device-local storage buffer that passes also read through a texel view
     /// (`TexelView::of_frame`).
     pub fn storage_with_texels(name: &str, bytes: u64) -> Self {
+        Self::storage_with_views(name, bytes, bytes)
+    }
+
+    /// A device-local storage buffer that passes also read through texel views of parts of
+    /// it, the largest `view_bytes` long (`EyeTexels`: one view per eye).
+    pub fn storage_with_views(name: &str, bytes: u64, view_bytes: u64) -> Self {
         Self {
-            texel_view: true,
+            texel_view: Some(view_bytes),
             ..Self::storage(name, bytes)
         }
     }
@@ -51,7 +57,7 @@ impl PlannedAllocation {
             bytes,
             host_visible: false,
             storage_buffer: false,
-            texel_view: false,
+            texel_view: None,
         }
     }
 
@@ -62,7 +68,7 @@ impl PlannedAllocation {
             bytes,
             host_visible: true,
             storage_buffer,
-            texel_view: false,
+            texel_view: None,
         }
     }
 }
@@ -330,25 +336,26 @@ impl MemoryBudget {
                 "maxTexelBufferElements × 16",
             ),
             (
-                p.storage_buffer,
+                p.storage_buffer.then_some(p.bytes),
                 "storage buffer",
                 self.facts.max_storage_buffer_range,
                 "maxStorageBufferRange",
             ),
             (
-                true,
+                Some(p.bytes),
                 "allocation",
                 self.facts.max_memory_allocation_size,
                 "maxMemoryAllocationSize",
             ),
         ];
-        for (applies, kind, limit, limit_name) in limits {
-            if applies && p.bytes > limit {
+        // Each limit applies to the bytes one binding or allocation spans (None: not bound so).
+        for (spans, kind, limit, limit_name) in limits {
+            if let Some(bytes) = spans.filter(|&b| b > limit) {
                 return Err(GpuError::ResourceTooLarge(Box::new(ResourceLimit {
                     what: what.to_owned(),
                     item: p.name.clone(),
                     kind,
-                    bytes: exact_bytes(p.bytes),
+                    bytes: exact_bytes(bytes),
                     limit: exact_bytes(limit),
                     limit_name,
                     advice: advice.to_owned(),

@@ -20,6 +20,7 @@ mod present;
 pub mod shaders;
 mod swapchain;
 mod sync;
+mod texel_view;
 mod texture;
 mod timestamps;
 mod validation;
@@ -33,7 +34,7 @@ pub use context_needs::{ContextNeeds, VulkanCreator};
 pub use descriptors::{Bound, DescriptorArena};
 pub use device_pick::{DeviceInfo, RayQueryLimits};
 pub use error::{GpuError, MemoryShortfall, ResourceLimit};
-pub use memory::{Buffer, StorageImage, TexelView};
+pub use memory::{Buffer, StorageImage};
 pub use memory_budget::PlannedAllocation;
 pub use options::{
     GpuOptions, RayQueries, ValidationChecks, INJECT_DEVICE_LOST_VAR, MEMORY_LIMIT_VAR,
@@ -45,5 +46,6 @@ pub use swapchain::{
     Swapchain,
 };
 pub use sync::Scope;
+pub use texel_view::{EyeTexels, TexelView};
 pub use texture::{mip_chain_bytes, MipLevel, SamplerDesc, TextureSet, TextureUpload};
 pub use timestamps::{PassTime, TimestampPool};

@@ -50,10 +50,10 @@ impl PipelineLayout {
     pub fn new(ctx: &Arc<GpuContext>) -> Result<Self, GpuError> {
         let device = &ctx.device;
         let binding = |b, kind| {
-            let count = if b == BINDING_TEXTURES {
-                MAX_TEXTURES
-            } else {
-                1
+            let count = match b {
+                BINDING_TEXTURES => MAX_TEXTURES,
+                BINDING_LATTICE_TEXELS | BINDING_LATTICE_SURFACE_TEXELS => EYE_TEXEL_VIEWS,
+                _ => 1,
             };
             vk::DescriptorSetLayoutBinding::default()
                 .binding(b)

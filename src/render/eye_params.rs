@@ -33,10 +33,22 @@ impl EyeLayers {
     }
 }
 
+/// Where the eyes' parts of the frame's lattice and work lists lie: eye after eye, this many
+/// entries and slots apart (`FrameTargets::lattice_len`, `work_stride`).
+#[derive(Clone, Copy, Debug)]
+pub struct EyeStrides {
+    pub lattice: u32,
+    pub work: u32,
+}
+
 /// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
-/// everything its recorded commands hold. All eyes' lattice values are `buffer.offsets.len()`
-/// entries apart, their work lists `work_stride` slots.
-pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_stride: u32) -> EyePush {
+/// everything its recorded commands hold.
+pub fn eye_push(
+    request: &FrameRequest,
+    e: usize,
+    buffer: &RayBuffer,
+    strides: EyeStrides,
+) -> EyePush {
     let s = &request.settings;
     EyePush {
         cam: push_camera(&request.eyes[e].camera),
@@ -46,11 +58,12 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_strid
             index: e as u32,
             seed: s.seed,
             layer_count: buffer.layers.len() as u32,
-            work_stride,
+            work_stride: strides.work,
             debug: request.debug.id(),
             ..Default::default()
         },
         albedo: (request.foveation.denoise_iterations() > 0) as u32,
+        lattice_base: e as u32 * strides.lattice,
         ..Default::default()
     }
 }
@@ -59,6 +72,8 @@ pub fn eye_push(request: &FrameRequest, e: usize, buffer: &RayBuffer, work_strid
 /// and trace lanes (FrameTargets::layer_lanes).
 pub struct EyePlanInput<'a> {
     pub buffer: &'a RayBuffer,
+    /// Entries from one eye's lattice points to the next (`FrameTargets::lattice_len`).
+    pub lattice_stride: u32,
     pub image: &'a ImageGeometry,
     /// Shifts the sparse layers' lattices (`lattice_shift`; 0: unshifted) and turns the
     /// fractional layers' patterns (`fraction::phase`).
@@ -81,7 +96,7 @@ pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanI
         }
     }
     let regions = Regions::new(buffer, image, gaze_px);
-    let stride = buffer.offsets.len() as u32;
+    let stride = input.lattice_stride;
     let layer_count = buffer.layers.len() as u32;
     let blend = (request.foveation.blend_deg as f64).to_radians();
     let g = regions.gaze_dir();

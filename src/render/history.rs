@@ -9,7 +9,7 @@
 
 use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
-use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, TexelView};
+use crate::gpu::{vk, Buffer, EyeTexels, GpuContext, PlannedAllocation, TexelView};
 use crate::shader_layout::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -36,7 +36,7 @@ pub struct HistoryKey {
     pub width: u32,
     pub height: u32,
     pub eyes: u32,
-    /// Lattice points per eye (the ray buffer's entries).
+    /// Entries from one eye's lattice points to the next (`FrameTargets::lattice_len`).
     pub lattice_len: u64,
 }
 
@@ -45,21 +45,18 @@ impl HistoryKey {
     /// views and the albedos are also read through texel views).
     pub fn allocations(&self) -> Vec<PlannedAllocation> {
         let plane = self.width as u64 * self.height as u64 * self.eyes as u64 * 16;
+        // Read through one texel view per eye (EyeTexels).
+        let eye_lattice = self.lattice_len * 16;
+        let lattice = self.eyes as u64 * eye_lattice;
         vec![
             PlannedAllocation::storage_with_texels("history plane 0", plane),
             PlannedAllocation::storage_with_texels("history plane 1", plane),
             PlannedAllocation::storage_with_texels("history surfaces plane 0", plane),
             PlannedAllocation::storage_with_texels("history surfaces plane 1", plane),
-            PlannedAllocation::storage_with_texels(
-                "lattice surfaces",
-                self.eyes as u64 * self.lattice_len * 16,
-            ),
+            PlannedAllocation::storage_with_views("lattice surfaces", lattice, eye_lattice),
             PlannedAllocation::host("history views", views_bytes(), true),
             PlannedAllocation::storage_with_texels("denoiser pixels", plane),
-            PlannedAllocation::storage_with_texels(
-                "filtered lattice values",
-                self.eyes as u64 * self.lattice_len * 16,
-            ),
+            PlannedAllocation::storage_with_views("filtered lattice values", lattice, eye_lattice),
             PlannedAllocation::storage("lattice albedos", self.eyes as u64 * self.lattice_len * 4),
         ]
     }
@@ -84,7 +81,7 @@ pub struct History {
     /// same as texels, which is how temporal and the lattice filter read them
     /// (BINDING_LATTICE_SURFACE_TEXELS).
     pub lattice_surfaces: Buffer,
-    pub lattice_surface_texels: TexelView,
+    pub lattice_surface_texels: EyeTexels,
     /// BINDING_HISTORY_VIEWS: per frame slot and eye.
     pub views: Buffer,
     /// BINDING_DENOISE: the denoiser's second buffer of pixels (it ping-pongs with the
@@ -95,7 +92,7 @@ pub struct History {
     /// BINDING_LATTICE_FILTERED: the lattice filter's values (in the lattice's layout), and
     /// the same as texels, which resolve then reads in place of the traced values.
     pub filtered: Buffer,
-    pub filtered_texels: TexelView,
+    pub filtered_texels: EyeTexels,
     /// BINDING_LATTICE_ALBEDO: the albedo at every lattice point traced this frame, while a
     /// layer denoises.
     pub lattice_albedos: Buffer,
@@ -131,40 +128,34 @@ impl History {
             )
         };
         let plan = key.allocations();
-        let filtered = Buffer::new(
-            ctx,
-            &plan[7].name,
-            plan[7].bytes,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
-        let filtered_texels = TexelView::of_frame(&filtered, &plan[7].name)?;
-        // Read as texels by the denoiser.
-        let texel_buffer = |name: &str, bytes: u64, usage: vk::BufferUsageFlags| {
-            let buffer = Buffer::new(
-                ctx,
-                name,
-                bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER
-                    | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
-                    | usage,
-                MemoryLocation::GpuOnly,
-            )?;
-            let texels = TexelView::of_frame(&buffer, name)?;
+        // Buffers also read through texel views: a whole pixel plane's view (temporal, the
+        // denoiser), or one view per eye of the lattice's (temporal, the lattice filter,
+        // resolve).
+        let texel_buffer = |item: &PlannedAllocation, usage: vk::BufferUsageFlags| {
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                | usage;
+            Buffer::new(ctx, &item.name, item.bytes, usage, MemoryLocation::GpuOnly)
+        };
+        let plane = |item: &PlannedAllocation, usage: vk::BufferUsageFlags| {
+            let buffer = texel_buffer(item, usage)?;
+            let texels = TexelView::of_frame(&buffer, &item.name)?;
+            Ok::<_, RenderError>((buffer, texels))
+        };
+        let (eyes, stride) = (key.eyes as u64, key.lattice_len);
+        let per_eye = |item: &PlannedAllocation| {
+            let buffer = texel_buffer(item, vk::BufferUsageFlags::empty())?;
+            let texels = EyeTexels::of_frame(&buffer, &item.name, eyes, stride)?;
             Ok::<_, RenderError>((buffer, texels))
         };
         let none = vk::BufferUsageFlags::empty();
-        let (pixels0, pixel_texels0) = texel_buffer(&plan[0].name, plan[0].bytes, none)?;
-        let (pixels1, pixel_texels1) = texel_buffer(&plan[1].name, plan[1].bytes, none)?;
-        let (surfaces0, surface_texels0) = texel_buffer(&plan[2].name, plan[2].bytes, none)?;
-        let (surfaces1, surface_texels1) = texel_buffer(&plan[3].name, plan[3].bytes, none)?;
-        let (lattice_surfaces, lattice_surface_texels) =
-            texel_buffer(&plan[4].name, plan[4].bytes, none)?;
-        let (denoise, denoise_texels) = texel_buffer(
-            &plan[6].name,
-            plan[6].bytes,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-        )?;
+        let (pixels0, pixel_texels0) = plane(&plan[0], none)?;
+        let (pixels1, pixel_texels1) = plane(&plan[1], none)?;
+        let (surfaces0, surface_texels0) = plane(&plan[2], none)?;
+        let (surfaces1, surface_texels1) = plane(&plan[3], none)?;
+        let (lattice_surfaces, lattice_surface_texels) = per_eye(&plan[4])?;
+        let (denoise, denoise_texels) = plane(&plan[6], vk::BufferUsageFlags::TRANSFER_SRC)?;
+        let (filtered, filtered_texels) = per_eye(&plan[7])?;
         Ok(Self {
             key,
             settings,
@@ -253,5 +244,32 @@ impl History {
         self.read_plane = 1 - self.read_plane;
         self.frame = self.frame.wrapping_add(1);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lattice_buffers_are_read_one_eye_at_a_time() {
+        let key = HistoryKey {
+            width: 64,
+            height: 48,
+            eyes: 2,
+            lattice_len: 1000,
+        };
+        let plan = key.allocations();
+        for name in ["lattice surfaces", "filtered lattice values"] {
+            let item = plan.iter().find(|p| p.name == name).unwrap();
+            assert_eq!(item.bytes, 2 * 1000 * 16, "{name}: both eyes' entries");
+            assert_eq!(item.texel_view, Some(1000 * 16), "{name}: one view per eye");
+        }
+        let plane = plan.iter().find(|p| p.name == "history plane 0").unwrap();
+        assert_eq!(
+            plane.texel_view,
+            Some(plane.bytes),
+            "a plane: one view of all of it"
+        );
     }
 }

@@ -4,13 +4,13 @@
 //! they are copied into); and the small host-visible buffer of layer parameters the CPU
 //! rewrites every frame.
 
-use super::eye_params::EyeLayers;
+use super::eye_params::{EyeLayers, EyeStrides};
 use super::settings::MAX_SIDE;
 use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::trace_lanes::{lane_unit, TraceLanes};
 use super::RenderError;
 use crate::foveation::{EyeFov, EyePlan, FoveationConfig, ImageGeometry, RayBuffer};
-use crate::gpu::{vk, Buffer, GpuContext, PlannedAllocation, StorageImage, TexelView};
+use crate::gpu::{vk, Buffer, EyeTexels, GpuContext, PlannedAllocation, StorageImage, TexelView};
 use crate::shader_layout::{
     GpuLayer, MAX_GROUPS_X, PLAN_RUN, PLAN_WORKGROUP_SIZE, WORK_LAYER_SHIFT,
 };
@@ -37,10 +37,14 @@ pub struct FrameTargets {
     /// Trace threads per point of each layer (GpuLayer::lanes): `key.lanes`' rule for the
     /// points each layer traces with the gaze ahead.
     pub layer_lanes: Vec<u32>,
+    /// Entries from one eye's lattice values to the next: the ray buffer's, rounded up to
+    /// where a texel view may start (`EyeTexels::stride`).
+    lattice_stride: u64,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
-    /// The same values as texels, which is how resolve reads them (BINDING_LATTICE_TEXELS).
-    pub lattice_texels: TexelView,
+    /// The same values as texels, one view per eye, which is how resolve reads them
+    /// (BINDING_LATTICE_TEXELS).
+    pub lattice_texels: EyeTexels,
     /// The plan pass's work lists, eye after eye (BINDING_WORK).
     pub work: Buffer,
     /// The resolved frame: RGBA f32, eye after eye, rows of `key.width` (BINDING_PIXELS).
@@ -119,15 +123,16 @@ impl TargetKey {
         plan
     }
 
-    /// Checks that `entries` lattice points (all eyes') can be addressed by a work list, that
-    /// `work_slots` (all eyes') can be indexed, and that their buffers fit the device beside
-    /// the images.
+    /// Checks that the eyes' lattice points (`stride` entries apart) can be addressed by a
+    /// work list, that `work_slots` (all eyes') can be indexed, and that their buffers fit the
+    /// device beside the images: each eye's texel view holds one eye's points.
     fn check_lattice(
         &self,
         ctx: &GpuContext,
-        entries: u64,
+        stride: u64,
         work_slots: u64,
     ) -> Result<(), RenderError> {
+        let entries = self.fovs.len() as u64 * stride;
         if entries >= 1 << WORK_LAYER_SHIFT {
             return Err(RenderError::Settings(format!(
                 "{} need {entries} lattice points, more than a work list can address (2^{WORK_LAYER_SHIFT}); {ADVICE}",
@@ -142,13 +147,22 @@ impl TargetKey {
                 self.describe()
             )));
         }
+        let plan = self.lattice_plan(stride, work_slots);
+        Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
+    }
+
+    /// Every allocation of [`FrameTargets::new`]: the images' and the eyes' lattice values
+    /// (`stride` entries apart, read through one texel view per eye) and work lists.
+    fn lattice_plan(&self, stride: u64, work_slots: u64) -> Vec<PlannedAllocation> {
+        let entries = self.fovs.len() as u64 * stride;
         let mut plan = self.image_plan();
-        plan.push(PlannedAllocation::storage_with_texels(
+        plan.push(PlannedAllocation::storage_with_views(
             "lattice values",
             entries * 16,
+            stride * 16,
         ));
         plan.push(PlannedAllocation::storage("work lists", work_slots * 4));
-        Ok(ctx.check_memory(&self.describe(), &plan, ADVICE)?)
+        plan
     }
 
     /// Checks that the targets' images fit the device beside what fovea already holds.
@@ -171,18 +185,19 @@ impl FrameTargets {
         let layer_lanes = layer_lanes(&key.lanes, &buffer, &images);
         let work_stride = work_slots(&buffer, &layer_lanes);
         let eyes = images.len() as u64;
-        let entries = eyes * buffer.offsets.len() as u64;
-        key.check_lattice(ctx, entries, eyes * work_stride)?;
+        let alignment = ctx.info.min_texel_buffer_offset_alignment;
+        let lattice_stride = EyeTexels::stride(buffer.offsets.len() as u64, alignment);
+        key.check_lattice(ctx, lattice_stride, eyes * work_stride)?;
         let lattice = Buffer::new(
             ctx,
             "lattice values",
-            entries * 16,
+            eyes * lattice_stride * 16,
             vk::BufferUsageFlags::STORAGE_BUFFER
                 | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let lattice_texels = TexelView::of_frame(&lattice, "lattice values")?;
+        let lattice_texels = EyeTexels::of_frame(&lattice, "lattice values", eyes, lattice_stride)?;
         let work = Buffer::new(
             ctx,
             "work lists",
@@ -217,6 +232,7 @@ impl FrameTargets {
             buffer,
             images,
             layer_lanes,
+            lattice_stride,
             lattice,
             lattice_texels,
             work,
@@ -229,10 +245,12 @@ impl FrameTargets {
     }
 
     #[cfg(any(test, feature = "test-hooks"))]
-    /// Puts `lattice` (made with UNIFORM_TEXEL_BUFFER usage) in place of the lattice values,
-    /// and its texel view in place of theirs.
+    /// Puts `lattice` (made with UNIFORM_TEXEL_BUFFER usage; eye after eye, `lattice_len()`
+    /// entries apart) in place of the lattice values, and its texel views in place of theirs.
     pub fn replace_lattice(&mut self, lattice: Buffer) -> Result<(), RenderError> {
-        self.lattice_texels = TexelView::of_frame(&lattice, "lattice values")?;
+        let eyes = self.images.len() as u64;
+        self.lattice_texels =
+            EyeTexels::of_frame(&lattice, "lattice values", eyes, self.lattice_stride)?;
         self.lattice = lattice;
         Ok(())
     }
@@ -268,6 +286,14 @@ impl FrameTargets {
         work_slots(&self.buffer, &self.layer_lanes) as u32
     }
 
+    /// Where each eye's part of the lattice and the work lists starts (EyePush).
+    pub fn eye_strides(&self) -> EyeStrides {
+        EyeStrides {
+            lattice: self.lattice_stride as u32,
+            work: self.work_stride(),
+        }
+    }
+
     /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
     pub fn layer_base(&self, slot: usize) -> u32 {
         (slot * self.key.fovs.len() * self.buffer.layers.len()) as u32
@@ -293,9 +319,10 @@ impl FrameTargets {
         Ok(rgb)
     }
 
-    /// Lattice points per eye (the ray buffer's entries).
+    /// Entries from one eye's lattice points to the next: the ray buffer's entries, and
+    /// padding up to where a texel view may start (`EyeTexels::stride`).
     pub fn lattice_len(&self) -> usize {
-        self.buffer.offsets.len()
+        self.lattice_stride as usize
     }
 }
 
@@ -439,6 +466,27 @@ mod tests {
             }
         }
         slots
+    }
+
+    #[test]
+    fn each_eyes_lattice_values_are_one_texel_view() {
+        let key = TargetKey {
+            config: FoveationConfig::thesis(),
+            width: 64,
+            height: 48,
+            fovs: vec![EyeFov::VIVE_PRO_EYE_LEFT; 2],
+            image: false,
+            lanes: TraceLanes::ONE,
+        };
+        let plan = key.lattice_plan(1000, 5000);
+        let lattice = plan.iter().find(|p| p.name == "lattice values").unwrap();
+        assert_eq!(lattice.bytes, 2 * 1000 * 16, "both eyes' entries");
+        assert_eq!(lattice.texel_view, Some(1000 * 16), "one view per eye");
+        // Parts start where a view may: whole entries for lavapipe's and NVIDIA's 16 bytes,
+        // rounded up to 16 entries for the most any device may ask (256 bytes).
+        assert_eq!(EyeTexels::stride(1001, 16), 1001);
+        assert_eq!(EyeTexels::stride(1001, 4), 1001);
+        assert_eq!(EyeTexels::stride(1001, 256), 1008);
     }
 
     #[test]

@@ -7,7 +7,7 @@ pub mod rays;
 
 use fovea::gpu::{GpuContext, GpuOptions};
 use fovea::render::regular_frame;
-use fovea::render::{Frame, Integrator, RenderSettings, Renderer};
+use fovea::render::{Frame, Integrator, RenderSettings, Renderer, TemporalSettings};
 use fovea::scene::Scene;
 use std::path::Path;
 use std::process::Command;
@@ -64,6 +64,15 @@ pub fn settings(
 }
 
 /// Renders `scene` from its own camera and checks the frame is clean.
+/// A renderer of `scene` with the temporal history on, at its default settings.
+pub fn renderer_with_history(ctx: &Arc<GpuContext>, scene: &Scene) -> Renderer {
+    let mut renderer = Renderer::new(ctx, scene).unwrap();
+    renderer
+        .set_temporal(Some(TemporalSettings::default()))
+        .unwrap();
+    renderer
+}
+
 pub fn render(ctx: &Arc<GpuContext>, scene: &Scene, s: &RenderSettings) -> Frame {
     let mut renderer = Renderer::new(ctx, scene).expect("scene upload");
     let frame = regular_frame(&mut renderer, &scene.camera, s).expect("render");
