@@ -22,6 +22,21 @@ const WIDE: &str = "blend_deg = 1.0\n\
     [[layer]]\nradius_deg = 75.0\nspacing = 1\nspp = 1\n\
     [[layer]]\nspacing = 1\nspp = 1\n";
 
+/// A quick report's plan on cornell at `side`² per eye timing `modes`, one frame each, with
+/// no fovea spp search and no headset sessions.
+fn plan_of(side: u32, modes: Vec<(&str, FoveationConfig)>) -> RealtimePlan {
+    let mut plan = RealtimePlan::quick(side, side);
+    plan.scenes = vec!["cornell".into()];
+    plan.modes.clear();
+    for (name, config) in modes {
+        plan.add_mode(name, config);
+    }
+    (plan.warmup, plan.frames) = (0, 1);
+    plan.budgets_ms.clear();
+    plan.frames_in_flight.clear();
+    plan
+}
+
 /// A quick report on cornell at `side`² per eye timing WIDE, then `also` if given, one frame
 /// each, with no fovea spp search and no headset sessions: its report.json.
 fn report_of(
@@ -30,19 +45,10 @@ fn report_of(
     also: Option<FoveationConfig>,
     name: &str,
 ) -> serde_json::Value {
-    let mut plan = RealtimePlan::quick(side, side);
-    plan.scenes = vec!["cornell".into()];
-    plan.modes.clear();
-    plan.add_mode(
-        "wide",
-        FoveationConfig::from_toml_str(WIDE, "wide").unwrap(),
-    );
-    if let Some(config) = also {
-        plan.add_mode("regular", config);
-    }
-    (plan.warmup, plan.frames) = (0, 1);
-    plan.budgets_ms.clear();
-    plan.frames_in_flight.clear();
+    let wide = FoveationConfig::from_toml_str(WIDE, "wide").unwrap();
+    let mut modes = vec![("wide", wide)];
+    modes.extend(also.map(|config| ("regular", config)));
+    let plan = plan_of(side, modes);
     let dir = common::test_dir(name);
     realtime::run(ctx, &plan, &dir, "test".into(), &mut |_| {}).expect("the report runs");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
@@ -129,15 +135,12 @@ fn a_lattice_over_the_texel_limit_is_refused_before_anything_is_allocated() {
 fn a_config_that_cannot_run_as_asked_still_stops_the_report() {
     // Bad input, not a device limit: denoising needs the history, which this plan leaves off.
     let ctx = common::context();
-    let mut plan = RealtimePlan::quick(32, 32);
-    plan.scenes = vec!["cornell".into()];
-    plan.modes.clear();
     let denoised = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/foveation/thesis-denoised.toml");
-    plan.add_mode("denoised", FoveationConfig::load(&denoised).unwrap());
-    (plan.warmup, plan.frames) = (0, 1);
-    plan.budgets_ms.clear();
-    plan.frames_in_flight.clear();
+    let plan = plan_of(
+        32,
+        vec![("denoised", FoveationConfig::load(&denoised).unwrap())],
+    );
     let dir = common::test_dir("gpu_report_bad_config");
     let error = realtime::run(&ctx, &plan, &dir, "test".into(), &mut |_| {})
         .expect_err("a denoised config without history is refused");

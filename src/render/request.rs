@@ -82,6 +82,18 @@ pub enum FovChoice {
     VarjoXr4,
 }
 
+impl FovChoice {
+    /// A display's left (or mono) and right eyes' fields of view; None for the scene
+    /// camera's, which depends on the camera and the image's aspect.
+    pub fn display_fovs(self) -> Option<(EyeFov, EyeFov)> {
+        match self {
+            FovChoice::Scene => None,
+            FovChoice::ViveProEye => Some((EyeFov::VIVE_PRO_EYE_LEFT, EyeFov::VIVE_PRO_EYE_RIGHT)),
+            FovChoice::VarjoXr4 => Some((EyeFov::VARJO_XR_4, EyeFov::VARJO_XR_4)),
+        }
+    }
+}
+
 /// Distance between the eyes in scene units (metres): a typical adult IPD.
 pub const IPD: f32 = 0.063;
 
@@ -101,20 +113,16 @@ pub fn eye_views(
         c.angle_down = f.down;
         c
     };
-    let (left_fov, right_fov) = match fov {
-        FovChoice::Scene => {
-            let c = camera.with_aspect(aspect);
-            let f = EyeFov {
-                left: c.angle_left,
-                right: c.angle_right,
-                up: c.angle_up,
-                down: c.angle_down,
-            };
-            (f, f)
-        }
-        FovChoice::ViveProEye => (EyeFov::VIVE_PRO_EYE_LEFT, EyeFov::VIVE_PRO_EYE_RIGHT),
-        FovChoice::VarjoXr4 => (EyeFov::VARJO_XR_4, EyeFov::VARJO_XR_4),
-    };
+    let (left_fov, right_fov) = fov.display_fovs().unwrap_or_else(|| {
+        let c = camera.with_aspect(aspect);
+        let f = EyeFov {
+            left: c.angle_left,
+            right: c.angle_right,
+            up: c.angle_up,
+            down: c.angle_down,
+        };
+        (f, f)
+    });
     if !stereo {
         return vec![EyeView {
             camera: with_fov(*camera, left_fov),

@@ -2,12 +2,11 @@
 //! (`<out>-tune.json`) so that an interrupted run resumes only with the same plan.
 
 use super::space::Space;
-use crate::foveation::{Gaze, GazeChoice, ImageGeometry};
+use crate::foveation::{EyeFov, Gaze, GazeChoice, ImageGeometry};
 use crate::render::display::DisplayChoice;
 use crate::render::{eye_views, EyeView, FovChoice, Integrator, Traversal};
 use crate::scene::env_choice::EnvChoice;
 use crate::scene::Camera;
-use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -161,10 +160,7 @@ impl TunePlan {
         };
         let aspect = self.width as f32 / self.height as f32;
         let eye = eye_views(camera, aspect, self.fov, false, forward)[0];
-        let Some(full) = self.window_of else {
-            return eye;
-        };
-        let fov = eye.fov().central_window(full, [self.width, self.height]);
+        let fov = self.in_window(eye.fov());
         EyeView {
             camera: Camera {
                 angle_left: fov.left,
@@ -174,6 +170,14 @@ impl TunePlan {
                 ..eye.camera
             },
             ..eye
+        }
+    }
+
+    /// `fov`, the eye image's field, cut to the plan's window (itself without one).
+    fn in_window(&self, fov: EyeFov) -> EyeFov {
+        match self.window_of {
+            Some(full) => fov.central_window(full, [self.width, self.height]),
+            None => fov,
         }
     }
 
@@ -195,16 +199,14 @@ impl TunePlan {
                 self.width, self.height,
             ));
         }
-        if self.fov == FovChoice::Scene {
+        let Some((fov, _)) = self.fov.display_fovs() else {
             return Err(format!(
                 "--window {}x{} needs the {profile}'s field of view, not the scene camera's",
                 self.width, self.height
             ));
-        }
-        // The window the frames are rendered in: the plan's field, as `eye` crops it (the
-        // camera's place and direction do not change a display's field).
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, 1.0);
-        let image = ImageGeometry::new(self.width, self.height, self.eye(&camera).fov());
+        };
+        // The window the frames are rendered in: the plan's (mono) field, as `eye` cuts it.
+        let image = ImageGeometry::new(self.width, self.height, self.in_window(fov));
         let Gaze::Pixel(x, y) = TuneGaze::OffAxis.gaze(&image) else {
             unreachable!("the off-axis gaze is a pixel")
         };
