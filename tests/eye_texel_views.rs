@@ -3,12 +3,18 @@
 //! lattice, not both, is what maxTexelBufferElements bounds. Both eyes here see the same
 //! camera and gaze, so their frames differ only by their own samples' noise: the right eye
 //! reading outside its part (nothing, or the left eye's values) would show as a black or
-//! copied image.
+//! copied image. And a pass that binds a single view where shared.h declares one per eye (or
+//! the other way round) is refused before its set is written.
 
 mod common;
 
 use fovea::foveation::{FoveationConfig, Gaze};
+use fovea::gpu::{vk, Bound, Buffer, DescriptorArena, EyeTexels, PipelineLayout, TexelView};
 use fovea::render::{DebugView, EyeView, FrameOptions, FrameRequest, Integrator};
+use fovea::shader_layout::{
+    BINDING_HISTORY_TEXELS, BINDING_LATTICE_SURFACE_TEXELS, BINDING_LATTICE_TEXELS,
+};
+use gpu_allocator::MemoryLocation;
 
 const SIDE: u32 = 32;
 /// Pixels per side of the blocks whose means (summed over RGB) are compared.
@@ -78,4 +84,32 @@ fn each_eye_reads_its_own_lattice_through_its_own_views() {
     }
     drop(renderer);
     common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn a_single_view_where_one_per_eye_is_declared_is_refused() {
+    let ctx = common::context();
+    let layout = PipelineLayout::new(&ctx).unwrap();
+    let mut descriptors = DescriptorArena::new(&ctx).unwrap();
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+    let buffer = Buffer::new(&ctx, "lattice", 64, usage, MemoryLocation::GpuOnly).unwrap();
+    let single = TexelView::of_frame(&buffer, "lattice").unwrap();
+    let per_eye = EyeTexels::of_frame(&buffer, "lattice", 2, 2).unwrap();
+    let refused = [
+        (BINDING_LATTICE_TEXELS, Bound::Texels(&single)),
+        (BINDING_LATTICE_SURFACE_TEXELS, Bound::Texels(&single)),
+        (BINDING_HISTORY_TEXELS, Bound::EyeTexels(&per_eye)),
+    ];
+    for (binding, bound) in refused {
+        let error = descriptors.set(&layout, &[(binding, bound)]).unwrap_err();
+        assert!(
+            error.to_string().contains("bug in fovea"),
+            "{binding}: {error}"
+        );
+    }
+    let set = descriptors.set(
+        &layout,
+        &[(BINDING_LATTICE_TEXELS, Bound::EyeTexels(&per_eye))],
+    );
+    assert!(set.is_ok(), "{:?}", set.err());
 }

@@ -12,7 +12,7 @@ use super::accel::AccelStructures;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 use super::memory::{Buffer, StorageImage};
-use super::pipeline::PipelineLayout;
+use super::pipeline::{PipelineLayout, EYE_TEXEL_BINDINGS};
 use super::texel_view::{EyeTexels, TexelView};
 use super::texture::TextureSet;
 use crate::shader_layout::{BINDING_COUNT, EYE_TEXEL_VIEWS, MAX_TEXTURES};
@@ -147,6 +147,20 @@ impl DescriptorArena {
                 "one submission asked for more than {SETS} descriptor sets (one per pass): \
                  a frame records fewer passes; this is a bug in fovea"
             )));
+        }
+        // A per-eye array takes per-eye views, and only it does: a single view there would
+        // leave the other eye's element unwritten.
+        for (binding, bound) in bindings {
+            let per_eye = matches!(bound, Bound::EyeTexels(_));
+            if EYE_TEXEL_BINDINGS.contains(binding) != per_eye {
+                let what = match per_eye {
+                    true => "was given per-eye texel views, which only the per-eye arrays take",
+                    false => "is an array of one texel view per eye and was given something else",
+                };
+                return Err(GpuError::Limit(format!(
+                    "binding {binding} {what} (shared.h); this is a bug in fovea"
+                )));
+            }
         }
         let layouts = [layout.set_layout];
         let info = vk::DescriptorSetAllocateInfo::default()

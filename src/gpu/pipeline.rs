@@ -28,6 +28,10 @@ const TEXEL_BINDINGS: [u32; 12] = [
     BINDING_LATTICE_SURFACE_TEXELS,
 ];
 
+/// The bindings that are arrays of one texel view per eye (EyeTexels).
+pub(super) const EYE_TEXEL_BINDINGS: [u32; 2] =
+    [BINDING_LATTICE_TEXELS, BINDING_LATTICE_SURFACE_TEXELS];
+
 fn descriptor_type(binding: u32) -> vk::DescriptorType {
     if binding == BINDING_TEXTURES {
         vk::DescriptorType::COMBINED_IMAGE_SAMPLER
@@ -52,7 +56,7 @@ impl PipelineLayout {
         let binding = |b, kind| {
             let count = match b {
                 BINDING_TEXTURES => MAX_TEXTURES,
-                BINDING_LATTICE_TEXELS | BINDING_LATTICE_SURFACE_TEXELS => EYE_TEXEL_VIEWS,
+                _ if EYE_TEXEL_BINDINGS.contains(&b) => EYE_TEXEL_VIEWS,
                 _ => 1,
             };
             vk::DescriptorSetLayoutBinding::default()
