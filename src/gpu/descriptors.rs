@@ -79,8 +79,8 @@ impl<'a> From<&'a StorageImage> for Bound<'a> {
 /// temporal, denoise: one set each; their eyes and iterations share it), with room to spare.
 const SETS: u32 = 32;
 /// Descriptors of each type per set, at most: one per binding of shared.h, and the rest of
-/// the two per-eye arrays of texel views.
-const PER_SET: u32 = BINDING_COUNT + 2 * (EYE_TEXEL_VIEWS - 1);
+/// each per-eye array of texel views.
+const PER_SET: u32 = BINDING_COUNT + EYE_TEXEL_BINDINGS.len() as u32 * (EYE_TEXEL_VIEWS - 1);
 
 pub struct DescriptorArena {
     ctx: Arc<GpuContext>,

@@ -7,8 +7,8 @@ use super::memory::Buffer;
 use ash::vk;
 use std::sync::Arc;
 
-/// The whole of a [`Buffer::with_data`] buffer seen as a uniform texel buffer of RGBA32UI
-/// texels (`utextureBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
+/// A buffer, or one eye's part of it ([`EyeTexels`]), seen as a uniform texel buffer of
+/// RGBA32UI texels (`utextureBuffer` in GLSL). Lavapipe fetches a 16-byte texel per lane with one
 /// vector load, where it splits a storage-buffer `uvec4` load into four bounds-checked scalar
 /// loads per lane: the scene's arrays and the lattice values go this way.
 pub struct TexelView {
@@ -89,7 +89,8 @@ impl EyeTexels {
     /// Views of `eyes` parts of `stride` texels each; `stride * 16` must be a multiple of
     /// minTexelBufferOffsetAlignment ([`EyeTexels::stride`] rounds a part up to one).
     pub fn of_frame(buffer: &Buffer, what: &str, eyes: u64, stride: u64) -> Result<Self, GpuError> {
-        let fix = "use a smaller --width/--height, mono instead of --stereo, or fewer layers";
+        // One eye's part: stereo needs no more of a view than mono.
+        let fix = "use a smaller --width/--height or fewer layers";
         let views = (0..eyes)
             .map(|e| TexelView::part(buffer, what, fix, e * stride, stride))
             .collect::<Result<_, _>>()?;

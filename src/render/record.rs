@@ -73,7 +73,7 @@ impl Renderer {
         let history = self.history.as_ref().filter(|_| traced);
         (0..request.eyes.len())
             .map(|e| {
-                let mut push = eye_push(request, e, &targets.buffer, targets.eye_strides());
+                let mut push = eye_push(request, e, &targets.buffer, targets.strides);
                 push.eye.layer_base = targets.layer_base(slot);
                 push.eye.history = history.map_or(0, |h| h.push_word(slot));
                 push
@@ -156,7 +156,7 @@ impl Renderer {
                 let gaze = gazes.get(e).copied().unwrap_or(request.eyes[e].gaze);
                 let input = EyePlanInput {
                     buffer: &targets.buffer,
-                    lattice_stride: targets.lattice_len() as u32,
+                    lattice_stride: targets.strides.lattice,
                     image: &targets.images[e],
                     history_frame,
                     layer_lanes: &targets.layer_lanes,

@@ -37,9 +37,10 @@ pub struct FrameTargets {
     /// Trace threads per point of each layer (GpuLayer::lanes): `key.lanes`' rule for the
     /// points each layer traces with the gaze ahead.
     pub layer_lanes: Vec<u32>,
-    /// Entries from one eye's lattice values to the next: the ray buffer's, rounded up to
-    /// where a texel view may start (`EyeTexels::stride`).
-    lattice_stride: u64,
+    /// Where each eye's part of the lattice and the work lists starts (EyePush): lattice
+    /// entries, the ray buffer's rounded up to where a texel view may start
+    /// (`EyeTexels::stride`), and work-list slots (`work_slots`; checked to fit a u32).
+    pub strides: EyeStrides,
     /// `vec4` per lattice point, eye after eye (shared.h's BINDING_LATTICE).
     pub lattice: Buffer,
     /// The same values as texels, one view per eye, which is how resolve reads them
@@ -232,7 +233,10 @@ impl FrameTargets {
             buffer,
             images,
             layer_lanes,
-            lattice_stride,
+            strides: EyeStrides {
+                lattice: lattice_stride as u32,
+                work: work_stride as u32,
+            },
             lattice,
             lattice_texels,
             work,
@@ -250,7 +254,7 @@ impl FrameTargets {
     pub fn replace_lattice(&mut self, lattice: Buffer) -> Result<(), RenderError> {
         let eyes = self.images.len() as u64;
         self.lattice_texels =
-            EyeTexels::of_frame(&lattice, "lattice values", eyes, self.lattice_stride)?;
+            EyeTexels::of_frame(&lattice, "lattice values", eyes, self.lattice_len() as u64)?;
         self.lattice = lattice;
         Ok(())
     }
@@ -278,20 +282,6 @@ impl FrameTargets {
     /// The most trace lanes of a layer (`trace_lanes::lane_unit`).
     pub fn lane_unit(&self) -> u32 {
         lane_unit(&self.layer_lanes)
-    }
-
-    /// Work-list slots per eye (`work_slots`; eyes' lists are this far apart). Checked to fit
-    /// a u32 when the targets were built.
-    pub fn work_stride(&self) -> u32 {
-        work_slots(&self.buffer, &self.layer_lanes) as u32
-    }
-
-    /// Where each eye's part of the lattice and the work lists starts (EyePush).
-    pub fn eye_strides(&self) -> EyeStrides {
-        EyeStrides {
-            lattice: self.lattice_stride as u32,
-            work: self.work_stride(),
-        }
     }
 
     /// Frame slot `slot`'s first entry of the layer buffer (PushEye::layer_base).
@@ -322,7 +312,7 @@ impl FrameTargets {
     /// Entries from one eye's lattice points to the next: the ray buffer's entries, and
     /// padding up to where a texel view may start (`EyeTexels::stride`).
     pub fn lattice_len(&self) -> usize {
-        self.lattice_stride as usize
+        self.strides.lattice as usize
     }
 }
 
