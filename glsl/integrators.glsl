@@ -146,6 +146,14 @@ void widen_cone(inout Path p, GpuMaterial m) {
     if (HAS_TEXTURES && is_metallic_roughness(m)) p.cone_spread += 2.0 * ggx_alpha(m);
 }
 
+#ifdef CAMERA_VERTEX_HOOK
+// The includer's hooks on every camera ray's outcome (bounce 0): its hit and surface, or a
+// miss. trace.comp keeps a point's first sample's as the surface the temporal history needs,
+// instead of tracing one more ray for it.
+void camera_vertex(Hit h, SurfaceHit s);
+void camera_missed();
+#endif
+
 // Traces the path's next ray: on a miss adds the sky and ends the path (false), on a hit
 // gives the hit and its surface (true). Both integrators start a bounce with it.
 bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, inout bool overflow) {
@@ -153,6 +161,9 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
     rays++;
     overflow = overflow || h.overflow;
     if (h.t == INF) {
+#ifdef CAMERA_VERTEX_HOOK
+        if (p.bounce == 0u) camera_missed();
+#endif
         // An environment map is also a light for next-event estimation (pt): a BRDF sample
         // that finds it takes its MIS weight. Camera rays and mirror bounces (prev_delta,
         // and every seed path) take it whole.
@@ -170,6 +181,9 @@ bool next_vertex(inout Path p, out Hit h, out SurfaceHit s, inout uint rays, ino
     }
     if (HAS_TEXTURES) p.cone_width += p.cone_spread * h.t;
     s = surface(h, p.o, p.d, p.cone_width);
+#ifdef CAMERA_VERTEX_HOOK
+    if (p.bounce == 0u) camera_vertex(h, s);
+#endif
     return true;
 }
 

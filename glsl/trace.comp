@@ -9,6 +9,9 @@
 #extension GL_KHR_shader_subgroup_basic : require
 #define WRITES_LATTICE
 #define PASS_PUSH EyePush
+#ifdef KEEPS_SURFACES
+#define CAMERA_VERTEX_HOOK
+#endif
 #include "integrators.glsl"
 #include "plan.glsl"
 #include "view.glsl"
@@ -49,19 +52,44 @@ vec3 material_albedo(GpuMaterial m) {
     return min(m.kd.xyz + m.ks.xyz, vec3(1.0));
 }
 
-// The surface the ray through pixel p's centre finds (shared.h's SURFACE_* encoding), and
-// while a layer denoises its albedo, textures seen at the ray cone of `pixel_angle` (1: none).
-uvec4 centre_surface(ivec2 p, float pixel_angle, inout uint overflows, out vec3 albedo) {
+#ifdef KEEPS_SURFACES
+// History on: the point's surface, which temporal.comp reprojects and tests history against
+// (shared.h's SURFACE_* encoding). It is the camera ray's hit of the point's first sample,
+// which the point's first lane traces first: next_vertex hands it over (camera_vertex) while
+// `keeps_surface` holds. A ray of its own through the pixel's centre, as before, cost the
+// H200 23% of the textured room's 1-spp trace and 41% of cornell's (history on against off,
+// reports/gpu-h200-panels/history-cost/). The hit lies within the pixel's jitter of the
+// centre, which temporal.comp's surface tests allow for.
+bool keeps_surface = false;
+uvec4 point_surface = uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
+
+void camera_vertex(Hit h, SurfaceHit s) {
+    if (!keeps_surface) return;
+    keeps_surface = false;
+    // surface() faces ng toward the camera, as temporal.comp compares normals.
+    point_surface = uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(s.ng)), h.object,
+                          load_object_ids(h.object).y);
+}
+
+void camera_missed() {
+    keeps_surface = false;
+}
+
+// While a layer denoises, the albedo it divides out and multiplies back (albedo.glsl): that
+// of what the ray through pixel p's centre hits, textures seen at the ray cone of
+// `pixel_angle`, 1 where it hits nothing. Still a ray of its own: a jittered sample's albedo
+// changes from frame to frame where a texel edge crosses the pixel, and the denoised frame
+// shows the albedo of this frame (tests/textures.rs, the_denoiser_filters_the_illumination_
+// not_the_texture: the texels' edges twice as far off the reference with the first sample's).
+vec3 centre_albedo(ivec2 p, float pixel_angle, inout uint rays, inout uint overflows) {
     vec3 d = camera_ray(vec2(p), vec2(0.5));
     Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
-    albedo = vec3(1.0);
+    rays++;
     if (h.overflow) overflows++;
-    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
-    if (pc.albedo != 0u) albedo = material_albedo(surface(h, pc.cam.position.xyz, d, pixel_angle * h.t).m);
-    vec3 n = hit_normal(h, pc.cam.position.xyz + h.t * d);
-    if (dot(n, d) > 0.0) n = -n;
-    return uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(n)), h.object, load_object_ids(h.object).y);
+    if (h.t == INF) return vec3(1.0);
+    return material_albedo(surface(h, pc.cam.position.xyz, d, pixel_angle * h.t).m);
 }
+#endif
 
 // Each lane's share of its point: the samples it traced summed in order, and its counts.
 struct LaneSum {
@@ -154,6 +182,9 @@ void main() {
         spp = layers[k].spp;
         // The pixel's angular height at the image centre, times the layer's lattice spacing.
         pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
+#ifdef KEEPS_SURFACES
+        keeps_surface = part == 0u;
+#endif
         r = trace_samples(k, pixel, spp, part, lanes, pixel_angle);
     }
     vec3 sum = r.sum;
@@ -173,13 +204,8 @@ void main() {
     if (first_lane) {
         lattice[entry] = vec4(sum / float(spp), 1.0);
 #ifdef KEEPS_SURFACES
-        // History on: the surface at the point's pixel centre, which temporal.comp
-        // reprojects and tests history against, and its albedo while a layer denoises. One
-        // more camera ray (counted), traced after the samples.
-        r.rays++;
-        vec3 albedo;
-        lattice_surface[entry] = centre_surface(pixel, pixel_angle, r.overflows, albedo);
-        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(albedo);
+        lattice_surface[entry] = point_surface;
+        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(centre_albedo(pixel, pixel_angle, r.rays, r.overflows));
 #endif
         atomicAdd(stats[block + STAT_PATHS], spp);
     }
