@@ -62,8 +62,14 @@ vec3 material_albedo(GpuMaterial m) {
 // centre, which temporal.comp's surface tests allow for.
 bool keeps_surface = false;
 uvec4 point_surface = uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
+// While a layer denoises, the albedo it divides out and multiplies back (albedo.glsl) is the
+// mean over the point's samples of what their camera rays hit (textures seen at the ray's
+// cone; 1 where it hits nothing): the same samples as the point's radiance, so that at a
+// texel edge inside the pixel the two mix the same two texels. This lane's sum of them:
+vec3 lane_albedo = vec3(0.0);
 
 void camera_vertex(Hit h, SurfaceHit s) {
+    if (pc.albedo != 0u) lane_albedo += material_albedo(s.m);
     if (!keeps_surface) return;
     keeps_surface = false;
     // surface() faces ng toward the camera, as temporal.comp compares normals.
@@ -72,22 +78,8 @@ void camera_vertex(Hit h, SurfaceHit s) {
 }
 
 void camera_missed() {
+    if (pc.albedo != 0u) lane_albedo += vec3(1.0);
     keeps_surface = false;
-}
-
-// While a layer denoises, the albedo it divides out and multiplies back (albedo.glsl): that
-// of what the ray through pixel p's centre hits, textures seen at the ray cone of
-// `pixel_angle`, 1 where it hits nothing. Still a ray of its own: a jittered sample's albedo
-// changes from frame to frame where a texel edge crosses the pixel, and the denoised frame
-// shows the albedo of this frame (tests/textures.rs, the_denoiser_filters_the_illumination_
-// not_the_texture: the texels' edges twice as far off the reference with the first sample's).
-vec3 centre_albedo(ivec2 p, float pixel_angle, inout uint rays, inout uint overflows) {
-    vec3 d = camera_ray(vec2(p), vec2(0.5));
-    Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
-    rays++;
-    if (h.overflow) overflows++;
-    if (h.t == INF) return vec3(1.0);
-    return material_albedo(surface(h, pc.cam.position.xyz, d, pixel_angle * h.t).m);
 }
 #endif
 
@@ -143,8 +135,11 @@ LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, uint lanes, floa
 }
 
 // While some layer has several lanes per point, each lane's sum, which the point's first
-// lane adds up in lane order.
+// lane adds up in lane order (and, with history, each lane's sum of albedos).
 shared vec3 lane_sums[TRACE_WORKGROUP_SIZE];
+#ifdef KEEPS_SURFACES
+shared vec3 lane_albedos[TRACE_WORKGROUP_SIZE];
+#endif
 
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
@@ -192,6 +187,9 @@ void main() {
     if (shares) {
         uint lane = gl_LocalInvocationID.x;
         lane_sums[lane] = r.sum;
+#ifdef KEEPS_SURFACES
+        lane_albedos[lane] = lane_albedo;
+#endif
         barrier();
         // The point's first lane, in lane order, from zero: with spp <= lanes the same
         // additions as one lane's loop (sample s is lane s's), so the same bits. Only it
@@ -199,13 +197,17 @@ void main() {
         if (first_lane) {
             sum = vec3(0.0);
             for (uint p = 0u; p < lanes; ++p) sum += lane_sums[lane + p];
+#ifdef KEEPS_SURFACES
+            lane_albedo = vec3(0.0);
+            for (uint p = 0u; p < lanes; ++p) lane_albedo += lane_albedos[lane + p];
+#endif
         }
     }
     if (first_lane) {
         lattice[entry] = vec4(sum / float(spp), 1.0);
 #ifdef KEEPS_SURFACES
         lattice_surface[entry] = point_surface;
-        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(centre_albedo(pixel, pixel_angle, r.rays, r.overflows));
+        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(lane_albedo / float(spp));
 #endif
         atomicAdd(stats[block + STAT_PATHS], spp);
     }
