@@ -149,7 +149,7 @@ void widen_cone(inout Path p, GpuMaterial m) {
 #ifdef CAMERA_VERTEX_HOOK
 // The includer's hooks on every camera ray's outcome (bounce 0): its hit and surface, or a
 // miss. trace.comp keeps a point's first sample's as the surface the temporal history needs,
-// instead of tracing one more ray for it.
+// instead of tracing one more ray for it (except while a layer denoises: see trace.comp).
 void camera_vertex(Hit h, SurfaceHit s);
 void camera_missed();
 #endif
