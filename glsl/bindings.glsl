@@ -200,6 +200,8 @@ layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) readonly buffer Lattic
 #endif
 layout(std430, set = 0, binding = BINDING_HISTORY) writeonly buffer HistoryBuf { vec4 history_out[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) writeonly buffer HistorySurfaceBuf { uvec4 history_surface_out[]; };
+layout(std430, set = 0, binding = BINDING_HISTORY_ALBEDO) writeonly buffer HistoryAlbedoBuf { uint history_albedo_out[]; };
+layout(std430, set = 0, binding = BINDING_ALBEDO_BEFORE) readonly buffer AlbedoBeforeBuf { uint albedo_before[]; };
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
 // What temporal and the denoiser read, through texel views: on lavapipe a texel is one vector
 // load per lane, where a storage buffer's vec4 is four bounds-checked scalar loads (the

@@ -16,7 +16,8 @@
 // So the gaze stays sharp and the periphery is smoothed only as far as it cannot resolve.
 //
 // It filters the illumination: temporal.comp showed the frame divided by each pixel's albedo
-// and the last iteration multiplies it back (albedo.glsl), so textures stay sharp.
+// (its mean over the history, ALBEDO_BEFORE) and the last iteration multiplies it back
+// (albedo.glsl), so textures stay sharp.
 //
 // DenoisePush says which iteration this is and whether it is the last. Iterations take turns
 // between the frame's pixels and the denoiser's buffer: each reads one (DENOISE_INPUT) and
@@ -75,10 +76,10 @@ bool within_acuity(uint k, ivec2 p, vec3 u, uint i) {
     return width_after(i) <= limit_mar * acuity_in_steps(u, right, layers[base].gaze.xyz);
 }
 
-// The pixel's albedo (its shown layer k's nearest lattice point's), which the last iteration
-// multiplies back.
-vec3 pixel_albedo(uint k, ivec2 p) {
-    return unpack_albedo(lattice_albedo[lattice_index(k, nearest_lattice_point(k, p))]);
+// The pixel's albedo (the mean temporal keeps, which it divided the frame by), which the last
+// iteration multiplies back.
+vec3 pixel_albedo(ivec2 p) {
+    return albedo_divisor(albedo_before[pixel_index(p)]);
 }
 
 void write_output(ivec2 p, vec4 c) {
@@ -101,7 +102,7 @@ void main() {
         write_output(p, centre);
         return;
     }
-    vec3 albedo = pc.last != 0u ? pixel_albedo(k, p) : vec3(1.0);
+    vec3 albedo = pc.last != 0u ? pixel_albedo(p) : vec3(1.0);
     if (iteration >= layers[k].denoise || !within_acuity(k, p, u, iteration)) {
         write_output(p, vec4(centre.rgb * albedo, centre.a));
         return;

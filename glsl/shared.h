@@ -74,21 +74,27 @@
                                    // and how many points each is worth (a), which resolve then
                                    // reads (as its LATTICE_TEXELS) in place of LATTICE
 #define BINDING_LATTICE_ALBEDO 31 // uint[] per LATTICE entry, written by trace while a layer
-                                 // denoises: the albedo at the point's pixel centre that the
-                                 // denoiser filters without (packUnorm4x8 of its square root;
-                                 // 1 for the sky and for emitters)
+                                 // denoises: the mean albedo of what the point's samples' camera
+                                 // rays hit (pack_albedo; 1 for the sky and for emitters), which
+                                 // temporal adds to the pixels' HISTORY_ALBEDO
 #define BINDING_DENOISE_INPUT 32 // the denoiser's input this iteration (PIXELS or DENOISE) as
                                  // RGBA32UI texels (a uniform texel buffer, like LATTICE_TEXELS)
 #define BINDING_LATTICE_SURFACE_TEXELS 33 // LATTICE_SURFACE as RGBA32UI texels: what temporal and
                                           // the lattice filter read; per eye, like LATTICE_TEXELS
-#define BINDING_COUNT 34
+#define BINDING_HISTORY_ALBEDO 34 // uint[] in HISTORY's layout, written by temporal while a layer
+                                  // denoises (EyePush.albedo): the mean albedo of the pixel's
+                                  // history's samples (pack_albedo), the plane this frame writes;
+                                  // History keeps two, as it does of HISTORY
+#define BINDING_ALBEDO_BEFORE 35 // a HISTORY_ALBEDO plane, read: the frame before's (temporal
+                                 // carries it) or this frame's (the denoiser multiplies it back)
+#define BINDING_COUNT 36
 // Views in the per-eye arrays of texel views (LATTICE_TEXELS, LATTICE_SURFACE_TEXELS): one per
 // eye, so that maxTexelBufferElements bounds one eye's lattice, not both; mono binds its one
 // view in every element.
 #define EYE_TEXEL_VIEWS 2
 // Only in the layouts of devices with VK_KHR_ray_query, after the others: the TLAS that
 // the ray-query shaders (ray_query.glsl) trace.
-#define BINDING_TLAS 34
+#define BINDING_TLAS 36
 // Textures a scene may have: BINDING_TEXTURES' descriptor count. Sponza has 69, Bistro ~400.
 #define MAX_TEXTURES 1024
 
@@ -350,8 +356,10 @@ struct PushEye {
 struct EyePush {
     PushCamera cam;
     PushEye eye;
-    uint albedo; // 1 while a layer denoises: trace writes LATTICE_ALBEDO, temporal shows the
-                 // frame divided by it, denoise.comp's last iteration multiplies it back
+    uint albedo; // ALBEDO_ON while a layer denoises: trace writes LATTICE_ALBEDO, temporal keeps
+                 // HISTORY_ALBEDO and shows the frame divided by it, denoise.comp's last
+                 // iteration multiplies it back; | ALBEDO_CARRIED when the frame before wrote
+                 // HISTORY_ALBEDO too (else temporal starts it afresh)
     uint lattice_base; // this eye's first LATTICE entry, where its per-eye texel views start
                        // (GpuLayer.first already counts it)
     uint pad2;
@@ -448,6 +456,8 @@ struct GpuLayer {
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------
 #define HISTORY_ON 1
+#define ALBEDO_ON 1 // EyePush.albedo's bits
+#define ALBEDO_CARRIED 2
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
 // the pixel centre's ray (float bits; SURFACE_NONE: the ray left the scene), y the unit normal
 // facing the camera (octahedral, packSnorm2x16), z the object (TLAS index), w its material

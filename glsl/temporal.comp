@@ -100,6 +100,31 @@ void history_store(uint i, vec4 v, uvec4 surface) {
     history_surface_out[i] = surface;
 }
 
+// While a layer denoises: whether this frame keeps the pixels' albedos (HISTORY_ALBEDO), and
+// whether the frame before did, so that there are albedos to carry.
+bool keeps_albedo() {
+    return (pc.albedo & ALBEDO_ON) != 0u;
+}
+
+bool carries_albedo() {
+    return (pc.albedo & ALBEDO_CARRIED) != 0u;
+}
+
+// The frame before's albedo at pixel index i (none when it kept none).
+vec3 albedo_carried_from(uint i) {
+    return carries_albedo() ? unpack_albedo(albedo_before[i]) : vec3(0.0);
+}
+
+// The pixel's albedo now, as its radiance's mean is made: what was carried with `carried`
+// samples' weight, this frame's (its lattice point's) with `added`. The denoiser's guide is
+// this mean, not this frame's samples' albedo alone: a texel edge across the pixel changes
+// that from frame to frame, and the history's radiance, which it divides, mixes both texels.
+uint albedo_now(vec3 carried_albedo, float carried, vec3 added_albedo, float added) {
+    if (!carries_albedo()) carried = 0.0;
+    if (carried + added <= 0.0) return pack_albedo(added_albedo);
+    return pack_albedo((carried_albedo * carried + added_albedo * added) / (carried + added));
+}
+
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
 // of its left, right, up and down edges), as trace.comp's camera_ray makes it.
 vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
@@ -132,6 +157,7 @@ void main() {
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history_store(history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
+        if (keeps_albedo()) history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
         return;
     }
 
@@ -160,11 +186,13 @@ void main() {
     // The history carried into this frame: the earlier frame's pixel at the same scene point.
     vec4 carried = vec4(0.0);
     uvec4 carried_packed = now_packed;
+    vec3 carried_albedo = vec3(0.0); // while keeps_albedo(), with the radiance's weights
     if (view.valid != 0u) {
         if (view.moved == 0u) {
             // Standing still: the same pixel, whole (no resampling, no test: nothing moved).
             carried = history_before(history_index(p));
             carried_packed = pixel_surface(history_index(p));
+            if (keeps_albedo()) carried_albedo = albedo_carried_from(history_index(p));
         } else {
             // This frame's 3x3 nearest lattice points around the pixel: the range of their
             // radiance (the clamp below), whether another surface is among them (an edge), and
@@ -208,6 +236,7 @@ void main() {
                     for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
                     if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, sparse, spread, near)) continue;
                     carried += w * h;
+                    if (keeps_albedo()) carried_albedo += w * albedo_carried_from(history_index(t));
                     weights += w;
                     if (w > best) {
                         best = w;
@@ -215,6 +244,7 @@ void main() {
                     }
                 }
                 carried = weights > 1e-3 ? carried / weights : vec4(0.0);
+                carried_albedo = weights > 1e-3 ? carried_albedo / weights : vec3(0.0);
                 // Distances are from this frame's camera from now on.
                 carried_packed.x = now_packed.x;
             }
@@ -236,10 +266,12 @@ void main() {
     float n = carried.w;
     uvec4 surface = n > 0.0 ? carried_packed : now_packed;
     vec3 spatial = pixels[out_index].rgb;
+    float added = 0.0; // the weight this frame's samples, or its spatial estimate, got
     if (own_spp > 0u) {
         vec3 own = lattice_texel(own_entry).rgb;
         mean = (mean * n + own * float(own_spp)) / (n + float(own_spp));
         n += float(own_spp);
+        added = float(own_spp);
         surface = now_packed;
     } else if (view.valid != 0u && view.moved != 0u) {
         // In motion a sparse layer's pixel gets its own samples only every spacing^2 frames,
@@ -252,9 +284,16 @@ void main() {
         float w = SPATIAL_SHARE * shown_spp;
         mean = (mean * n + spatial * w) / (n + w);
         n += w;
+        added = w;
         if (carried.w <= 0.0) surface = now_packed;
     }
     history_store(history_index(p), vec4(mean, n), surface);
+    uint albedo = 0u;
+    if (keeps_albedo()) {
+        vec3 own_albedo = unpack_albedo(lattice_albedo[own_entry]);
+        albedo = albedo_now(carried_albedo, carried.w, own_albedo, added);
+        history_albedo_out[history_index(p)] = albedo;
+    }
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
     // the shown layer's spp, halving with every spp-worth of samples the pixel has. Where the
@@ -267,7 +306,7 @@ void main() {
     float w_spatial = worth * exp2(-n / worth);
     vec3 shows = (mean * n + spatial * w_spatial) / (n + w_spatial);
     // While a layer denoises, the denoiser filters the illumination: what is shown is divided
-    // by the albedo here and multiplied back by its last iteration (albedo.glsl).
-    if (pc.albedo != 0u) shows /= unpack_albedo(lattice_albedo[own_entry]);
+    // by the pixel's albedo here and multiplied back by its last iteration (albedo.glsl).
+    if (keeps_albedo()) shows /= albedo_divisor(albedo);
     pixels[out_index] = vec4(shows, 1.0);
 }

@@ -62,8 +62,16 @@ vec3 material_albedo(GpuMaterial m) {
 // centre, which temporal.comp's surface tests allow for.
 bool keeps_surface = false;
 uvec4 point_surface = uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
+// While a layer denoises (pc.albedo), the albedo it divides out and multiplies back
+// (albedo.glsl) is the mean over the point's samples of what their camera rays hit (textures
+// seen at the ray's cone; 1 where it hits nothing): the same samples as the point's radiance,
+// so that at a texel edge inside the pixel the two mix the same two texels. temporal.comp
+// keeps its mean over the frames as it keeps the radiance's, so that the denoiser's guide
+// holds still. This lane's sum:
+vec3 lane_albedo = vec3(0.0);
 
 void camera_vertex(Hit h, SurfaceHit s) {
+    if (pc.albedo != 0u) lane_albedo += material_albedo(s.m);
     if (!keeps_surface) return;
     keeps_surface = false;
     // surface() faces ng toward the camera, as temporal.comp compares normals.
@@ -72,27 +80,8 @@ void camera_vertex(Hit h, SurfaceHit s) {
 }
 
 void camera_missed() {
+    if (pc.albedo != 0u) lane_albedo += vec3(1.0);
     keeps_surface = false;
-}
-
-// While a layer denoises (pc.albedo), the surface and albedo still come from a ray of their
-// own through pixel p's centre: the denoiser stops at the surfaces' edges and divides out and
-// multiplies back the albedo, and a jittered sample's gives it a guide that changes from
-// frame to frame. Measured on the textured room in motion (reports/tune-motion-window-lavapipe/
-// no-extra-ray/): `bg:1x1d3m4` fell from 9.065 to 8.967 JOD with the first sample's surface,
-// and to 9.037 with its surface and the samples' mean albedo, against regular 4 spp's 9.042.
-// Textures seen at the ray cone of `pixel_angle`; albedo 1 where the ray hits nothing.
-uvec4 centre_surface(ivec2 p, float pixel_angle, inout uint rays, inout uint overflows, out vec3 albedo) {
-    vec3 d = camera_ray(vec2(p), vec2(0.5));
-    Hit h = trace_scene(pc.cam.position.xyz, d, 0.0, INF, false);
-    rays++;
-    albedo = vec3(1.0);
-    if (h.overflow) overflows++;
-    if (h.t == INF) return uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
-    albedo = material_albedo(surface(h, pc.cam.position.xyz, d, pixel_angle * h.t).m);
-    vec3 n = hit_normal(h, pc.cam.position.xyz + h.t * d);
-    if (dot(n, d) > 0.0) n = -n;
-    return uvec4(floatBitsToUint(h.t), packSnorm2x16(to_octahedral(n)), h.object, load_object_ids(h.object).y);
 }
 #endif
 
@@ -148,8 +137,11 @@ LaneSum trace_samples(uint k, ivec2 pixel, uint spp, uint part, uint lanes, floa
 }
 
 // While some layer has several lanes per point, each lane's sum, which the point's first
-// lane adds up in lane order.
+// lane adds up in lane order (and, while a layer denoises, each lane's sum of albedos).
 shared vec3 lane_sums[TRACE_WORKGROUP_SIZE];
+#ifdef KEEPS_SURFACES
+shared vec3 lane_albedos[TRACE_WORKGROUP_SIZE];
+#endif
 
 void main() {
     uint thread = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * TRACE_WORKGROUP_SIZE)
@@ -188,7 +180,7 @@ void main() {
         // The pixel's angular height at the image centre, times the layer's lattice spacing.
         pixel_angle = abs(layers[k].pixel_tan.w) * float(layers[k].spacing);
 #ifdef KEEPS_SURFACES
-        keeps_surface = part == 0u && pc.albedo == 0u;
+        keeps_surface = part == 0u;
 #endif
         r = trace_samples(k, pixel, spp, part, lanes, pixel_angle);
     }
@@ -197,6 +189,9 @@ void main() {
     if (shares) {
         uint lane = gl_LocalInvocationID.x;
         lane_sums[lane] = r.sum;
+#ifdef KEEPS_SURFACES
+        lane_albedos[lane] = lane_albedo;
+#endif
         barrier();
         // The point's first lane, in lane order, from zero: with spp <= lanes the same
         // additions as one lane's loop (sample s is lane s's), so the same bits. Only it
@@ -204,18 +199,17 @@ void main() {
         if (first_lane) {
             sum = vec3(0.0);
             for (uint p = 0u; p < lanes; ++p) sum += lane_sums[lane + p];
+#ifdef KEEPS_SURFACES
+            lane_albedo = vec3(0.0);
+            for (uint p = 0u; p < lanes; ++p) lane_albedo += lane_albedos[lane + p];
+#endif
         }
     }
     if (first_lane) {
         lattice[entry] = vec4(sum / float(spp), 1.0);
 #ifdef KEEPS_SURFACES
-        if (pc.albedo != 0u) {
-            vec3 albedo;
-            lattice_surface[entry] = centre_surface(pixel, pixel_angle, r.rays, r.overflows, albedo);
-            lattice_albedo[entry] = pack_albedo(albedo);
-        } else {
-            lattice_surface[entry] = point_surface;
-        }
+        lattice_surface[entry] = point_surface;
+        if (pc.albedo != 0u) lattice_albedo[entry] = pack_albedo(lane_albedo / float(spp));
 #endif
         atomicAdd(stats[block + STAT_PATHS], spp);
     }

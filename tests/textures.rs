@@ -8,6 +8,7 @@ mod common;
 
 use fovea::check::gltf_brdf::GltfBrdf;
 use fovea::foveation::{FoveationConfig, Gaze, Layer};
+use fovea::render::accumulate::frame_seed;
 use fovea::render::{DebugView, EyeView, FrameOptions, FrameRequest, Integrator, Renderer};
 use fovea::scene::gltf_load::load_gltf;
 use fovea::scene::{
@@ -654,10 +655,13 @@ fn a_scene_reports_its_gpu_memory_textures_with_every_mip_level() {
 }
 
 /// The first frame with history of `scene` at 2 spp, its layer denoised `denoise` times.
-fn first_frame_with_history(
+/// The `frames`-th frame of a still view with history, regular 2 spp, the denoiser's
+/// `denoise` iterations (each frame its own seed).
+fn still_frame_with_history(
     ctx: &std::sync::Arc<fovea::gpu::GpuContext>,
     scene: &Scene,
     denoise: u32,
+    frames: u32,
 ) -> Vec<f32> {
     let mut config = FoveationConfig::regular(2);
     config.layers[0].denoise = denoise;
@@ -665,21 +669,86 @@ fn first_frame_with_history(
         camera: scene.camera,
         gaze: Gaze::Forward,
     }];
-    let request = FrameRequest {
-        settings: common::settings(SIZE as u32, SIZE as u32, 2, 7, Integrator::Pt),
-        foveation: &config,
-        eyes: &eyes,
-        debug: DebugView::None,
-    };
     let mut renderer = Renderer::new(ctx, scene).unwrap();
     renderer
         .set_temporal(Some(fovea::render::TemporalSettings::default()))
         .unwrap();
-    let frame = renderer
-        .frame(&request, FrameOptions::pixels())
-        .unwrap()
-        .unwrap();
-    frame.rgb
+    let mut last = Vec::new();
+    for n in 0..frames {
+        let request = FrameRequest {
+            settings: common::settings(
+                SIZE as u32,
+                SIZE as u32,
+                2,
+                frame_seed(7, n),
+                Integrator::Pt,
+            ),
+            foveation: &config,
+            eyes: &eyes,
+            debug: DebugView::None,
+        };
+        let frame = renderer.frame(&request, FrameOptions::pixels()).unwrap();
+        last = frame.unwrap().rgb;
+    }
+    last
+}
+
+/// The checkerboard under the white sky (see below), its 256-spp reference, and its pixels
+/// split into those with a texel edge in their 3x3 neighbourhood and the others.
+struct Checkerboard {
+    scene: Scene,
+    reference: Vec<f32>,
+    edge: Vec<(usize, usize)>,
+    flat: Vec<(usize, usize)>,
+}
+
+impl Checkerboard {
+    fn new(ctx: &std::sync::Arc<fovea::gpu::GpuContext>) -> Self {
+        let plastic = MetallicRoughness {
+            textures: MaterialTextures {
+                base_color: slot(),
+                ..MaterialTextures::NONE
+            },
+            ..MetallicRoughness::factors(Vec3::ONE, 0.0, 1.0, Vec3::ZERO)
+        };
+        let scene = scene(plastic, checker_texture(4, 60, 220, EXACT));
+        let reference = common::render(
+            ctx,
+            &scene,
+            &common::settings(SIZE as u32, SIZE as u32, 256, 3, Integrator::Pt),
+        )
+        .rgb;
+        let grey = |x: usize, y: usize| reference[3 * (y * SIZE + x)];
+        let is_edge = |x: usize, y: usize| {
+            (0..9).any(|i| (grey(x + i % 3 - 1, y + i / 3 - 1) - grey(x, y)).abs() > 0.1)
+        };
+        let (mut edge, mut flat) = (Vec::new(), Vec::new());
+        for y in 1..SIZE - 1 {
+            for x in 1..SIZE - 1 {
+                match is_edge(x, y) {
+                    true => edge.push((x, y)),
+                    false => flat.push((x, y)),
+                }
+            }
+        }
+        assert!(edge.len() > 200 && flat.len() > 200);
+        Self {
+            scene,
+            reference,
+            edge,
+            flat,
+        }
+    }
+
+    /// The mean squared error of `rgb`'s grey against the reference's over pixels `at`.
+    fn mse(&self, rgb: &[f32], at: &[(usize, usize)]) -> f64 {
+        let grey = |rgb: &[f32], x: usize, y: usize| rgb[3 * (y * SIZE + x)];
+        let sum: f64 = at
+            .iter()
+            .map(|&(x, y)| (grey(rgb, x, y) - grey(&self.reference, x, y)).powi(2) as f64)
+            .sum();
+        sum / at.len() as f64
+    }
 }
 
 #[test]
@@ -687,60 +756,31 @@ fn the_denoiser_filters_the_illumination_not_the_texture() {
     // A checkerboard of 4 × 4 texels (8 pixels each) as the quad's base colour under the
     // white sky. Three denoiser iterations reach 29 pixels, and at an edge between texels the
     // 3x3 noise estimate spans both greys, so its luminance test holds little back: filtering
-    // the radiance would smear the checkerboard. It filters radiance over albedo (what the
-    // trace found at each pixel's centre) and multiplies the albedo back, so next to the
-    // texels' edges the denoised frame stays about as close to a 256-spp reference as the
-    // noisy one (a pixel an edge crosses mixes two greys under one albedo: a little leaks),
-    // and inside the texels it comes closer.
+    // the radiance would smear the checkerboard. It filters radiance over albedo (the mean of
+    // what the pixel's samples hit) and multiplies the albedo back, so next to the texels'
+    // edges the denoised frame stays about as close to a 256-spp reference as the noisy one
+    // (a pixel an edge crosses mixes two greys under one albedo: a little leaks), and inside
+    // the texels it comes closer.
     let ctx = common::context();
-    let plastic = MetallicRoughness {
-        textures: MaterialTextures {
-            base_color: slot(),
-            ..MaterialTextures::NONE
-        },
-        ..MetallicRoughness::factors(Vec3::ONE, 0.0, 1.0, Vec3::ZERO)
-    };
-    let scene = scene(plastic, checker_texture(4, 60, 220, EXACT));
-    let reference = common::render(
-        &ctx,
-        &scene,
-        &common::settings(SIZE as u32, SIZE as u32, 256, 3, Integrator::Pt),
-    );
+    let board = Checkerboard::new(&ctx);
     let (plain, denoised) = (
-        first_frame_with_history(&ctx, &scene, 0),
-        first_frame_with_history(&ctx, &scene, 3),
+        still_frame_with_history(&ctx, &board.scene, 0, 1),
+        still_frame_with_history(&ctx, &board.scene, 3, 1),
     );
-    // Pixels with a texel edge in their 3x3 neighbourhood in the reference, and the others.
-    let grey = |rgb: &[f32], x: usize, y: usize| rgb[3 * (y * SIZE + x)];
-    let is_edge = |x: usize, y: usize| {
-        let centre = grey(&reference.rgb, x, y);
-        (0..9).any(|i| (grey(&reference.rgb, x + i % 3 - 1, y + i / 3 - 1) - centre).abs() > 0.1)
-    };
-    let (mut edge, mut flat) = (Vec::new(), Vec::new());
-    for y in 1..SIZE - 1 {
-        for x in 1..SIZE - 1 {
-            match is_edge(x, y) {
-                true => edge.push((x, y)),
-                false => flat.push((x, y)),
-            }
-        }
-    }
-    let mse = |rgb: &[f32], at: &[(usize, usize)]| {
-        let sum: f64 = at
-            .iter()
-            .map(|&(x, y)| (grey(rgb, x, y) - grey(&reference.rgb, x, y)).powi(2) as f64)
-            .sum();
-        sum / at.len() as f64
-    };
-    let (edge_before, edge_after) = (mse(&plain, &edge), mse(&denoised, &edge));
-    let (flat_before, flat_after) = (mse(&plain, &flat), mse(&denoised, &flat));
+    let (edge_before, edge_after) = (
+        board.mse(&plain, &board.edge),
+        board.mse(&denoised, &board.edge),
+    );
+    let (flat_before, flat_after) = (
+        board.mse(&plain, &board.flat),
+        board.mse(&denoised, &board.flat),
+    );
     eprintln!(
         "texel edges ({} pixels): {edge_before:.3e} noisy, {edge_after:.3e} denoised; flat \
          ({} pixels): {flat_before:.3e} noisy, {flat_after:.3e} denoised",
-        edge.len(),
-        flat.len()
+        board.edge.len(),
+        board.flat.len()
     );
-    assert!(edge.len() > 200 && flat.len() > 200);
     assert!(
         edge_after < 1.25 * edge_before,
         "the texels' edges: {edge_before:.3e} noisy, {edge_after:.3e} denoised"
@@ -748,6 +788,41 @@ fn the_denoiser_filters_the_illumination_not_the_texture() {
     assert!(
         flat_after < 0.5 * flat_before,
         "inside the texels: {flat_before:.3e} noisy, {flat_after:.3e} denoised"
+    );
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn the_denoisers_albedo_is_the_historys_mean() {
+    // The checkerboard above, still: after 8 frames of 2 spp the history's radiance is the
+    // mean of 16 samples, and next to a texel edge they mix both greys. The albedo the
+    // denoiser divides out and multiplies back is the mean of the same samples (temporal.comp
+    // keeps it as it keeps the radiance), so the denoised texel edges come closer to the
+    // reference as the history grows. Were it this frame's 2 samples' albedo alone, the
+    // denoised pixel would show that albedo's noise frame after frame.
+    let ctx = common::context();
+    let board = Checkerboard::new(&ctx);
+    let first = still_frame_with_history(&ctx, &board.scene, 3, 1);
+    let eighth = still_frame_with_history(&ctx, &board.scene, 3, 8);
+    let (edge_first, edge_eighth) = (
+        board.mse(&first, &board.edge),
+        board.mse(&eighth, &board.edge),
+    );
+    let (flat_first, flat_eighth) = (
+        board.mse(&first, &board.flat),
+        board.mse(&eighth, &board.flat),
+    );
+    eprintln!(
+        "denoised, texel edges: {edge_first:.3e} in frame 1, {edge_eighth:.3e} in frame 8; \
+         flat: {flat_first:.3e}, {flat_eighth:.3e}"
+    );
+    assert!(
+        edge_eighth < 0.5 * edge_first,
+        "the texels' edges, denoised: {edge_first:.3e} in frame 1, {edge_eighth:.3e} in frame 8"
+    );
+    assert!(
+        flat_eighth < flat_first,
+        "inside the texels, denoised: {flat_first:.3e} in frame 1, {flat_eighth:.3e} in frame 8"
     );
     common::assert_no_validation_messages(&ctx);
 }

@@ -14,7 +14,7 @@ use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
 use crate::scene::Camera;
-use crate::shader_layout::{EyePush, GpuLayer, PushCamera, PushEye, NO_LIMIT, PLAN_RUN};
+use crate::shader_layout::{EyePush, GpuLayer, PushCamera, PushEye, ALBEDO_ON, NO_LIMIT, PLAN_RUN};
 
 /// One eye's layers for a frame: what the gaze decides, written into the GPU's layer buffer
 /// right before the frame is submitted (the recorded commands do not depend on it).
@@ -62,7 +62,10 @@ pub fn eye_push(
             debug: request.debug.id(),
             ..Default::default()
         },
-        albedo: (request.foveation.denoise_iterations() > 0) as u32,
+        albedo: match request.foveation.denoise_iterations() > 0 {
+            true => ALBEDO_ON,
+            false => 0,
+        },
         lattice_base: e as u32 * strides.lattice,
         ..Default::default()
     }

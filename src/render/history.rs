@@ -10,7 +10,9 @@
 use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{vk, Buffer, EyeTexels, GpuContext, PlannedAllocation, TexelView};
-use crate::shader_layout::{GpuHistoryView, PushCamera, HISTORY_ON, STAT_EYES};
+use crate::shader_layout::{
+    GpuHistoryView, PushCamera, ALBEDO_CARRIED, ALBEDO_ON, HISTORY_ON, STAT_EYES,
+};
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
@@ -58,6 +60,8 @@ impl HistoryKey {
             PlannedAllocation::storage_with_texels("denoiser pixels", plane),
             PlannedAllocation::storage_with_views("filtered lattice values", lattice, eye_lattice),
             PlannedAllocation::storage("lattice albedos", self.eyes as u64 * self.lattice_len * 4),
+            PlannedAllocation::storage("history albedos plane 0", plane / 4),
+            PlannedAllocation::storage("history albedos plane 1", plane / 4),
         ]
     }
 }
@@ -96,6 +100,12 @@ pub struct History {
     /// BINDING_LATTICE_ALBEDO: the albedo at every lattice point traced this frame, while a
     /// layer denoises.
     pub lattice_albedos: Buffer,
+    /// BINDING_HISTORY_ALBEDO: two planes of every pixel's mean albedo over its history,
+    /// while a layer denoises; a frame writes one and reads the other (BINDING_ALBEDO_BEFORE),
+    /// and the denoiser reads the one it wrote.
+    pub albedos: [Buffer; 2],
+    /// Whether the frame before kept albedos: a frame that denoises carries them only then.
+    albedos_kept: bool,
     /// Frames added since the history started (the lattice shift's frame).
     frame: u32,
     /// The plane the next frame reads (the one the frame before wrote).
@@ -177,6 +187,11 @@ impl History {
             filtered,
             filtered_texels,
             lattice_albedos: device(&plan[8].name, plan[8].bytes)?,
+            albedos: [
+                device(&plan[9].name, plan[9].bytes)?,
+                device(&plan[10].name, plan[10].bytes)?,
+            ],
+            albedos_kept: false,
             frame: 0,
             read_plane: 0,
             cameras: None,
@@ -186,6 +201,7 @@ impl History {
     /// Forgets everything accumulated: the next frame starts afresh (and unshifted).
     pub fn reset(&mut self) {
         self.frame = 0;
+        self.albedos_kept = false;
         self.cameras = None;
     }
 
@@ -209,9 +225,24 @@ impl History {
         HISTORY_ON | self.read_plane << 1 | (slot as u32) << 2
     }
 
-    /// Writes slot `slot`'s views for the next frame, whose eyes' cameras are `cameras`, and
-    /// moves on to the frame after it (called once per submitted frame, in order).
-    pub fn advance(&mut self, slot: usize, cameras: &[PushCamera]) -> Result<(), RenderError> {
+    /// EyePush::albedo of the next frame, whose own is `albedo` (ALBEDO_ON while a layer
+    /// denoises): it carries the pixels' albedos when the frame before kept them.
+    pub fn albedo_word(&self, albedo: u32) -> u32 {
+        match albedo & ALBEDO_ON != 0 && self.albedos_kept {
+            true => albedo | ALBEDO_CARRIED,
+            false => albedo,
+        }
+    }
+
+    /// Writes slot `slot`'s views for the next frame, whose eyes' cameras are `cameras` and
+    /// which keeps albedos or not (`keeps_albedos`), and moves on to the frame after it
+    /// (called once per submitted frame, in order).
+    pub fn advance(
+        &mut self,
+        slot: usize,
+        cameras: &[PushCamera],
+        keeps_albedos: bool,
+    ) -> Result<(), RenderError> {
         let now = cameras.to_vec();
         let views: Vec<GpuHistoryView> = now
             .iter()
@@ -241,6 +272,7 @@ impl History {
         let at = slot * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>();
         self.views.write(at, bytemuck::cast_slice(&views))?;
         self.cameras = Some(now);
+        self.albedos_kept = keeps_albedos;
         self.read_plane = 1 - self.read_plane;
         self.frame = self.frame.wrapping_add(1);
         Ok(())

@@ -272,6 +272,8 @@ impl FramePasses<'_> {
             .reads_writes(BINDING_PIXELS, &t.pixels)
             .writes(BINDING_HISTORY, &h.pixels[written])
             .writes(BINDING_HISTORY_SURFACE, &h.surfaces[written])
+            .reads(BINDING_ALBEDO_BEFORE, &h.albedos[read])
+            .writes(BINDING_HISTORY_ALBEDO, &h.albedos[written])
             .record(|r| {
                 for (e, push) in self.eyes.iter().enumerate() {
                     r.dispatch(&self.name(e, "temporal"), pipeline, push, groups);
@@ -289,7 +291,8 @@ impl FramePasses<'_> {
         let t = self.targets;
         let groups = self.pixel_groups(1);
         // Every eye's push has the same history word: one plane for the frame.
-        let surfaces = &h.surface_texels[History::written_plane(self.eyes[0].eye.history)];
+        let written = History::written_plane(self.eyes[0].eye.history);
+        let (surfaces, albedos) = (&h.surface_texels[written], &h.albedos[written]);
         for i in 0..iterations {
             let (from, into) = match i % 2 {
                 0 => (&t.pixels_texels, &h.denoise),
@@ -298,7 +301,7 @@ impl FramePasses<'_> {
             g.pass()
                 .reads(BINDING_LAYERS, &t.layers)
                 .reads(BINDING_SURFACE_TEXELS, surfaces)
-                .reads(BINDING_LATTICE_ALBEDO, &h.lattice_albedos)
+                .reads(BINDING_ALBEDO_BEFORE, albedos)
                 .reads(BINDING_DENOISE_INPUT, from)
                 .writes(BINDING_DENOISE, into)
                 .record(|r| {

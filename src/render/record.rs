@@ -13,7 +13,7 @@ use super::request::{AfterFrame, FrameOptions, FrameRequest};
 use super::RenderError;
 use crate::foveation::Gaze;
 use crate::gpu::{Commands, GpuContext};
-use crate::shader_layout::{EyePush, PushCamera};
+use crate::shader_layout::{EyePush, PushCamera, ALBEDO_ON};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -42,7 +42,8 @@ impl Renderer {
         targets.write_layers(slot, &eyes)?;
         if let Some(history) = self.history.as_mut().filter(|_| traced) {
             let cameras: Vec<PushCamera> = pushes.iter().map(|p| p.cam).collect();
-            history.advance(slot, &cameras)?;
+            let keeps_albedos = pushes.iter().any(|p| p.albedo & ALBEDO_ON != 0);
+            history.advance(slot, &cameras, keeps_albedos)?;
         }
         let busy_at_submit = self.ring.busy()?;
         let submitted_at = Instant::now();
@@ -76,6 +77,7 @@ impl Renderer {
                 let mut push = eye_push(request, e, &targets.buffer, targets.strides);
                 push.eye.layer_base = targets.layer_base(slot);
                 push.eye.history = history.map_or(0, |h| h.push_word(slot));
+                push.albedo = history.map_or(push.albedo, |h| h.albedo_word(push.albedo));
                 push
             })
             .collect()
