@@ -38,7 +38,8 @@
 // Temporal history (render/history.rs, glsl/temporal.comp); no pass declares them while
 // history is off, so nothing binds them then.
 #define BINDING_LATTICE_SURFACE 17 // uvec4[] per LATTICE entry, written by trace while history is
-                                   // on: the surface at the point's pixel centre (SURFACE_*)
+                                   // on: the surface its first sample's camera ray hit
+                                   // (SURFACE_*)
 #define BINDING_HISTORY 18     // vec4[]: the history plane this frame writes (History keeps two:
                                // frames take turns reading one and writing the other, and
                                // PushEye.history says which): per eye and pixel, rgb the mean of
@@ -459,7 +460,8 @@ struct GpuLayer {
 #define ALBEDO_ON 1 // EyePush.albedo's bits
 #define ALBEDO_CARRIED 2
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
-// the pixel centre's ray (float bits; SURFACE_NONE: the ray left the scene), y the unit normal
+// the camera ray of the point's first sample (float bits; SURFACE_NONE: the ray left the
+// scene), y the unit normal
 // facing the camera (octahedral, packSnorm2x16), z the object (TLAS index), w its material
 // (z NO_OBJECT and w NO_MATERIAL: none).
 #define SURFACE_NONE 0xbf800000u // -1.0f

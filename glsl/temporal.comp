@@ -199,6 +199,8 @@ void main() {
             // how far the distance to this surface varies across them.
             vec3 lo = vec3(1e30);
             vec3 hi = vec3(-1e30);
+            vec3 albedo_lo = vec3(1.0); // and of their albedos, while keeps_albedo()
+            vec3 albedo_hi = vec3(0.0);
             bool edge = false;
             float spread = 0.0;
             uvec2 kinds[9];
@@ -207,6 +209,11 @@ void main() {
                 vec3 v = lattice_texel(entry).rgb;
                 lo = min(lo, v);
                 hi = max(hi, v);
+                if (keeps_albedo()) {
+                    vec3 a = unpack_albedo(lattice_albedo[entry]);
+                    albedo_lo = min(albedo_lo, a);
+                    albedo_hi = max(albedo_hi, a);
+                }
                 Surface s = decode(lattice_surface_at(entry));
                 kinds[i] = uvec2(s.object, s.material);
                 bool other = s.object != now.object || s.material != now.material;
@@ -254,6 +261,9 @@ void main() {
             // crossed held a mix of both sides that its centre's surface test cannot see
             // (the sky does not move when the camera steps); this frame's samples can.
             carried.rgb = clamp(carried.rgb, lo, hi);
+            // And so is the albedo: resampled frame after frame it would blur, and the
+            // texture the denoiser multiplies back with it.
+            if (keeps_albedo()) carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
             // Near an edge between surfaces the part of the pixel each covers changes as the
             // view moves, which no surface test of its centre sees: there history counts
             // for little, and this frame's samples (which do see it) soon take over.

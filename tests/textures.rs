@@ -663,24 +663,36 @@ fn still_frame_with_history(
     denoise: u32,
     frames: u32,
 ) -> Vec<f32> {
+    let cameras = vec![scene.camera; frames as usize];
+    last_frame_with_history(ctx, scene, denoise, &cameras)
+}
+
+/// The last frame of a view with history through `cameras` (a frame each), regular 2 spp, the
+/// denoiser's `denoise` iterations (each frame its own seed).
+fn last_frame_with_history(
+    ctx: &std::sync::Arc<fovea::gpu::GpuContext>,
+    scene: &Scene,
+    denoise: u32,
+    cameras: &[Camera],
+) -> Vec<f32> {
     let mut config = FoveationConfig::regular(2);
     config.layers[0].denoise = denoise;
-    let eyes = [EyeView {
-        camera: scene.camera,
-        gaze: Gaze::Forward,
-    }];
     let mut renderer = Renderer::new(ctx, scene).unwrap();
     renderer
         .set_temporal(Some(fovea::render::TemporalSettings::default()))
         .unwrap();
     let mut last = Vec::new();
-    for n in 0..frames {
+    for (n, camera) in cameras.iter().enumerate() {
+        let eyes = [EyeView {
+            camera: *camera,
+            gaze: Gaze::Forward,
+        }];
         let request = FrameRequest {
             settings: common::settings(
                 SIZE as u32,
                 SIZE as u32,
                 2,
-                frame_seed(7, n),
+                frame_seed(7, n as u32),
                 Integrator::Pt,
             ),
             foveation: &config,
@@ -704,6 +716,11 @@ struct Checkerboard {
 
 impl Checkerboard {
     fn new(ctx: &std::sync::Arc<fovea::gpu::GpuContext>) -> Self {
+        Self::seen_by(ctx, None)
+    }
+
+    /// The same, seen by `camera` (None: the scene's).
+    fn seen_by(ctx: &std::sync::Arc<fovea::gpu::GpuContext>, camera: Option<Camera>) -> Self {
         let plastic = MetallicRoughness {
             textures: MaterialTextures {
                 base_color: slot(),
@@ -711,7 +728,8 @@ impl Checkerboard {
             },
             ..MetallicRoughness::factors(Vec3::ONE, 0.0, 1.0, Vec3::ZERO)
         };
-        let scene = scene(plastic, checker_texture(4, 60, 220, EXACT));
+        let mut scene = scene(plastic, checker_texture(4, 60, 220, EXACT));
+        scene.camera = camera.unwrap_or(scene.camera);
         let reference = common::render(
             ctx,
             &scene,
@@ -823,6 +841,48 @@ fn the_denoisers_albedo_is_the_historys_mean() {
     assert!(
         flat_eighth < flat_first,
         "inside the texels, denoised: {flat_first:.3e} in frame 1, {flat_eighth:.3e} in frame 8"
+    );
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn the_denoisers_albedo_stays_sharp_in_motion() {
+    // The checkerboard, the camera stepping half a pixel sideways and back every frame for 16
+    // frames: the history is resampled halfway between pixels every frame. The albedo it keeps
+    // for the denoiser is clamped to this frame's 3x3 neighbourhood as its radiance is;
+    // resampled without that it blurs frame after frame (0.27 JOD lost on the textured room
+    // in motion), and the texture the last iteration multiplies back with it. Measured with
+    // the clamp: edges 1.06x the history's error, flat 0.65x; without it 1.30x and 2.25x.
+    let ctx = common::context();
+    let step = 0.5 * 2.0 * 4.0 * (13f32).to_radians().tan() / SIZE as f32; // half a pixel
+    let at = |dx: f32| {
+        let eye = Vec3::new(dx, 0.0, 4.0);
+        Camera::look_at(eye, Vec3::new(dx, 0.0, 0.0), Vec3::Y, 26.0, 1.0)
+    };
+    let cameras: Vec<Camera> = (0..16).map(|n| at(step * (n % 2) as f32)).collect();
+    // The reference is seen by the last frame's camera.
+    let shifted = Checkerboard::seen_by(&ctx, Some(cameras[15]));
+    let plain = last_frame_with_history(&ctx, &shifted.scene, 0, &cameras);
+    let denoised = last_frame_with_history(&ctx, &shifted.scene, 3, &cameras);
+    let (edge_plain, edge_denoised) = (
+        shifted.mse(&plain, &shifted.edge),
+        shifted.mse(&denoised, &shifted.edge),
+    );
+    let (flat_plain, flat_denoised) = (
+        shifted.mse(&plain, &shifted.flat),
+        shifted.mse(&denoised, &shifted.flat),
+    );
+    eprintln!(
+        "in motion, texel edges: {edge_plain:.3e} history, {edge_denoised:.3e} denoised; \
+         flat: {flat_plain:.3e} history, {flat_denoised:.3e} denoised"
+    );
+    assert!(
+        edge_denoised < 1.2 * edge_plain,
+        "the texels' edges in motion: {edge_plain:.3e} history, {edge_denoised:.3e} denoised"
+    );
+    assert!(
+        flat_denoised < 0.8 * flat_plain,
+        "inside the texels in motion: {flat_plain:.3e} history, {flat_denoised:.3e} denoised"
     );
     common::assert_no_validation_messages(&ctx);
 }

@@ -66,6 +66,16 @@ impl HistoryKey {
     }
 }
 
+/// A frame that keeps albedos (`albedo` has ALBEDO_ON) carries the pixels' albedos only when
+/// the frame before kept them (`kept_before`): else its albedo plane holds another frame's, or
+/// nothing, and temporal starts afresh from this frame's.
+fn albedo_word(albedo: u32, kept_before: bool) -> u32 {
+    match albedo & ALBEDO_ON != 0 && kept_before {
+        true => albedo | ALBEDO_CARRIED,
+        false => albedo,
+    }
+}
+
 fn views_bytes() -> u64 {
     (MAX_FRAMES_IN_FLIGHT * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>()) as u64
 }
@@ -226,12 +236,9 @@ impl History {
     }
 
     /// EyePush::albedo of the next frame, whose own is `albedo` (ALBEDO_ON while a layer
-    /// denoises): it carries the pixels' albedos when the frame before kept them.
+    /// denoises).
     pub fn albedo_word(&self, albedo: u32) -> u32 {
-        match albedo & ALBEDO_ON != 0 && self.albedos_kept {
-            true => albedo | ALBEDO_CARRIED,
-            false => albedo,
-        }
+        albedo_word(albedo, self.albedos_kept)
     }
 
     /// Writes slot `slot`'s views for the next frame, whose eyes' cameras are `cameras` and
@@ -282,6 +289,41 @@ impl History {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn albedos_are_carried_only_from_a_frame_that_kept_them() {
+        assert_eq!(albedo_word(ALBEDO_ON, true), ALBEDO_ON | ALBEDO_CARRIED);
+        assert_eq!(albedo_word(ALBEDO_ON, false), ALBEDO_ON);
+        assert_eq!(
+            albedo_word(0, true),
+            0,
+            "a frame that keeps none carries none"
+        );
+        assert_eq!(albedo_word(0, false), 0);
+    }
+
+    #[test]
+    fn the_albedo_planes_are_a_quarter_of_a_history_plane() {
+        let key = HistoryKey {
+            width: 64,
+            height: 48,
+            eyes: 2,
+            lattice_len: 1000,
+        };
+        let plan = key.allocations();
+        let bytes = |name: &str| plan.iter().find(|p| p.name == name).unwrap().bytes;
+        for name in ["history albedos plane 0", "history albedos plane 1"] {
+            assert_eq!(
+                bytes(name),
+                64 * 48 * 2 * 4,
+                "{name}: a u32 per pixel of each eye"
+            );
+        }
+        assert_eq!(
+            bytes("history plane 0"),
+            4 * bytes("history albedos plane 0")
+        );
+    }
 
     #[test]
     fn the_lattice_buffers_are_read_one_eye_at_a_time() {
