@@ -758,6 +758,12 @@ impl Checkerboard {
         }
     }
 
+    /// The mean squared error of `rgb`'s grey against the reference's next to texel edges and
+    /// away from them.
+    fn errors(&self, rgb: &[f32]) -> (f64, f64) {
+        (self.mse(rgb, &self.edge), self.mse(rgb, &self.flat))
+    }
+
     /// The mean squared error of `rgb`'s grey against the reference's over pixels `at`.
     fn mse(&self, rgb: &[f32], at: &[(usize, usize)]) -> f64 {
         let grey = |rgb: &[f32], x: usize, y: usize| rgb[3 * (y * SIZE + x)];
@@ -785,14 +791,8 @@ fn the_denoiser_filters_the_illumination_not_the_texture() {
         still_frame_with_history(&ctx, &board.scene, 0, 1),
         still_frame_with_history(&ctx, &board.scene, 3, 1),
     );
-    let (edge_before, edge_after) = (
-        board.mse(&plain, &board.edge),
-        board.mse(&denoised, &board.edge),
-    );
-    let (flat_before, flat_after) = (
-        board.mse(&plain, &board.flat),
-        board.mse(&denoised, &board.flat),
-    );
+    let ((edge_before, flat_before), (edge_after, flat_after)) =
+        (board.errors(&plain), board.errors(&denoised));
     eprintln!(
         "texel edges ({} pixels): {edge_before:.3e} noisy, {edge_after:.3e} denoised; flat \
          ({} pixels): {flat_before:.3e} noisy, {flat_after:.3e} denoised",
@@ -822,14 +822,8 @@ fn the_denoisers_albedo_is_the_historys_mean() {
     let board = Checkerboard::new(&ctx);
     let first = still_frame_with_history(&ctx, &board.scene, 3, 1);
     let eighth = still_frame_with_history(&ctx, &board.scene, 3, 8);
-    let (edge_first, edge_eighth) = (
-        board.mse(&first, &board.edge),
-        board.mse(&eighth, &board.edge),
-    );
-    let (flat_first, flat_eighth) = (
-        board.mse(&first, &board.flat),
-        board.mse(&eighth, &board.flat),
-    );
+    let ((edge_first, flat_first), (edge_eighth, flat_eighth)) =
+        (board.errors(&first), board.errors(&eighth));
     eprintln!(
         "denoised, texel edges: {edge_first:.3e} in frame 1, {edge_eighth:.3e} in frame 8; \
          flat: {flat_first:.3e}, {flat_eighth:.3e}"
@@ -864,14 +858,8 @@ fn the_denoisers_albedo_stays_sharp_in_motion() {
     let shifted = Checkerboard::seen_by(&ctx, Some(cameras[15]));
     let plain = last_frame_with_history(&ctx, &shifted.scene, 0, &cameras);
     let denoised = last_frame_with_history(&ctx, &shifted.scene, 3, &cameras);
-    let (edge_plain, edge_denoised) = (
-        shifted.mse(&plain, &shifted.edge),
-        shifted.mse(&denoised, &shifted.edge),
-    );
-    let (flat_plain, flat_denoised) = (
-        shifted.mse(&plain, &shifted.flat),
-        shifted.mse(&denoised, &shifted.flat),
-    );
+    let ((edge_plain, flat_plain), (edge_denoised, flat_denoised)) =
+        (shifted.errors(&plain), shifted.errors(&denoised));
     eprintln!(
         "in motion, texel edges: {edge_plain:.3e} history, {edge_denoised:.3e} denoised; \
          flat: {flat_plain:.3e} history, {flat_denoised:.3e} denoised"

@@ -290,6 +290,16 @@ impl History {
 mod tests {
     use super::*;
 
+    /// Two eyes of 64x48 pixels, 1000 lattice entries each.
+    fn stereo_key() -> HistoryKey {
+        HistoryKey {
+            width: 64,
+            height: 48,
+            eyes: 2,
+            lattice_len: 1000,
+        }
+    }
+
     #[test]
     fn albedos_are_carried_only_from_a_frame_that_kept_them() {
         assert_eq!(albedo_word(ALBEDO_ON, true), ALBEDO_ON | ALBEDO_CARRIED);
@@ -304,13 +314,7 @@ mod tests {
 
     #[test]
     fn the_albedo_planes_are_a_quarter_of_a_history_plane() {
-        let key = HistoryKey {
-            width: 64,
-            height: 48,
-            eyes: 2,
-            lattice_len: 1000,
-        };
-        let plan = key.allocations();
+        let plan = stereo_key().allocations();
         let bytes = |name: &str| plan.iter().find(|p| p.name == name).unwrap().bytes;
         for name in ["history albedos plane 0", "history albedos plane 1"] {
             assert_eq!(
@@ -327,13 +331,7 @@ mod tests {
 
     #[test]
     fn the_lattice_buffers_are_read_one_eye_at_a_time() {
-        let key = HistoryKey {
-            width: 64,
-            height: 48,
-            eyes: 2,
-            lattice_len: 1000,
-        };
-        let plan = key.allocations();
+        let plan = stereo_key().allocations();
         for name in ["lattice surfaces", "filtered lattice values"] {
             let item = plan.iter().find(|p| p.name == name).unwrap();
             assert_eq!(item.bytes, 2 * 1000 * 16, "{name}: both eyes' entries");
