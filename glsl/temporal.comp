@@ -17,6 +17,9 @@
 // history follows (exponentially) what the pixel sees now, and a sparse layer's pixel that
 // has no sample of its own this frame adds resolve's spatial estimate to its history, so
 // that the periphery does not show a fresh noisy fill every frame.
+// While a layer denoises it keeps each pixel's mean albedo the same way (HISTORY_ALBEDO,
+// with the radiance's weights and clamp), which it divides what it shows by and the
+// denoiser multiplies back.
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
 // like resolve.comp, except that it reads through texel views (the lattice's values and
