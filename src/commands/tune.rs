@@ -92,6 +92,10 @@ pub struct TuneArgs {
     /// Seeds the search: the same seed draws the same configs.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Which samples the judged frames draw (not the reference's): rerun with 2, 3, … to see
+    /// how much each config's JOD moves with its noise alone.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..65536))]
+    pub render_seed: u32,
     /// Timed frames per gaze after the judged one.
     #[arg(long, default_value_t = 3)]
     pub frames: u32,
@@ -155,6 +159,7 @@ impl TuneArgs {
             environment: fovea::scene::env_choice::chosen().cloned(),
             sampler: fovea::render::Sampler::chosen(),
             motion_warm_up: fovea::tune::motion::WARM_UP,
+            render_seed: self.render_seed,
         })
     }
 }

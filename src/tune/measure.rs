@@ -18,8 +18,9 @@ use crate::render::{
 use std::path::Path;
 use std::sync::Arc;
 
-/// The seed of the judged frames (the reference takes seeds far from it).
-const RENDER_SEED: u32 = 1;
+/// The reference's seed, whatever `--render-seed` is: the reference cache is shared between
+/// runs (and the reference's own passes take seeds far from the judged frames').
+const REFERENCE_SEED: u32 = super::plan::FIRST_RENDER_SEED;
 
 /// One scene, ready to judge configs on.
 pub struct SceneJudge {
@@ -81,7 +82,7 @@ fn reference_plan(plan: &TunePlan) -> BenchPlan {
         reference_spp: plan.reference_spp,
         integrator: plan.integrator,
         max_bounces: plan.max_bounces,
-        seed: RENDER_SEED,
+        seed: REFERENCE_SEED,
         traversal: plan.traversal,
         ..BenchPlan::quick()
     }
@@ -332,7 +333,7 @@ fn settings(plan: &TunePlan) -> RenderSettings {
         width: plan.width,
         height: plan.height,
         spp: 1,
-        seed: RENDER_SEED,
+        seed: plan.frame_seed(),
         integrator: plan.integrator,
         max_bounces: plan.max_bounces,
     }

@@ -148,6 +148,25 @@ pub struct TunePlan {
     /// `--sampler`. Plans written before the flag ran with the independent sampler.
     #[serde(default = "crate::render::Sampler::before_the_flag")]
     pub sampler: crate::render::Sampler,
+    /// `--render-seed`: which samples the judged and timed frames draw (see
+    /// [`TunePlan::frame_seed`]); not the reference's. Runs that differ only in it measure how
+    /// much a config's JOD moves with its noise. Absent: 1.
+    #[serde(
+        default = "first_render_seed",
+        skip_serializing_if = "is_first_render_seed"
+    )]
+    pub render_seed: u32,
+}
+
+/// The judged frames' seed of plans written before `--render-seed`, and its default.
+pub const FIRST_RENDER_SEED: u32 = 1;
+
+fn first_render_seed() -> u32 {
+    FIRST_RENDER_SEED
+}
+
+fn is_first_render_seed(seed: &u32) -> bool {
+    *seed == FIRST_RENDER_SEED
 }
 
 impl TunePlan {
@@ -171,6 +190,13 @@ impl TunePlan {
             },
             ..eye
         }
+    }
+
+    /// The first judged frame's seed; frame k of a sequence takes it + k. Render seeds are
+    /// 2^16 seeds apart, so no two seeds' sequences share a frame's samples, and render seed 1
+    /// keeps the seeds of plans written before the flag.
+    pub fn frame_seed(&self) -> u32 {
+        (self.render_seed.wrapping_sub(FIRST_RENDER_SEED) << 16).wrapping_add(FIRST_RENDER_SEED)
     }
 
     /// `fov`, the eye image's field, cut to the plan's window (itself without one).
@@ -321,6 +347,7 @@ impl TunePlan {
             environment: None,
             sampler: Default::default(),
             motion_warm_up: WARM_UP,
+            render_seed: FIRST_RENDER_SEED,
         }
     }
 }

@@ -132,6 +132,33 @@ mod tests {
         assert_ne!(old, plan(1));
     }
 
+    /// Render seed 1 is the seed plans had before the flag (and is not written), so they
+    /// resume as they were; other render seeds start sequences that share no frame's seed.
+    #[test]
+    fn render_seeds_keep_old_plans_and_draw_disjoint_sequences() {
+        let first = plan(1);
+        let json = serde_json::to_value(&first).unwrap();
+        assert!(json.get("render_seed").is_none());
+        let old: TunePlan = serde_json::from_value(json).unwrap();
+        assert_eq!((old.render_seed, old.frame_seed()), (1, 1));
+        let seeds = |render_seed| {
+            let p = TunePlan {
+                render_seed,
+                ..plan(1)
+            };
+            p.frame_seed()..p.frame_seed() + 1000
+        };
+        let (a, b) = (seeds(2), seeds(3));
+        assert!(a.start >= seeds(1).end && b.start >= a.end, "{a:?} {b:?}");
+        let second = TunePlan {
+            render_seed: 2,
+            ..plan(1)
+        };
+        let json = serde_json::to_value(&second).unwrap();
+        assert_eq!(json["render_seed"], 2);
+        assert_eq!(serde_json::from_value::<TunePlan>(json).unwrap(), second);
+    }
+
     #[test]
     fn the_seed_decides_the_search_and_measurements_steer_it() {
         let (a, b) = (plan(1), plan(2));
