@@ -339,4 +339,20 @@ fn the_motion_objective_judges_a_video_with_the_history() {
         with > without + 0.1,
         "with history {with}, without {without}"
     );
+    // `--render-seed` redraws the judged frames' samples against the same reference; the
+    // same render seed gives the same video, to the bit.
+    let again = judge.motion_jod(&plan, &config, true, &mut metric).unwrap();
+    assert_eq!(again, with);
+    let reseeded = fovea::tune::TunePlan {
+        render_seed: 2,
+        ..plan.clone()
+    };
+    let other = judge
+        .motion_jod(&reseeded, &config, true, &mut metric)
+        .unwrap();
+    eprintln!("render seed 2: {other:.4} JOD against seed 1's {with:.4}");
+    assert!(
+        other != with && (other - with).abs() < 0.5,
+        "{other} {with}"
+    );
 }
