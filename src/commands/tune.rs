@@ -92,8 +92,8 @@ pub struct TuneArgs {
     /// Seeds the search: the same seed draws the same configs.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Which samples the judged frames draw (not the reference's): rerun with 2, 3, … to see
-    /// how much each config's JOD moves with its noise alone.
+    /// Which samples the judged and timed frames draw (not the reference's): rerun with 2,
+    /// 3, … to see how much each config's JOD moves with its noise alone.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..65536))]
     pub render_seed: u32,
     /// Timed frames per gaze after the judged one.
