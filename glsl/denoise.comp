@@ -5,9 +5,12 @@
 // spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap counts only on the same
 // surface (object and material, the temporal pass's per-pixel surfaces), weighted down by
 // the angle between the normals, the relative difference in distance and the difference in
-// luminance against the local noise (the luminance's standard deviation over the 3x3 pixels
-// around, as SVGF estimates it where history is short). So flat noisy regions are smoothed
-// and edges between surfaces are not crossed.
+// luminance against the local noise. The noise is SVGF's: each pixel's alpha carries the
+// variance of its luminance (temporal.comp: a lattice point's over the samples' worth in
+// the pixel's history), smoothed over the 3x3 pixels around for the edge-stop, and each
+// iteration writes its own output's variance (the taps' variances by their squared
+// weights). So flat noisy regions are smoothed, edges between surfaces are not crossed, and
+// what a long history has resolved is kept: the filter blurs only while history is short.
 //
 // A layer's denoise_mar limits the blur by the eye's acuity: iteration i runs at a pixel only
 // while the filter's width after it (the B3 kernel's standard deviation is its tap spacing,
@@ -111,16 +114,14 @@ void main() {
     vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
     float dp = uintBitsToFloat(sp.x);
 
-    // The local noise: the luminance's standard deviation over the 3x3 pixels around.
-    float l_sum = 0.0;
-    float l_sq = 0.0;
+    // The local noise: the pixels' luminance variance (alpha), by a 3x3 binomial kernel.
+    float variance = 0.0;
     for (int i = 0; i < 9; ++i) {
-        ivec2 q = clamp(p + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(pc.eye.width, pc.eye.height) - 1);
-        float l = luminance(read_input(q).rgb);
-        l_sum += l;
-        l_sq += l * l;
+        ivec2 o = ivec2(i % 3 - 1, i / 3 - 1);
+        ivec2 q = clamp(p + o, ivec2(0), ivec2(pc.eye.width, pc.eye.height) - 1);
+        variance += read_input(q).a * float((2 - abs(o.x)) * (2 - abs(o.y))) / 16.0;
     }
-    float sigma = sqrt(max(l_sq / 9.0 - (l_sum / 9.0) * (l_sum / 9.0), 0.0));
+    float sigma = sqrt(variance);
     float lp = luminance(centre.rgb);
 
     const float KERNEL[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
@@ -130,6 +131,7 @@ void main() {
     float by_distance = dp > 0.0 ? -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6) : 0.0;
     float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
     vec3 sum = vec3(0.0);
+    float spread = 0.0; // the output's variance, times weights^2
     float weights = 0.0;
     for (int dy = -2; dy <= 2; ++dy) {
         for (int dx = -2; dx <= 2; ++dx) {
@@ -137,7 +139,8 @@ void main() {
             if (!on_image(q)) continue;
             uvec4 sq = read_surface(q);
             if (sq.z != sp.z || sq.w != sp.w) continue; // another surface, or hidden
-            vec3 c = read_input(q).rgb;
+            vec4 tap = read_input(q);
+            vec3 c = tap.rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];
             float exponent = by_luminance * abs(luminance(c) - lp);
             if (dp > 0.0) {
@@ -148,9 +151,10 @@ void main() {
             }
             w *= exp2(exponent);
             sum += w * c;
+            spread += w * w * tap.a;
             weights += w;
         }
     }
     // The centre tap always counts (weight 9/64), so weights > 0.
-    write_output(p, vec4(sum / weights * albedo, centre.a));
+    write_output(p, vec4(sum / weights * albedo, spread / (weights * weights)));
 }

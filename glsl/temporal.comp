@@ -19,7 +19,9 @@
 // that the periphery does not show a fresh noisy fill every frame.
 // While a layer denoises it keeps each pixel's mean albedo the same way (HISTORY_ALBEDO,
 // with the radiance's weights and clamp), which it divides what it shows by and the
-// denoiser multiplies back.
+// denoiser multiplies back; and it tells the denoiser how noisy what it shows is (the
+// pixel's alpha, see shown_variance), so that the denoiser blurs only while the history
+// is short.
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
 // like resolve.comp, except that it reads through texel views (the lattice's values and
@@ -33,6 +35,7 @@
 #include "view.glsl"
 #include "surface.glsl"
 #include "albedo.glsl"
+#include "colour.glsl"
 #include "lattice_texels.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
@@ -128,6 +131,31 @@ uint albedo_now(vec3 carried_albedo, float carried, vec3 added_albedo, float add
     return pack_albedo((carried_albedo * carried + added_albedo * added) / (carried + added));
 }
 
+// The variance of the illumination's luminance (what the denoiser filters: the radiance
+// divided by its albedo) among this frame's 3x3 nearest lattice points of layer k around
+// the pixel: one lattice point's noise, as SVGF estimates it spatially (with what the
+// surface's shading changes across them, which no single frame can tell from noise).
+float lattice_variance(uint k, ivec2 nearest, ivec2 box_first, ivec2 box_last) {
+    float sum = 0.0;
+    float squares = 0.0;
+    for (int i = 0; i < 9; ++i) {
+        uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
+        float l = luminance(lattice_texel(entry).rgb / albedo_divisor(lattice_albedo[entry]));
+        sum += l;
+        squares += l * l;
+    }
+    return max(squares / 9.0 - (sum / 9.0) * (sum / 9.0), 0.0);
+}
+
+// The variance of the luminance the pixel shows (what the denoiser's edge-stop compares
+// with, denoise.comp): one sample's (a lattice point's variance times its spp) over the
+// samples' worth of what is shown. So a pixel with a long history shows little noise and
+// the denoiser keeps what its neighbours differ by, and a fresh one (disoccluded, or
+// just entered the view) is blurred as its lattice point's noise asks.
+float shown_variance(float point_variance, float spp, float worth) {
+    return point_variance * spp / max(worth, 1e-6);
+}
+
 // World direction of a continuous pixel position seen by a camera (basis r, u, f; tangents
 // of its left, right, up and down edges), as trace.comp's camera_ray makes it.
 vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
@@ -160,7 +188,10 @@ void main() {
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history_store(history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
-        if (keeps_albedo()) history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
+        if (keeps_albedo()) {
+            history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
+            pixels[out_index] = vec4(0.0); // black, and no noise for the denoiser
+        }
         return;
     }
 
@@ -319,7 +350,12 @@ void main() {
     float w_spatial = worth * exp2(-n / worth);
     vec3 shows = (mean * n + spatial * w_spatial) / (n + w_spatial);
     // While a layer denoises, the denoiser filters the illumination: what is shown is divided
-    // by the pixel's albedo here and multiplied back by its last iteration (albedo.glsl).
-    if (keeps_albedo()) shows /= albedo_divisor(albedo);
-    pixels[out_index] = vec4(shows, 1.0);
+    // by the pixel's albedo here and multiplied back by its last iteration (albedo.glsl), and
+    // the alpha carries how noisy it is.
+    float noise = 1.0;
+    if (keeps_albedo()) {
+        shows /= albedo_divisor(albedo);
+        noise = shown_variance(lattice_variance(k, nearest, box_first, box_last), shown_spp, n + w_spatial);
+    }
+    pixels[out_index] = vec4(shows, noise);
 }

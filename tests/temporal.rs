@@ -443,6 +443,37 @@ fn the_denoiser_smooths_flat_noise_and_keeps_edges_between_surfaces() {
     );
 }
 
+#[test]
+fn the_denoiser_gives_way_to_a_long_history() {
+    // The edge-stop compares luminance with the noise of what each pixel shows, which falls
+    // as its history grows (temporal.comp's shown_variance): so after 64 still frames (128
+    // samples a pixel) the denoised frame keeps what the history resolved, and its error is
+    // no more than 10% above the plain history's, while on the first frame it is the
+    // denoiser that cuts the error.
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let reference = regular(&mut renderer, &scene.camera, 1024, 99);
+    let plain = sequence(&mut renderer, &scene, &denoised(2, 0), &still(64), true);
+    let filtered = sequence(&mut renderer, &scene, &denoised(2, 3), &still(64), true);
+    let error = |frames: &[Frame], k: usize| mse(&frames[k], &reference);
+    let (first_plain, first_filtered) = (error(&plain, 0), error(&filtered, 0));
+    let (last_plain, last_filtered) = (error(&plain, 63), error(&filtered, 63));
+    eprintln!(
+        "first frame: {first_plain:.3e} plain, {first_filtered:.3e} denoised; after 64: \
+         {last_plain:.3e} plain, {last_filtered:.3e} denoised"
+    );
+    assert!(
+        first_filtered < 0.5 * first_plain,
+        "first frame: {first_plain:.3e} plain, {first_filtered:.3e} denoised"
+    );
+    assert!(
+        last_filtered < 1.1 * last_plain,
+        "after 64 frames: {last_plain:.3e} plain, {last_filtered:.3e} denoised"
+    );
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// One layer at `spp` whose lattice filter is `filter_px` pixels wide everywhere and
 /// `filter_mar` minimum angles of resolution at each point's eccentricity.
 fn lattice_filtered(spp: u32, filter_px: f32, filter_mar: f32) -> FoveationConfig {
