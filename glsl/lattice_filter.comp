@@ -6,9 +6,10 @@
 // counted only on the point's own surface (object and material, the angle between the
 // normals, the relative difference in distance: the lattice surfaces the trace wrote for the
 // history) and weighted down by its difference in luminance against the local noise (the
-// standard deviation over the 3x3 points around, as denoise.comp estimates it; this keeps the
-// points an edge crosses, mixes of both sides on one side's surface by their centres, from
-// lending their mix to their neighbours). The Gaussian's width follows the eye's acuity:
+// standard deviation over the 3x3 points around, as SVGF estimates it without history: the
+// filter smooths this frame's points, which have none; this keeps the points an edge
+// crosses, mixes of both sides on one side's surface by their centres, from lending their
+// mix to their neighbours). The Gaussian's width follows the eye's acuity:
 // filter_mar times the minimum angle of resolution at the point's eccentricity from the gaze
 // (Guenter et al. 2012: 0.022 deg per deg plus 1/48 deg), and at least filter_px pixels. So
 // the periphery's noise becomes blur finer than the eye resolves there, and a blue-noise
