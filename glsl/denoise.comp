@@ -85,8 +85,11 @@ vec3 pixel_albedo(ivec2 p) {
     return albedo_divisor(albedo_before[pixel_index(p)]);
 }
 
+// The last iteration's output variance has no reader: the frame's pixels leave it with alpha
+// 1, as resolve writes them, since the output image and the frame's read-back copy them whole
+// (a swapchain that composites by alpha would show the variance).
 void write_output(ivec2 p, vec4 c) {
-    denoise_pixels[pixel_index(p)] = c;
+    denoise_pixels[pixel_index(p)] = vec4(c.rgb, pc.last != 0u ? 1.0 : c.a);
 }
 
 bool on_image(ivec2 q) {

@@ -474,6 +474,40 @@ fn the_denoiser_gives_way_to_a_long_history() {
     common::assert_no_validation_messages(&ctx);
 }
 
+#[test]
+fn a_denoised_frame_leaves_opaque() {
+    // The denoiser carries each pixel's noise in its alpha from temporal to its last
+    // iteration; what leaves the frame (the output image a swapchain or the accumulation gets)
+    // is opaque, as an undenoised frame's, with an odd count (ending in the copy back) and an
+    // even one.
+    let ctx = common::context();
+    let scene = fovea::scene::load("cornell", 1.0).unwrap();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    renderer.set_output_image(true);
+    for iterations in [0, 2, 3] {
+        let frames = sequence(
+            &mut renderer,
+            &scene,
+            &denoised(1, iterations),
+            &still(2),
+            true,
+        );
+        let rgba = renderer.output_image().unwrap().read_back().unwrap();
+        let lit = rgba.chunks(4).filter(|c| c[0] + c[1] + c[2] > 0.0).count();
+        let translucent = rgba.chunks(4).filter(|c| c[3] != 1.0).count();
+        eprintln!("{iterations} iterations: {lit} lit pixels, {translucent} not opaque");
+        assert_eq!(rgba.len(), 4 * (SIZE * SIZE) as usize);
+        assert!(
+            lit > (SIZE * SIZE / 2) as usize,
+            "{iterations} iterations: {lit} lit"
+        );
+        assert_eq!(translucent, 0, "{iterations} iterations");
+        // The image is the frame's pixels.
+        assert_eq!(rgba[0..3], frames[1].pixel(0, 0)[0..3]);
+    }
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// One layer at `spp` whose lattice filter is `filter_px` pixels wide everywhere and
 /// `filter_mar` minimum angles of resolution at each point's eccentricity.
 fn lattice_filtered(spp: u32, filter_px: f32, filter_mar: f32) -> FoveationConfig {
