@@ -131,20 +131,31 @@ uint albedo_now(vec3 carried_albedo, float carried, vec3 added_albedo, float add
     return pack_albedo((carried_albedo * carried + added_albedo * added) / (carried + added));
 }
 
-// The variance of the illumination's luminance (what the denoiser filters: the radiance
-// divided by its albedo) among this frame's 3x3 nearest lattice points of layer k around
-// the pixel: one lattice point's noise, as SVGF estimates it spatially (with what the
-// surface's shading changes across them, which no single frame can tell from noise).
-float lattice_variance(uint k, ivec2 nearest, ivec2 box_first, ivec2 box_last) {
-    float sum = 0.0;
-    float squares = 0.0;
+// A lattice point's illumination luminance (what the denoiser filters: its radiance divided
+// by its albedo) and that squared: summed over 3x3 points, the moments of moments_variance.
+vec2 illumination_moments(vec3 radiance, uint albedo_bits) {
+    float l = luminance(radiance / albedo_divisor(albedo_bits));
+    return vec2(l, l * l);
+}
+
+// The variance of the illumination's luminance among this frame's 3x3 nearest lattice points
+// of the pixel's layer, from their moments summed: one lattice point's noise, as SVGF
+// estimates it spatially (with what the surface's shading changes across them, which no
+// single frame can tell from noise).
+float moments_variance(vec2 moments) {
+    vec2 mean = moments / 9.0;
+    return max(mean.y - mean.x * mean.x, 0.0);
+}
+
+// The moments of layer k's 3x3 nearest lattice points around the pixel. In motion the
+// neighbourhood clamp reads the same points and sums them as it goes (main).
+vec2 lattice_moments(uint k, ivec2 nearest, ivec2 box_first, ivec2 box_last) {
+    vec2 moments = vec2(0.0);
     for (int i = 0; i < 9; ++i) {
         uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
-        float l = luminance(lattice_texel(entry).rgb / albedo_divisor(lattice_albedo[entry]));
-        sum += l;
-        squares += l * l;
+        moments += illumination_moments(lattice_texel(entry).rgb, lattice_albedo[entry]);
     }
-    return max(squares / 9.0 - (sum / 9.0) * (sum / 9.0), 0.0);
+    return moments;
 }
 
 // The variance of the luminance the pixel shows (what the denoiser's edge-stop compares
@@ -221,6 +232,10 @@ void main() {
     vec4 carried = vec4(0.0);
     uvec4 carried_packed = now_packed;
     vec3 carried_albedo = vec3(0.0); // while keeps_albedo(), with the radiance's weights
+    // While keeps_albedo(): the 3x3 lattice points' illumination moments, for the denoiser's
+    // noise estimate, when the clamp below has read the points (in motion).
+    vec2 moments = vec2(0.0);
+    bool moments_summed = false;
     if (view.valid != 0u) {
         if (view.moved == 0u) {
             // Standing still: the same pixel, whole (no resampling, no test: nothing moved).
@@ -244,9 +259,11 @@ void main() {
                 lo = min(lo, v);
                 hi = max(hi, v);
                 if (keeps_albedo()) {
-                    vec3 a = unpack_albedo(lattice_albedo[entry]);
+                    uint albedo_bits = lattice_albedo[entry];
+                    vec3 a = unpack_albedo(albedo_bits);
                     albedo_lo = min(albedo_lo, a);
                     albedo_hi = max(albedo_hi, a);
+                    moments += illumination_moments(v, albedo_bits);
                 }
                 Surface s = decode(lattice_surface_at(entry));
                 kinds[i] = uvec2(s.object, s.material);
@@ -254,6 +271,7 @@ void main() {
                 edge = edge || other;
                 if ((!other || sparse) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
             }
+            moments_summed = keeps_albedo();
             vec3 d = view_dir(pc.cam.tan, pc.cam.right.xyz, pc.cam.up.xyz, pc.cam.forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
             vec3 seen = now.dist < 0.0 ? d : pc.cam.position.xyz + now.dist * d - view.position.xyz;
@@ -355,7 +373,8 @@ void main() {
     float noise = 1.0;
     if (keeps_albedo()) {
         shows /= albedo_divisor(albedo);
-        noise = shown_variance(lattice_variance(k, nearest, box_first, box_last), shown_spp, n + w_spatial);
+        if (!moments_summed) moments = lattice_moments(k, nearest, box_first, box_last);
+        noise = shown_variance(moments_variance(moments), shown_spp, n + w_spatial);
     }
     pixels[out_index] = vec4(shows, noise);
 }
