@@ -1,11 +1,11 @@
 #version 460
 // The periphery's denoiser: one iteration of an edge-aware a-trous wavelet filter (Dammertz
 // et al. 2010, the spatial filter of SVGF), over the pixels of the layers that ask for it
-// (GpuLayer.denoise iterations; a pixel whose layer asks for fewer is copied). Iteration i
-// spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap counts only on the same
-// surface (object and material, the temporal pass's per-pixel surfaces), weighted down by
-// the angle between the normals, the relative difference in distance and the difference in
-// luminance against the local noise. The noise is SVGF's: each pixel's alpha carries the
+// (GpuLayer.denoise iterations; a pixel whose layer asks for fewer is copied, and so is the
+// sky). Iteration i spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap
+// counts only on the same surface (object and material, the temporal pass's per-pixel
+// surfaces), weighted down by the angle between the normals, the relative difference in
+// distance and the difference in luminance against the local noise. The noise is SVGF's: each pixel's alpha carries the
 // variance of its luminance (temporal.comp: a lattice point's over the samples' worth in
 // the pixel's history), smoothed over the 3x3 pixels around for the edge-stop, and each
 // iteration writes its own output's variance (the taps' variances by their squared
@@ -92,6 +92,11 @@ void write_output(ivec2 p, vec4 c) {
     denoise_pixels[pixel_index(p)] = vec4(c.rgb, pc.last != 0u ? 1.0 : c.a);
 }
 
+// A pixel this iteration leaves as it is (its albedo multiplied back on the last).
+void pass_through(ivec2 p, vec4 centre, vec3 albedo) {
+    write_output(p, vec4(centre.rgb * albedo, centre.a));
+}
+
 bool on_image(ivec2 q) {
     return all(greaterThanEqual(q, ivec2(0))) && q.x < int(pc.eye.width) && q.y < int(pc.eye.height);
 }
@@ -110,12 +115,20 @@ void main() {
     }
     vec3 albedo = pc.last != 0u ? pixel_albedo(p) : vec3(1.0);
     if (iteration >= layers[k].denoise || !within_acuity(k, p, u, iteration)) {
-        write_output(p, vec4(centre.rgb * albedo, centre.a));
+        pass_through(p, centre, albedo);
         return;
     }
     uvec4 sp = read_surface(p);
-    vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
     float dp = uintBitsToFloat(sp.x);
+    // The sky, and pixels the lens hides (distance < 0), are copied too: no path reaches a
+    // surface there, so there is no path noise to filter, only the environment seen
+    // straight (a filter would blur its texture), and the taps of a surface never count
+    // them. Around a small object (cornell at the Vive's field) that is most of the image.
+    if (dp < 0.0) {
+        pass_through(p, centre, albedo);
+        return;
+    }
+    vec3 np = from_octahedral(unpackSnorm2x16(sp.y));
 
     // The local noise: the pixels' luminance variance (alpha), by a 3x3 binomial kernel.
     float variance = 0.0;
@@ -131,7 +144,7 @@ void main() {
     int step = 1 << iteration;
     // Each tap's falloffs in distance and luminance add in one exp2 (log2 units); the
     // distance's is per unit of the tap's distance in pixels.
-    float by_distance = dp > 0.0 ? -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6) : 0.0;
+    float by_distance = -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6);
     float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
     vec3 sum = vec3(0.0);
     float spread = 0.0; // the output's variance, times weights^2
@@ -146,12 +159,10 @@ void main() {
             vec3 c = tap.rgb;
             float w = KERNEL[abs(dx)] * KERNEL[abs(dy)];
             float exponent = by_luminance * abs(luminance(c) - lp);
-            if (dp > 0.0) {
-                vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
-                float dq = uintBitsToFloat(sq.x);
-                w *= power_64(max(dot(np, nq), 0.0));
-                exponent += by_distance * abs(dp - dq) * inversesqrt(max(float(dx * dx + dy * dy), 1.0));
-            }
+            vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
+            float dq = uintBitsToFloat(sq.x);
+            w *= power_64(max(dot(np, nq), 0.0));
+            exponent += by_distance * abs(dp - dq) * inversesqrt(max(float(dx * dx + dy * dy), 1.0));
             w *= exp2(exponent);
             sum += w * c;
             spread += w * w * tap.a;

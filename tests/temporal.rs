@@ -13,8 +13,13 @@ use fovea::render::{
     DebugView, EyeView, Frame, FrameRequest, Integrator, RenderSettings, Renderer, Sampler,
     TemporalSettings,
 };
-use fovea::scene::{AaBox, Camera, CameraPose, Environment, Material, Scene};
+use fovea::scene::{
+    AaBox, Camera, CameraPose, EnvSampling, Environment, EnvironmentLight, EnvironmentMap,
+    Material, Scene,
+};
 use glam::Vec3;
+use std::path::Path;
+use std::sync::Arc;
 
 const SIZE: u32 = 64;
 
@@ -505,6 +510,58 @@ fn a_denoised_frame_leaves_opaque() {
         // The image is the frame's pixels.
         assert_eq!(rgba[0..3], frames[1].pixel(0, 0)[0..3]);
     }
+    common::assert_no_validation_messages(&ctx);
+}
+
+#[test]
+fn the_denoiser_leaves_the_sky_as_it_is() {
+    // The box against a sky of checks (64 x 32 texels of 0.2 and 1.0, about 9 pixels each):
+    // no path reaches a surface in the sky, so there is no path noise to filter there, only
+    // the environment's texture, which the denoiser leaves as the plain frame shows it, while
+    // it smooths the box.
+    let (w, h) = (64u32, 32u32);
+    let texels = (0..w * h)
+        .map(|i| Vec3::splat(if (i % w + i / w) % 2 == 0 { 1.0 } else { 0.2 }))
+        .collect();
+    let map = EnvironmentMap::from_texels(Path::new("checks.exr"), w, h, texels).unwrap();
+    let mut scene = box_against_the_sky();
+    scene.environment_map = Some(EnvironmentLight {
+        map: Arc::new(map),
+        rotate_deg: 0.0,
+        intensity: 1.0,
+        sampling: EnvSampling::Importance,
+    });
+    let ctx = common::context();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let plain = sequence(&mut renderer, &scene, &denoised(1, 0), &still(1), true).remove(0);
+    let filtered = sequence(&mut renderer, &scene, &denoised(1, 3), &still(1), true).remove(0);
+    // The top and bottom 16 rows are sky (the box spans about 16 rows at the middle).
+    let sky_rows = (0..16).chain(SIZE - 16..SIZE);
+    let sky: Vec<(u32, u32)> = sky_rows
+        .flat_map(|y| (0..SIZE).map(move |x| (x, y)))
+        .collect();
+    let luminances: Vec<f32> = sky.iter().map(|&(x, y)| plain.pixel(x, y)[1]).collect();
+    let contrast = luminances.iter().cloned().fold(0.0f32, f32::max)
+        - luminances.iter().cloned().fold(f32::MAX, f32::min);
+    let changed_sky = sky
+        .iter()
+        .filter(|&&(x, y)| plain.pixel(x, y) != filtered.pixel(x, y))
+        .count();
+    let changed_box = (28..36)
+        .flat_map(|y| (28..36).map(move |x| (x, y)))
+        .filter(|&(x, y)| plain.pixel(x, y) != filtered.pixel(x, y))
+        .count();
+    eprintln!(
+        "sky contrast {contrast:.2}, {changed_sky} of {} sky pixels changed, {changed_box} of \
+         64 box pixels",
+        sky.len()
+    );
+    assert!(contrast > 0.5, "the sky's checks do not show: {contrast}");
+    assert_eq!(changed_sky, 0, "the denoiser changed the sky");
+    assert!(
+        changed_box > 32,
+        "the denoiser left the box: {changed_box} changed"
+    );
     common::assert_no_validation_messages(&ctx);
 }
 
