@@ -5,12 +5,13 @@
 // sky). Iteration i spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap
 // counts only on the same surface (object and material, the temporal pass's per-pixel
 // surfaces), weighted down by the angle between the normals, the relative difference in
-// distance and the difference in luminance against the local noise. The noise is SVGF's: each pixel's alpha carries the
-// variance of its luminance (temporal.comp: a lattice point's over the samples' worth in
-// the pixel's history), smoothed over the 3x3 pixels around for the edge-stop, and each
-// iteration writes its own output's variance (the taps' variances by their squared
-// weights). So flat noisy regions are smoothed, edges between surfaces are not crossed, and
-// what a long history has resolved is kept: the filter blurs only while history is short.
+// distance and the difference in luminance against the local noise. The noise is SVGF's:
+// each pixel's alpha carries the variance of its luminance (temporal.comp: a lattice
+// point's over the samples' worth in the pixel's history), smoothed over the 3x3 pixels
+// around for the edge-stop, and each iteration writes its own output's variance (the taps'
+// variances by their squared weights). So flat noisy regions are smoothed, edges between
+// surfaces are not crossed, and what a long history has resolved is kept: the filter blurs
+// only while history is short.
 //
 // A layer's denoise_mar limits the blur by the eye's acuity: iteration i runs at a pixel only
 // while the filter's width after it (the B3 kernel's standard deviation is its tap spacing,
