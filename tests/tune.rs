@@ -305,6 +305,8 @@ fn the_motion_objective_judges_a_video_with_the_history() {
             "motion",
             "--fov",
             "scene",
+            "--warm-up",
+            "20",
         ],
     );
     args[10] = "5".into();
@@ -323,6 +325,9 @@ fn the_motion_objective_judges_a_video_with_the_history() {
     let plan: fovea::tune::TunePlan =
         serde_json::from_str(&std::fs::read_to_string(dir.join("m-tune.json")).unwrap()).unwrap();
     assert_eq!(plan.objective, fovea::tune::Objective::Motion);
+    // `--warm-up`: 20 frames before the scored ones (which stay those of the default 22: the
+    // frames before the first saccade that starts after them).
+    assert_eq!(plan.motion_warm_up, 20);
     let ctx = common::context();
     let references = dir.join("references");
     let mut judge =

@@ -99,6 +99,10 @@ pub struct TuneArgs {
     /// Timed frames per gaze after the judged one.
     #[arg(long, default_value_t = 3)]
     pub frames: u32,
+    /// `--objective motion`: frames rendered before the scored ones, from an empty history.
+    /// The scored frames are the ones before the first saccade that starts after them.
+    #[arg(long, value_name = "FRAMES", default_value_t = fovea::tune::motion::WARM_UP)]
+    pub warm_up: u32,
     /// Samples per pixel of the converged reference.
     #[arg(long, default_value_t = 256)]
     pub reference_spp: u32,
@@ -158,7 +162,7 @@ impl TuneArgs {
             display: self.display.choice(),
             environment: fovea::scene::env_choice::chosen().cloned(),
             sampler: fovea::render::Sampler::chosen(),
-            motion_warm_up: fovea::tune::motion::WARM_UP,
+            motion_warm_up: self.warm_up,
             render_seed: self.render_seed,
         })
     }
