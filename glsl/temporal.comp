@@ -312,10 +312,22 @@ void main() {
             // around the pixel (its layer's 3x3 nearest lattice points). A pixel an edge
             // crossed held a mix of both sides that its centre's surface test cannot see
             // (the sky does not move when the camera steps); this frame's samples can.
-            carried.rgb = clamp(carried.rgb, lo, hi);
             // And so is the albedo: resampled frame after frame it would blur, and the
             // texture the denoiser multiplies back with it.
-            if (keeps_albedo()) carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
+            // Within one surface (no other among the 3x3, not the sky, a dense layer) a layer
+            // that keeps albedos clamps only them: the texture. The illumination is left as
+            // the history averaged it: at 1 spp the range of one frame's 3x3 samples is their
+            // noise, mostly below the mean (a few paths find the light), and clamping to it
+            // darkened a turning view's history by 5% (tests/temporal.rs).
+            bool within_surface = !edge && !sparse && now.dist >= 0.0;
+            if (keeps_albedo() && carries_albedo() && within_surface) {
+                vec3 before = max(carried_albedo, vec3(ALBEDO_FLOOR));
+                carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
+                carried.rgb *= max(carried_albedo, vec3(ALBEDO_FLOOR)) / before;
+            } else {
+                carried.rgb = clamp(carried.rgb, lo, hi);
+                if (keeps_albedo()) carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
+            }
             // Near an edge between surfaces the part of the pixel each covers changes as the
             // view moves, which no surface test of its centre sees: there history counts
             // for little, and this frame's samples (which do see it) soon take over.
