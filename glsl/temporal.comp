@@ -314,12 +314,16 @@ void main() {
             // (the sky does not move when the camera steps); this frame's samples can.
             // And so is the albedo: resampled frame after frame it would blur, and the
             // texture the denoiser multiplies back with it.
-            // Within one surface (no other among the 3x3, not the sky, a dense layer) a layer
-            // that keeps albedos clamps only them: the texture. The illumination is left as
-            // the history averaged it: at 1 spp the range of one frame's 3x3 samples is their
-            // noise, mostly below the mean (a few paths find the light), and clamping to it
-            // darkened a turning view's history by 5% (tests/temporal.rs).
-            bool within_surface = !edge && !sparse && now.dist >= 0.0;
+            // Within one smooth surface (no other among the 3x3, no step in distance there,
+            // not the sky, a dense layer) a layer that keeps albedos clamps only them: the
+            // texture. The illumination is left as the history averaged it: at 1 spp the range
+            // of one frame's 3x3 samples is their noise, mostly below the mean (a few paths
+            // find the light), and clamping to it darkened a turning view's history by 5%
+            // (tests/temporal.rs). A step in distance within one object (an ear before the
+            // body) passes the surface test (its tolerance is the neighbourhood's spread), so
+            // there the radiance clamp stays, which bounds what a step uncovers.
+            bool no_step = spread <= SAME_DISTANCE * now.dist;
+            bool within_surface = !edge && !sparse && now.dist >= 0.0 && no_step;
             if (keeps_albedo() && carries_albedo() && within_surface) {
                 vec3 before = max(carried_albedo, vec3(ALBEDO_FLOOR));
                 carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
