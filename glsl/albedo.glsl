@@ -22,9 +22,14 @@ vec3 unpack_albedo(uint bits) {
     return s * s;
 }
 
+// An albedo as a divisor: each channel at least ALBEDO_FLOOR.
+vec3 floored_albedo(vec3 a) {
+    return max(a, vec3(ALBEDO_FLOOR));
+}
+
 // What the frame is divided by and multiplied back with.
 vec3 albedo_divisor(uint bits) {
-    return max(unpack_albedo(bits), vec3(ALBEDO_FLOOR));
+    return floored_albedo(unpack_albedo(bits));
 }
 
 #endif

@@ -325,9 +325,9 @@ void main() {
             bool no_step = spread <= SAME_DISTANCE * now.dist;
             bool within_surface = !edge && !sparse && now.dist >= 0.0 && no_step;
             if (keeps_albedo() && carries_albedo() && within_surface) {
-                vec3 before = max(carried_albedo, vec3(ALBEDO_FLOOR));
+                vec3 before = floored_albedo(carried_albedo);
                 carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
-                carried.rgb *= max(carried_albedo, vec3(ALBEDO_FLOOR)) / before;
+                carried.rgb *= floored_albedo(carried_albedo) / before;
             } else {
                 carried.rgb = clamp(carried.rgb, lo, hi);
                 if (keeps_albedo()) carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
