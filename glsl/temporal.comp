@@ -81,7 +81,15 @@ Surface decode(uvec4 s) {
 // all peripheral history in motion (bench --motion: as much flicker beyond 20° with history
 // as without); what the looser test lets through is bounded by the neighbourhood clamp and,
 // next to edges, by EDGE_CAP.
-bool same_surface(Surface a, Surface b, bool sparse, float spread, bool near) {
+//
+// In a dense layer a distance beyond 5% passes only where the tap lies on the pixel's plane
+// (`plane_gap`: how far the tap's point is from the plane through this pixel's point with its
+// normal, within 5%): the grazing surface, whose points are all on it. A step in depth within
+// one object (a plate before a wall of the same mesh) also makes the spread large, and there
+// the tap is the other depth's, off the plane: kept, it carried the plate's radiance onto the
+// wall the camera uncovered, a ghost that the clamp within a surface then kept
+// (tests/temporal.rs).
+bool same_surface(Surface a, Surface b, bool sparse, float spread, bool near, float plane_gap) {
     bool same_kind = a.object == b.object && a.material == b.material;
     float tolerance = max(SAME_DISTANCE * b.dist, spread) + 1e-3;
     if (sparse) {
@@ -94,7 +102,10 @@ bool same_surface(Surface a, Surface b, bool sparse, float spread, bool near) {
     }
     if (!same_kind) return false;
     if (a.dist < 0.0 || b.dist < 0.0) return a.dist < 0.0 && b.dist < 0.0;
-    return dot(a.n, b.n) > SAME_NORMAL_COS && abs(a.dist - b.dist) <= tolerance;
+    float close = SAME_DISTANCE * b.dist + 1e-3;
+    float apart = abs(a.dist - b.dist);
+    bool on_plane = apart <= tolerance && plane_gap <= close;
+    return dot(a.n, b.n) > SAME_NORMAL_COS && (apart <= close || on_plane);
 }
 
 uint history_index(ivec2 p) {
@@ -175,6 +186,16 @@ vec3 view_dir(vec4 tan4, vec3 r, vec3 u, vec3 f, vec2 pos) {
     return normalize(f + t.x * r + t.y * u);
 }
 
+// This frame's direction through the centre of pixel q.
+vec3 pixel_dir(ivec2 q) {
+    return view_dir(pc.cam.tan, pc.cam.right.xyz, pc.cam.up.xyz, pc.cam.forward.xyz, vec2(q) + 0.5);
+}
+
+// The earlier frame's direction through the centre of its pixel t.
+vec3 earlier_dir(GpuHistoryView v, ivec2 t) {
+    return view_dir(v.tan, v.right.xyz, v.up.xyz, v.forward.xyz, vec2(t) + 0.5);
+}
+
 // Where direction d (from the camera's position) lands in that camera's image, in continuous
 // pixel coordinates; false behind the camera.
 bool project(GpuHistoryView v, vec3 d, out vec2 pos) {
@@ -251,10 +272,13 @@ void main() {
             vec3 albedo_lo = vec3(1.0); // and of their albedos, while keeps_albedo()
             vec3 albedo_hi = vec3(0.0);
             bool edge = false;
+            bool step = false; // in a dense layer: a neighbour of this object off this pixel's plane
             float spread = 0.0;
             uvec2 kinds[9];
+            vec3 d = pixel_dir(p);
             for (int i = 0; i < 9; ++i) {
-                uint entry = lattice_index(k, clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last));
+                ivec2 point = clamp(nearest + ivec2(i % 3 - 1, i / 3 - 1), box_first, box_last);
+                uint entry = lattice_index(k, point);
                 vec3 v = lattice_texel(entry).rgb;
                 lo = min(lo, v);
                 hi = max(hi, v);
@@ -270,9 +294,12 @@ void main() {
                 bool other = s.object != now.object || s.material != now.material;
                 edge = edge || other;
                 if ((!other || sparse) && s.dist >= 0.0 && now.dist >= 0.0) spread = max(spread, abs(s.dist - now.dist));
+                if (!other && !sparse && s.dist >= 0.0 && now.dist >= 0.0) {
+                    vec3 at = s.dist * pixel_dir(lattice_pixel(k, point));
+                    step = step || abs(dot(at - now.dist * d, now.n)) > SAME_DISTANCE * now.dist;
+                }
             }
             moments_summed = keeps_albedo();
-            vec3 d = view_dir(pc.cam.tan, pc.cam.right.xyz, pc.cam.up.xyz, pc.cam.forward.xyz, vec2(p) + 0.5);
             // From the earlier camera: the point (or, for the sky, the direction).
             vec3 seen = now.dist < 0.0 ? d : pc.cam.position.xyz + now.dist * d - view.position.xyz;
             Surface expected = now;
@@ -291,9 +318,11 @@ void main() {
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
                     vec4 h = history_before(history_index(t));
                     uvec4 hs = pixel_surface(history_index(t));
+                    Surface tap = decode(hs);
                     bool near = false;
                     for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
-                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(decode(hs), expected, sparse, spread, near)) continue;
+                    float plane_gap = abs(dot(tap.dist * earlier_dir(view, t) - seen, now.n));
+                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(tap, expected, sparse, spread, near, plane_gap)) continue;
                     carried += w * h;
                     if (keeps_albedo()) carried_albedo += w * albedo_carried_from(history_index(t));
                     weights += w;
@@ -319,11 +348,10 @@ void main() {
             // texture. The illumination is left as the history averaged it: at 1 spp the range
             // of one frame's 3x3 samples is their noise, mostly below the mean (a few paths
             // find the light), and clamping to it darkened a turning view's history by 5%
-            // (tests/temporal.rs). A step in distance within one object (an ear before the
-            // body) passes the surface test (its tolerance is the neighbourhood's spread), so
-            // there the radiance clamp stays, which bounds what a step uncovers.
-            bool no_step = spread <= SAME_DISTANCE * now.dist;
-            bool within_surface = !edge && !sparse && now.dist >= 0.0 && no_step;
+            // (tests/temporal.rs). Next to a step in depth within one object (an ear before
+            // the body: `step`) the pixel mixes both depths, as one next to an edge does, and
+            // is clamped and capped as that one is.
+            bool within_surface = !edge && !step && !sparse && now.dist >= 0.0;
             if (keeps_albedo() && carries_albedo() && within_surface) {
                 vec3 before = floored_albedo(carried_albedo);
                 carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
@@ -334,8 +362,10 @@ void main() {
             }
             // Near an edge between surfaces the part of the pixel each covers changes as the
             // view moves, which no surface test of its centre sees: there history counts
-            // for little, and this frame's samples (which do see it) soon take over.
-            if (edge) carried.w = min(carried.w, EDGE_CAP * shown_spp);
+            // for little, and this frame's samples (which do see it) soon take over. So next
+            // to a step within one object: without the cap a denoising layer's wall, which a
+            // plate of the same mesh had hidden, kept the plate's light (tests/temporal.rs).
+            if (edge || step) carried.w = min(carried.w, EDGE_CAP * shown_spp);
         }
     }
 
