@@ -357,10 +357,11 @@ struct PushEye {
 struct EyePush {
     PushCamera cam;
     PushEye eye;
-    uint albedo; // ALBEDO_ON while a layer denoises: trace writes LATTICE_ALBEDO, temporal keeps
-                 // HISTORY_ALBEDO and shows the frame divided by it, denoise.comp's last
-                 // iteration multiplies it back; | ALBEDO_CARRIED when the frame before wrote
-                 // HISTORY_ALBEDO too (else temporal starts it afresh)
+    uint albedo; // ALBEDO_ON: trace writes LATTICE_ALBEDO, temporal keeps HISTORY_ALBEDO (its
+                 // clamp within a surface); | ALBEDO_DIVIDED while a layer denoises: temporal
+                 // shows the frame divided by it, denoise.comp's last iteration multiplies it
+                 // back; | ALBEDO_CARRIED when the frame before wrote HISTORY_ALBEDO too (else
+                 // temporal starts it afresh)
     uint lattice_base; // this eye's first LATTICE entry, where its per-eye texel views start
                        // (GpuLayer.first already counts it)
     uint pad2;
@@ -459,6 +460,7 @@ struct GpuLayer {
 #define HISTORY_ON 1
 #define ALBEDO_ON 1 // EyePush.albedo's bits
 #define ALBEDO_CARRIED 2
+#define ALBEDO_DIVIDED 4
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
 // the camera ray of the point's first sample (float bits; SURFACE_NONE: the ray left the
 // scene), y the unit normal

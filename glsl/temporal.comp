@@ -17,11 +17,12 @@
 // history follows (exponentially) what the pixel sees now, and a sparse layer's pixel that
 // has no sample of its own this frame adds resolve's spatial estimate to its history, so
 // that the periphery does not show a fresh noisy fill every frame.
-// While a layer denoises it keeps each pixel's mean albedo the same way (HISTORY_ALBEDO,
-// with the radiance's weights and clamp), which it divides what it shows by and the
-// denoiser multiplies back; and it tells the denoiser how noisy what it shows is (the
-// pixel's alpha, see shown_variance), so that the denoiser blurs only while the history
-// is short.
+// It keeps each pixel's mean albedo the same way (HISTORY_ALBEDO, with the radiance's
+// weights), which within a surface is what the clamp in motion bounds (the texture; the
+// illumination is left as averaged). While a layer denoises it divides what it shows by it
+// and the denoiser multiplies it back; and it tells the denoiser how noisy what it shows is
+// (the pixel's alpha, see shown_variance), so that the denoiser blurs only while the
+// history is short.
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
 // like resolve.comp, except that it reads through texel views (the lattice's values and
@@ -117,10 +118,15 @@ void history_store(uint i, vec4 v, uvec4 surface) {
     history_surface_out[i] = surface;
 }
 
-// While a layer denoises: whether this frame keeps the pixels' albedos (HISTORY_ALBEDO), and
-// whether the frame before did, so that there are albedos to carry.
+// Whether this frame keeps the pixels' albedos (HISTORY_ALBEDO), whether the frame before
+// did, so that there are albedos to carry, and whether a layer denoises, so that what is
+// shown is divided by them.
 bool keeps_albedo() {
     return (pc.albedo & ALBEDO_ON) != 0u;
+}
+
+bool divides_albedo() {
+    return (pc.albedo & ALBEDO_DIVIDED) != 0u;
 }
 
 bool carries_albedo() {
@@ -220,10 +226,8 @@ void main() {
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history_store(history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
-        if (keeps_albedo()) {
-            history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
-            pixels[out_index] = vec4(0.0); // black, and no noise for the denoiser
-        }
+        if (keeps_albedo()) history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
+        if (divides_albedo()) pixels[out_index] = vec4(0.0); // black, and no noise for the denoiser
         return;
     }
 
@@ -287,7 +291,7 @@ void main() {
                     vec3 a = unpack_albedo(albedo_bits);
                     albedo_lo = min(albedo_lo, a);
                     albedo_hi = max(albedo_hi, a);
-                    moments += illumination_moments(v, albedo_bits);
+                    if (divides_albedo()) moments += illumination_moments(v, albedo_bits);
                 }
                 Surface s = decode(lattice_surface_at(entry));
                 kinds[i] = uvec2(s.object, s.material);
@@ -299,7 +303,7 @@ void main() {
                     step = step || abs(dot(at - now.dist * d, now.n)) > SAME_DISTANCE * now.dist;
                 }
             }
-            moments_summed = keeps_albedo();
+            moments_summed = divides_albedo();
             // From the earlier camera: the point (or, for the sky, the direction).
             vec3 seen = now.dist < 0.0 ? d : pc.cam.position.xyz + now.dist * d - view.position.xyz;
             Surface expected = now;
@@ -344,10 +348,10 @@ void main() {
             // And so is the albedo: resampled frame after frame it would blur, and the
             // texture the denoiser multiplies back with it.
             // Within one smooth surface (no other among the 3x3, no step in distance there,
-            // not the sky, a dense layer) a layer that keeps albedos clamps only them: the
-            // texture. The illumination is left as the history averaged it: at 1 spp the range
-            // of one frame's 3x3 samples is their noise, mostly below the mean (a few paths
-            // find the light), and clamping to it darkened a turning view's history by 5%
+            // not the sky, a dense layer) only the albedo is clamped: the texture. The
+            // illumination is left as the history averaged it: at 1 spp the range of one
+            // frame's 3x3 samples is their noise, mostly below the mean (a few paths find the
+            // light), and clamping to it darkened a turning view's history by 5%
             // (tests/temporal.rs). Next to a step in depth within one object (an ear before
             // the body: `step`) the pixel mixes both depths, as one next to an edge does, and
             // is clamped and capped as that one is.
@@ -417,7 +421,7 @@ void main() {
     // by the pixel's albedo here and multiplied back by its last iteration (albedo.glsl), and
     // the alpha carries how noisy it is.
     float noise = 1.0;
-    if (keeps_albedo()) {
+    if (divides_albedo()) {
         shows /= albedo_divisor(albedo);
         if (!moments_summed) moments = lattice_moments(k, nearest, box_first, box_last);
         noise = shown_variance(moments_variance(moments), shown_spp, n + w_spatial);

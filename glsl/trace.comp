@@ -62,12 +62,12 @@ vec3 material_albedo(GpuMaterial m) {
 // centre, which temporal.comp's surface tests allow for.
 bool keeps_surface = false;
 uvec4 point_surface = uvec4(SURFACE_NONE, 0u, NO_OBJECT, NO_MATERIAL);
-// While a layer denoises (pc.albedo), the albedo it divides out and multiplies back
-// (albedo.glsl) is the mean over the point's samples of what their camera rays hit (textures
-// seen at the ray's cone; 1 where it hits nothing): the same samples as the point's radiance,
-// so that at a texel edge inside the pixel the two mix the same two texels. temporal.comp
-// keeps its mean over the frames as it keeps the radiance's, so that the denoiser's guide
-// holds still. This lane's sum:
+// The albedo (pc.albedo) that temporal.comp's clamp bounds and a denoising layer divides out
+// and multiplies back (albedo.glsl) is the mean over the point's samples of what their camera
+// rays hit (textures seen at the ray's cone; 1 where it hits nothing): the same samples as
+// the point's radiance, so that at a texel edge inside the pixel the two mix the same two
+// texels. temporal.comp keeps its mean over the frames as it keeps the radiance's, so that
+// the clamp's and the denoiser's guide holds still. This lane's sum:
 vec3 lane_albedo = vec3(0.0);
 
 void camera_vertex(Hit h, SurfaceHit s) {

@@ -173,9 +173,10 @@ pub struct PushEye {
 pub struct EyePush {
     pub cam: PushCamera,
     pub eye: PushEye,
-    /// ALBEDO_ON while a layer denoises: trace writes each point's albedo, temporal keeps each
-    /// pixel's mean and shows the frame divided by it, the denoiser's last iteration multiplies
-    /// it back; | ALBEDO_CARRIED when the frame before kept the pixels' albedos too.
+    /// ALBEDO_ON: trace writes each point's albedo, temporal keeps each pixel's mean (its clamp
+    /// within a surface); | ALBEDO_DIVIDED while a layer denoises: temporal shows the frame
+    /// divided by it, the denoiser's last iteration multiplies it back; | ALBEDO_CARRIED when
+    /// the frame before kept the pixels' albedos too.
     pub albedo: u32,
     /// This eye's first lattice entry, where its per-eye texel views start (`EyeTexels`;
     /// GpuLayer::first already counts it).

@@ -14,7 +14,9 @@ use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
 use crate::foveation::{ImageGeometry, RayBuffer};
 use crate::scene::Camera;
-use crate::shader_layout::{EyePush, GpuLayer, PushCamera, PushEye, ALBEDO_ON, NO_LIMIT, PLAN_RUN};
+use crate::shader_layout::{
+    EyePush, GpuLayer, PushCamera, PushEye, ALBEDO_DIVIDED, ALBEDO_ON, NO_LIMIT, PLAN_RUN,
+};
 
 /// One eye's layers for a frame: what the gaze decides, written into the GPU's layer buffer
 /// right before the frame is submitted (the recorded commands do not depend on it).
@@ -62,9 +64,10 @@ pub fn eye_push(
             debug: request.debug.id(),
             ..Default::default()
         },
+        // Every frame keeps albedos: the history clamps them within a surface (temporal.comp).
         albedo: match request.foveation.denoise_iterations() > 0 {
-            true => ALBEDO_ON,
-            false => 0,
+            true => ALBEDO_ON | ALBEDO_DIVIDED,
+            false => ALBEDO_ON,
         },
         lattice_base: e as u32 * strides.lattice,
         ..Default::default()
