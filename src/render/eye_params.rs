@@ -43,13 +43,26 @@ pub struct EyeStrides {
     pub work: u32,
 }
 
-/// The push constants of eye `e` of `request` (its camera, the image, the frame's settings):
-/// everything its recorded commands hold.
+/// EyePush::albedo of a frame, before its history adds ALBEDO_CARRIED: a frame with a
+/// history keeps albedos, so that the history clamps them within a surface (temporal.comp);
+/// a frame with a denoising layer keeps them whether it has a history or not, and only then
+/// is the frame divided by them. Without either nothing reads them.
+pub fn frame_albedo(denoises: bool, history_on: bool) -> u32 {
+    match (denoises, history_on) {
+        (true, _) => ALBEDO_ON | ALBEDO_DIVIDED,
+        (false, true) => ALBEDO_ON,
+        (false, false) => 0,
+    }
+}
+
+/// The push constants of eye `e` of `request` (its camera, the image, the frame's settings)
+/// in a frame with a history or not (`history_on`): everything its recorded commands hold.
 pub fn eye_push(
     request: &FrameRequest,
     e: usize,
     buffer: &RayBuffer,
     strides: EyeStrides,
+    history_on: bool,
 ) -> EyePush {
     let s = &request.settings;
     EyePush {
@@ -64,11 +77,7 @@ pub fn eye_push(
             debug: request.debug.id(),
             ..Default::default()
         },
-        // Every frame keeps albedos: the history clamps them within a surface (temporal.comp).
-        albedo: match request.foveation.denoise_iterations() > 0 {
-            true => ALBEDO_ON | ALBEDO_DIVIDED,
-            false => ALBEDO_ON,
-        },
+        albedo: frame_albedo(request.foveation.denoise_iterations() > 0, history_on),
         lattice_base: e as u32 * strides.lattice,
         ..Default::default()
     }
@@ -186,5 +195,18 @@ pub fn push_camera(camera: &Camera) -> PushCamera {
             camera.angle_up.tan(),
             camera.angle_down.tan(),
         ],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn albedos_are_kept_where_something_reads_them_and_divided_only_where_a_layer_denoises() {
+        assert_eq!(frame_albedo(false, false), 0);
+        assert_eq!(frame_albedo(false, true), ALBEDO_ON);
+        assert_eq!(frame_albedo(true, false), ALBEDO_ON | ALBEDO_DIVIDED);
+        assert_eq!(frame_albedo(true, true), ALBEDO_ON | ALBEDO_DIVIDED);
     }
 }

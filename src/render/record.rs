@@ -13,7 +13,7 @@ use super::request::{AfterFrame, FrameOptions, FrameRequest};
 use super::RenderError;
 use crate::foveation::Gaze;
 use crate::gpu::{Commands, GpuContext};
-use crate::shader_layout::{EyePush, PushCamera, ALBEDO_DIVIDED, ALBEDO_ON};
+use crate::shader_layout::{EyePush, PushCamera, ALBEDO_ON};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -74,15 +74,16 @@ impl Renderer {
         let history = self.history.as_ref().filter(|_| traced);
         (0..request.eyes.len())
             .map(|e| {
-                let mut push = eye_push(request, e, &targets.buffer, targets.strides);
+                let mut push = eye_push(
+                    request,
+                    e,
+                    &targets.buffer,
+                    targets.strides,
+                    history.is_some(),
+                );
                 push.eye.layer_base = targets.layer_base(slot);
                 push.eye.history = history.map_or(0, |h| h.push_word(slot));
-                push.albedo = match history {
-                    Some(h) => h.albedo_word(push.albedo),
-                    // Without a history nothing clamps: only a denoising layer needs albedos.
-                    None if push.albedo & ALBEDO_DIVIDED == 0 => 0,
-                    None => push.albedo,
-                };
+                push.albedo = history.map_or(push.albedo, |h| h.albedo_word(push.albedo));
                 push
             })
             .collect()
