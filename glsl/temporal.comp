@@ -202,6 +202,19 @@ vec3 earlier_dir(GpuHistoryView v, ivec2 t) {
     return view_dir(v.tan, v.right.xyz, v.up.xyz, v.forward.xyz, vec2(t) + 0.5);
 }
 
+// Whether pixel t lies in the eye's image.
+bool within_image(ivec2 t) {
+    return all(greaterThanEqual(t, ivec2(0))) && t.x < int(pc.eye.width) && t.y < int(pc.eye.height);
+}
+
+// Catmull-Rom's weights of the four samples at -1, 0, 1, 2 for a point t (0..1) past sample 0.
+vec4 catmull_rom(float t) {
+    return vec4(t * (-0.5 + t * (1.0 - 0.5 * t)),
+                1.0 + t * t * (-2.5 + 1.5 * t),
+                t * (0.5 + t * (2.0 - 1.5 * t)),
+                t * t * (-0.5 + 0.5 * t));
+}
+
 // Where direction d (from the camera's position) lands in that camera's image, in continuous
 // pixel coordinates; false behind the camera.
 bool project(GpuHistoryView v, vec3 d, out vec2 pos) {
@@ -311,24 +324,53 @@ void main() {
             vec2 q;
             if (project(view, seen, q)) {
                 // Bilinear taps around q, each kept only where its surface is this one.
+                // Every frame the view moves they blur the history a little (a tap between
+                // pixels averages them), and the history lives tens of frames; that blur also
+                // smooths the illumination's noise, which FovVideoVDP rewards at 1-2 spp. The
+                // texture need not blur: where all 4 taps are kept and the 12 pixels around
+                // them are this object and material too, the albedo is taken by Catmull-Rom
+                // over the 4x4 (within the range of the 4 taps, so it does not ring), and the
+                // radiance is the bilinear illumination (radiance over albedo) times it.
+                // Catmull-Rom on the radiance itself kept a shadow's edge sharp too, but lost
+                // up to 0.23 JOD at 1 spp in motion to the noise it kept
+                // (reports/tune-motion-window-lavapipe/sharp-albedo/).
                 vec2 f = q - 0.5;
                 ivec2 t0 = ivec2(floor(f));
                 vec2 w1 = f - vec2(t0);
+                vec4 cx = catmull_rom(w1.x);
+                vec4 cy = catmull_rom(w1.y);
                 float weights = 0.0;
                 float best = 0.0;
+                vec3 illumination = vec3(0.0); // bilinear, of the kept taps
+                vec3 sharp_albedo = vec3(0.0); // Catmull-Rom's, while `sharp`
+                vec3 albedo_lo = vec3(1.0); // the 4 taps' albedos' range
+                vec3 albedo_hi = vec3(0.0);
+                bool sharp = carries_albedo();
                 for (int i = 0; i < 4; ++i) {
                     ivec2 t = t0 + ivec2(i & 1, i >> 1);
-                    if (any(lessThan(t, ivec2(0))) || t.x >= int(pc.eye.width) || t.y >= int(pc.eye.height)) continue;
                     float w = ((i & 1) != 0 ? w1.x : 1.0 - w1.x) * ((i >> 1) != 0 ? w1.y : 1.0 - w1.y);
+                    if (!within_image(t)) {
+                        sharp = false;
+                        continue;
+                    }
                     vec4 h = history_before(history_index(t));
                     uvec4 hs = pixel_surface(history_index(t));
                     Surface tap = decode(hs);
                     bool near = false;
                     for (int j = 0; j < 9; ++j) near = near || all(equal(kinds[j], hs.zw));
                     float plane_gap = abs(dot(tap.dist * earlier_dir(view, t) - seen, now.n));
-                    if (w <= 0.0 || h.w <= 0.0 || !same_surface(tap, expected, sparse, spread, near, plane_gap)) continue;
+                    if (h.w <= 0.0 || !same_surface(tap, expected, sparse, spread, near, plane_gap)) {
+                        sharp = false;
+                        continue;
+                    }
+                    vec3 a = albedo_carried_from(history_index(t));
+                    sharp_albedo += cx[1 + (i & 1)] * cy[1 + (i >> 1)] * a;
+                    albedo_lo = min(albedo_lo, a);
+                    albedo_hi = max(albedo_hi, a);
+                    if (w <= 0.0) continue;
                     carried += w * h;
-                    if (keeps_albedo()) carried_albedo += w * albedo_carried_from(history_index(t));
+                    carried_albedo += w * a;
+                    illumination += w * h.rgb / floored_albedo(a);
                     weights += w;
                     if (w > best) {
                         best = w;
@@ -337,6 +379,24 @@ void main() {
                 }
                 carried = weights > 1e-3 ? carried / weights : vec4(0.0);
                 carried_albedo = weights > 1e-3 ? carried_albedo / weights : vec3(0.0);
+                // The 8 pixels beside the 4 taps (the 4x4's corners, whose weights are the
+                // products of two small lobes, at most 0.006, are left out): only their
+                // albedos are read, so only their object and material are compared (what they
+                // might carry from another depth of it is bounded by the taps' range).
+                for (int i = 0; i < 16 && sharp; ++i) {
+                    ivec2 c = ivec2(i & 3, i >> 2);
+                    bool beside = (c.x == 0 || c.x == 3) != (c.y == 0 || c.y == 3);
+                    if (!beside) continue;
+                    ivec2 t = t0 - 1 + c;
+                    sharp = within_image(t) && all(equal(pixel_surface(history_index(t)).zw, uvec2(now.object, now.material)));
+                    if (sharp) sharp_albedo += cx[c.x] * cy[c.y] * albedo_carried_from(history_index(t));
+                }
+                // The weights used: all but the corners' (Catmull-Rom's weights sum to 1).
+                float sharp_weights = 1.0 - (cx.x + cx.w) * (cy.x + cy.w);
+                if (sharp) {
+                    carried_albedo = clamp(sharp_albedo / sharp_weights, albedo_lo, albedo_hi);
+                    carried.rgb = illumination / weights * floored_albedo(carried_albedo);
+                }
                 // Distances are from this frame's camera from now on.
                 carried_packed.x = now_packed.x;
             }

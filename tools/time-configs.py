@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Times foveation configs as `fovea tune` times them: one eye at the headset's field of view,
-gaze forward, the temporal history on, the camera still; the median GPU time of a sequence's
+gaze forward, the temporal history on, the camera still (or, with `--turn-deg`, turning at
+that many degrees a frame, so that the temporal pass reprojects as it does in motion); the median GPU time of a sequence's
 frames after the first two (which fill the history). Each config runs under every binary
 given, one after the other, so that the binaries' times of a config are taken side by side:
 on a machine whose speed drifts, compare them as ratios within one run.
@@ -34,12 +35,13 @@ def named(text):
     return name, value
 
 
-def still_path(frames, folder):
-    path = os.path.join(folder, "still.csv")
+def camera_path(frames, turn_deg, folder):
+    """The camera's path: still, or yawing `turn_deg` degrees a frame."""
+    path = os.path.join(folder, "path.csv")
     with open(path, "w") as f:
         f.write("frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n")
         for k in range(frames):
-            f.write(f"{k},0,0,0,0,0,0\n")
+            f.write(f"{k},0,0,0,{turn_deg * k:g},0,0\n")
     return path
 
 
@@ -86,6 +88,8 @@ def main():
     parser.add_argument("--width", type=int, default=720)
     parser.add_argument("--height", type=int, default=800)
     parser.add_argument("--fov", default="vive-pro-eye")
+    parser.add_argument("--turn-deg", type=float, default=0.0,
+                        help="yaw the camera this many degrees a frame (default 0: still)")
     parser.add_argument("--no-pass-times", dest="pass_times", action="store_false",
                         help="for binaries without `fovea render --pass-times`")
     parser.add_argument("--out", required=True, help="the CSV to write")
@@ -96,7 +100,7 @@ def main():
               "denoise_ms"]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        path = still_path(args.frames, folder)
+        path = camera_path(args.frames, args.turn_deg, folder)
         for scene in args.scene:
             for config_name, config in args.config:
                 for bin_name, binary in args.bin:
