@@ -327,10 +327,11 @@ void main() {
                 // Every frame the view moves they blur the history a little (a tap between
                 // pixels averages them), and the history lives tens of frames; that blur also
                 // smooths the illumination's noise, which FovVideoVDP rewards at 1-2 spp. The
-                // texture need not blur: where all 4 taps are kept and the 12 pixels around
+                // texture need not blur: where all 4 taps are kept and the 8 pixels beside
                 // them are this object and material too, the albedo is taken by Catmull-Rom
-                // over the 4x4 (within the range of the 4 taps, so it does not ring), and the
-                // radiance is the bilinear illumination (radiance over albedo) times it.
+                // over the 4x4 but its corners (within the range of the 4 taps, so it does not
+                // ring), and the radiance is the bilinear illumination (radiance over albedo)
+                // times it.
                 // Catmull-Rom on the radiance itself kept a shadow's edge sharp too, but lost
                 // up to 0.23 JOD at 1 spp in motion to the noise it kept
                 // (reports/tune-motion-window-lavapipe/sharp-albedo/).
