@@ -918,9 +918,9 @@ fn a_step_within_one_object_leaves_no_ghost_where_the_camera_slides() {
 }
 
 /// A wall 5 m ahead lit evenly by a sun from behind the camera, its albedo stripes of 0.1 and
-/// 0.9 half a metre wide (about 5 pixels a pair at 64x64): a fine texture within one surface,
-/// where the 3x3 range of albedos around every pixel holds both stripes, so the history's
-/// clamp within a surface does not bound it.
+/// 0.95 half a metre wide (about 5.5 pixels each at 64x64): a fine texture within one surface,
+/// with an edge every few pixels. The history's clamp within a surface bounds its albedo only
+/// where a pixel's 3x3 lies within one stripe; next to each edge it holds both.
 fn striped_wall() -> Scene {
     let mut scene = fovea::scene::builtin::control(1.0);
     let eye = scene.camera.position;
@@ -984,8 +984,8 @@ fn contrast(f: &Frame) -> f64 {
 /// A turning view (0.3° a frame for 48 frames) keeps a fine texture's contrast: the history's
 /// albedo is resampled by Catmull-Rom where the 4x4 pixels around the tap are one surface.
 /// Bilinear taps alone blurred the stripes to 0.80 of the reference's contrast at 1 spp and
-/// 0.79 at 4 (temporal.comp before the change); the clamp within a surface does not help
-/// where every 3x3 holds both stripes.
+/// 0.79 at 4 (temporal.comp before the change): the clamp within a surface does not bound
+/// the pixels next to each edge, whose 3x3 holds both stripes.
 #[test]
 fn a_turning_view_keeps_a_fine_textures_contrast() {
     let ctx = common::context();
