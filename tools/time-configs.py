@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Times foveation configs as `fovea tune` times them: one eye at the headset's field of view,
-gaze forward, the temporal history on, the camera still (or, with `--turn-deg`, turning at
-that many degrees a frame, so that the temporal pass reprojects as it does in motion); the median GPU time of a sequence's
-frames after the first two (which fill the history). Each config runs under every binary
-given, one after the other, so that the binaries' times of a config are taken side by side:
-on a machine whose speed drifts, compare them as ratios within one run.
+gaze forward, the temporal history on, the camera still (or, with `--turn-deg`, turning that
+many degrees a frame, so that the temporal pass reprojects as it does in motion); the median
+GPU time of a sequence's frames after the first two (which fill the history). Each config
+runs under every binary given, one after the other, so that the binaries' times of a config
+are taken side by side: on a machine whose speed drifts, compare them as ratios within one
+run.
 
   python3 tools/time-configs.py --bin before=/tmp/fovea-old --bin after=target/release/fovea \\
       --scene cornell --scene assets/gltf/textured-room.glb \\
