@@ -215,6 +215,11 @@ vec4 catmull_rom(float t) {
                 t * t * (-0.5 + 0.5 * t));
 }
 
+// The 8 pixels of the 4x4 around a bilinear footprint that are beside its 4 taps (not its
+// corners), as (column, row) of the 4x4.
+const ivec2 BESIDE_TAPS[8] = ivec2[8](ivec2(1, 0), ivec2(2, 0), ivec2(0, 1), ivec2(3, 1),
+                                      ivec2(0, 2), ivec2(3, 2), ivec2(1, 3), ivec2(2, 3));
+
 // Where direction d (from the camera's position) lands in that camera's image, in continuous
 // pixel coordinates; false behind the camera.
 bool project(GpuHistoryView v, vec3 d, out vec2 pos) {
@@ -322,6 +327,9 @@ void main() {
             Surface expected = now;
             expected.dist = now.dist < 0.0 ? -1.0 : length(seen);
             vec2 q;
+            // The history's illumination (its radiance over its albedo): carried apart from
+            // the albedo from here, and the two multiplied once, after the clamp below.
+            vec3 illumination = vec3(0.0);
             if (project(view, seen, q)) {
                 // Bilinear taps around q, each kept only where its surface is this one.
                 // Every frame the view moves they blur the history a little (a tap between
@@ -330,11 +338,12 @@ void main() {
                 // texture need not blur: where all 4 taps are kept and the 8 pixels beside
                 // them are this object and material too, the albedo is taken by Catmull-Rom
                 // over the 4x4 but its corners (within the range of the 4 taps, so it does not
-                // ring), and the radiance is the bilinear illumination (radiance over albedo)
-                // times it.
+                // ring), and the radiance is the bilinear illumination times it.
                 // Catmull-Rom on the radiance itself kept a shadow's edge sharp too, but lost
                 // up to 0.23 JOD at 1 spp in motion to the noise it kept
-                // (reports/tune-motion-window-lavapipe/sharp-albedo/).
+                // (reports/tune-motion-window-lavapipe/sharp-albedo/); so did Catmull-Rom on the
+                // illumination where its difference from bilinear stood out of the history's
+                // noise, less (reports/tune-motion-window-lavapipe/sharp-illumination/).
                 vec2 f = q - 0.5;
                 ivec2 t0 = ivec2(floor(f));
                 vec2 w1 = f - vec2(t0);
@@ -342,10 +351,9 @@ void main() {
                 vec4 cy = catmull_rom(w1.y);
                 float weights = 0.0;
                 float best = 0.0;
-                vec3 illumination = vec3(0.0); // bilinear, of the kept taps
                 vec3 sharp_albedo = vec3(0.0); // Catmull-Rom's, while `sharp`
-                vec3 albedo_lo = vec3(1.0); // the 4 taps' albedos' range
-                vec3 albedo_hi = vec3(0.0);
+                vec3 taps_albedo_lo = vec3(1.0); // the 4 taps' albedos' range
+                vec3 taps_albedo_hi = vec3(0.0);
                 bool sharp = carries_albedo();
                 for (int i = 0; i < 4; ++i) {
                     ivec2 t = t0 + ivec2(i & 1, i >> 1);
@@ -366,8 +374,8 @@ void main() {
                     }
                     vec3 a = albedo_carried_from(history_index(t));
                     sharp_albedo += cx[1 + (i & 1)] * cy[1 + (i >> 1)] * a;
-                    albedo_lo = min(albedo_lo, a);
-                    albedo_hi = max(albedo_hi, a);
+                    taps_albedo_lo = min(taps_albedo_lo, a);
+                    taps_albedo_hi = max(taps_albedo_hi, a);
                     if (w <= 0.0) continue;
                     carried += w * h;
                     carried_albedo += w * a;
@@ -380,14 +388,13 @@ void main() {
                 }
                 carried = weights > 1e-3 ? carried / weights : vec4(0.0);
                 carried_albedo = weights > 1e-3 ? carried_albedo / weights : vec3(0.0);
+                illumination = weights > 1e-3 ? illumination / weights : vec3(0.0);
                 // The 8 pixels beside the 4 taps (the 4x4's corners, whose weights are the
                 // products of two small lobes, at most 0.006, are left out): only their
                 // albedos are read, so only their object and material are compared (what they
                 // might carry from another depth of it is bounded by the taps' range).
-                for (int i = 0; i < 16 && sharp; ++i) {
-                    ivec2 c = ivec2(i & 3, i >> 2);
-                    bool beside = (c.x == 0 || c.x == 3) != (c.y == 0 || c.y == 3);
-                    if (!beside) continue;
+                for (int i = 0; i < 8 && sharp; ++i) {
+                    ivec2 c = BESIDE_TAPS[i];
                     ivec2 t = t0 - 1 + c;
                     sharp = within_image(t) && all(equal(pixel_surface(history_index(t)).zw, uvec2(now.object, now.material)));
                     if (sharp) sharp_albedo += cx[c.x] * cy[c.y] * albedo_carried_from(history_index(t));
@@ -395,8 +402,11 @@ void main() {
                 // The weights used: all but the corners' (Catmull-Rom's weights sum to 1).
                 float sharp_weights = 1.0 - (cx.x + cx.w) * (cy.x + cy.w);
                 if (sharp) {
-                    carried_albedo = clamp(sharp_albedo / sharp_weights, albedo_lo, albedo_hi);
-                    carried.rgb = illumination / weights * floored_albedo(carried_albedo);
+                    carried_albedo = clamp(sharp_albedo / sharp_weights, taps_albedo_lo, taps_albedo_hi);
+                } else {
+                    // Elsewhere the history's radiance is bilinear (its mean as it was kept, not
+                    // the bilinear illumination times the bilinear albedo).
+                    illumination = carried.rgb / floored_albedo(carried_albedo);
                 }
                 // Distances are from this frame's camera from now on.
                 carried_packed.x = now_packed.x;
@@ -418,11 +428,10 @@ void main() {
             // is clamped and capped as that one is.
             bool within_surface = !edge && !step && !sparse && now.dist >= 0.0;
             if (keeps_albedo() && carries_albedo() && within_surface) {
-                vec3 before = floored_albedo(carried_albedo);
                 carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
-                carried.rgb *= floored_albedo(carried_albedo) / before;
+                carried.rgb = illumination * floored_albedo(carried_albedo);
             } else {
-                carried.rgb = clamp(carried.rgb, lo, hi);
+                carried.rgb = clamp(illumination * floored_albedo(carried_albedo), lo, hi);
                 if (keeps_albedo()) carried_albedo = clamp(carried_albedo, albedo_lo, albedo_hi);
             }
             // Near an edge between surfaces the part of the pixel each covers changes as the
