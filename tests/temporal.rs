@@ -982,7 +982,8 @@ fn contrast(f: &Frame) -> f64 {
 }
 
 /// A turning view (0.3° a frame for 48 frames) keeps a fine texture's contrast: the history's
-/// albedo is resampled by Catmull-Rom where the 4x4 pixels around the tap are one surface.
+/// albedo is resampled by Catmull-Rom where the 4 bilinear taps are kept and the 8 pixels
+/// beside them are the same object and material.
 /// Bilinear taps alone blurred the stripes to 0.80 of the reference's contrast at 1 spp and
 /// 0.79 at 4 (temporal.comp before the change): the clamp within a surface does not bound
 /// the pixels next to each edge, whose 3x3 holds both stripes.
