@@ -823,22 +823,40 @@ fn a_filter_or_denoiser_without_history_is_refused_with_what_to_do() {
 /// camera is the plate's shadow, dark, and the plate is bright. When the camera slides
 /// sideways, what it uncovers is dark; any of the plate that history carries there shows.
 fn plate_before_a_wall() -> Scene {
-    let mut scene = fovea::scene::builtin::control(1.0);
-    let eye = scene.camera.position;
-    let quad = |x: f32, y: f32, half_w: f32, half_h: f32, z: f32| {
-        [
-            Vec3::new(x - half_w, y - half_h, z),
-            Vec3::new(x + half_w, y - half_h, z),
-            Vec3::new(x + half_w, y + half_h, z),
-            Vec3::new(x - half_w, y + half_h, z),
-        ]
+    let eye = fovea::scene::builtin::control(1.0).camera.position;
+    let (x, y) = (eye.x, eye.y);
+    let plate = quad(x - 0.3, x + 0.3, y - 0.3, y + 0.3, -2.5);
+    let wall = quad(x - 3.0, x + 3.0, y - 3.0, y + 3.0, -5.0);
+    let light = PunctualLight {
+        kind: LightKind::Point,
+        intensity: Vec3::splat(30.0),
+        position: eye,
+        direction: Vec3::NEG_Z,
+        range: None,
     };
-    let mut positions = quad(eye.x, eye.y, 0.3, 0.3, -2.5).to_vec();
-    positions.extend(quad(eye.x, eye.y, 3.0, 3.0, -5.0));
+    grey_quads("plate-and-wall", &[plate, wall], light, Vec3::ZERO)
+}
+
+/// The rectangle x0..x1 by y0..y1 at depth z, facing +z.
+fn quad(x0: f32, x1: f32, y0: f32, y1: f32, z: f32) -> [Vec3; 4] {
+    [
+        Vec3::new(x0, y0, z),
+        Vec3::new(x1, y0, z),
+        Vec3::new(x1, y1, z),
+        Vec3::new(x0, y1, z),
+    ]
+}
+
+/// The control scene's camera before one object: a mesh of `quads`, diffuse grey (0.5), lit
+/// by `light` and a uniform sky of `sky`.
+fn grey_quads(name: &str, quads: &[[Vec3; 4]], light: PunctualLight, sky: Vec3) -> Scene {
+    let mut scene = fovea::scene::builtin::control(1.0);
     scene.meshes = vec![Mesh {
-        name: "plate-and-wall".into(),
-        positions,
-        indices: vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]],
+        name: name.into(),
+        positions: quads.iter().flatten().copied().collect(),
+        indices: (0..quads.len() as u32)
+            .flat_map(|q| [[4 * q, 4 * q + 1, 4 * q + 2], [4 * q, 4 * q + 2, 4 * q + 3]])
+            .collect(),
         shading: Default::default(),
     }];
     scene.instances = vec![Instance {
@@ -847,14 +865,8 @@ fn plate_before_a_wall() -> Scene {
         transform: Mat4::IDENTITY,
     }];
     scene.materials = vec![Material::diffuse(Vec3::splat(0.5))];
-    scene.lights = vec![PunctualLight {
-        kind: LightKind::Point,
-        intensity: Vec3::splat(30.0),
-        position: eye,
-        direction: Vec3::NEG_Z,
-        range: None,
-    }];
-    scene.environment = Environment::uniform(Vec3::ZERO);
+    scene.lights = vec![light];
+    scene.environment = Environment::uniform(sky);
     scene
 }
 
@@ -1023,39 +1035,18 @@ fn a_turning_view_keeps_a_fine_textures_contrast() {
 /// sunlight within one surface (one object, one material), which no edge-stop by surface can
 /// see, between regions whose skylight is noisy at 1 spp.
 fn shadow_edge_on_a_wall() -> Scene {
-    let mut scene = fovea::scene::builtin::control(1.0);
-    let eye = scene.camera.position;
-    let quad = |x0: f32, x1: f32, y0: f32, y1: f32, z: f32| {
-        [
-            Vec3::new(x0, y0, z),
-            Vec3::new(x1, y0, z),
-            Vec3::new(x1, y1, z),
-            Vec3::new(x0, y1, z),
-        ]
-    };
-    let mut positions = quad(eye.x - 6.0, eye.x + 6.0, eye.y - 6.0, eye.y + 6.0, -5.0).to_vec();
-    positions.extend(quad(eye.x - 20.0, eye.x, eye.y - 20.0, eye.y + 20.0, 1.0));
-    scene.meshes = vec![Mesh {
-        name: "wall-and-shade".into(),
-        positions,
-        indices: vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]],
-        shading: Default::default(),
-    }];
-    scene.instances = vec![Instance {
-        mesh: 0,
-        material: 0,
-        transform: Mat4::IDENTITY,
-    }];
-    scene.materials = vec![Material::diffuse(Vec3::splat(0.5))];
-    scene.lights = vec![PunctualLight {
+    let eye = fovea::scene::builtin::control(1.0).camera.position;
+    let (x, y) = (eye.x, eye.y);
+    let wall = quad(x - 6.0, x + 6.0, y - 6.0, y + 6.0, -5.0);
+    let shade = quad(x - 20.0, x, y - 20.0, y + 20.0, 1.0);
+    let sun = PunctualLight {
         kind: LightKind::Directional,
         intensity: Vec3::splat(3.0),
         position: Vec3::ZERO,
         direction: Vec3::NEG_Z,
         range: None,
-    }];
-    scene.environment = Environment::uniform(Vec3::splat(0.3));
-    scene
+    };
+    grey_quads("wall-and-shade", &[wall, shade], sun, Vec3::splat(0.3))
 }
 
 /// Each column's mean luminance over the image's rows: a vertical edge's profile, without
