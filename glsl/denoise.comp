@@ -7,8 +7,7 @@
 // surfaces), weighted down by the angle between the normals, the relative difference in
 // distance and the difference in luminance against the local noise. The noise is SVGF's:
 // each pixel's alpha carries the variance of its luminance (temporal.comp: a lattice
-// point's, from the history's frames once it has a few, else from the 3x3 lattice points
-// around, over the samples' worth in the pixel's history), smoothed over the 3x3 pixels
+// point's over the samples' worth in the pixel's history), smoothed over the 3x3 pixels
 // around for the edge-stop, and each iteration writes its own output's variance (the taps'
 // variances by their squared weights). So flat noisy regions are smoothed, edges between
 // surfaces are not crossed, and what a long history has resolved is kept: the filter blurs
@@ -84,7 +83,7 @@ bool within_acuity(uint k, ivec2 p, vec3 u, uint i) {
 // The pixel's albedo (the mean temporal keeps, which it divided the frame by), which the last
 // iteration multiplies back.
 vec3 pixel_albedo(ivec2 p) {
-    return albedo_divisor(albedo_before[pixel_index(p)].albedo);
+    return albedo_divisor(albedo_before[pixel_index(p)]);
 }
 
 // The last iteration's output variance has no reader: the frame's pixels leave it with alpha
