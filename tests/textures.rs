@@ -846,7 +846,8 @@ fn the_denoisers_albedo_stays_sharp_in_motion() {
     // for the denoiser is clamped to this frame's 3x3 neighbourhood as its radiance is;
     // resampled without that it blurs frame after frame (0.27 JOD lost on the textured room
     // in motion), and the texture the last iteration multiplies back with it. Measured with
-    // the clamp: edges 1.06x the history's error, flat 0.65x; without it 1.30x and 2.25x.
+    // the clamp: edges 1.06x the history's error, flat 0.65x (0.78x with 2ef4851's shaders,
+    // 2026-11-28); without it 1.30x and 2.25x.
     let ctx = common::context();
     let step = 0.5 * 2.0 * 4.0 * (13f32).to_radians().tan() / SIZE as f32; // half a pixel
     let at = |dx: f32| {
