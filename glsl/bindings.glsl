@@ -200,8 +200,16 @@ layout(std430, set = 0, binding = BINDING_LATTICE_ALBEDO) readonly buffer Lattic
 #endif
 layout(std430, set = 0, binding = BINDING_HISTORY) writeonly buffer HistoryBuf { vec4 history_out[]; };
 layout(std430, set = 0, binding = BINDING_HISTORY_SURFACE) writeonly buffer HistorySurfaceBuf { uvec4 history_surface_out[]; };
-layout(std430, set = 0, binding = BINDING_HISTORY_ALBEDO) writeonly buffer HistoryAlbedoBuf { uint history_albedo_out[]; };
-layout(std430, set = 0, binding = BINDING_ALBEDO_BEFORE) readonly buffer AlbedoBeforeBuf { uint albedo_before[]; };
+// A pixel's denoising guides over its history (HISTORY_ALBEDO): its mean albedo (pack_albedo),
+// and the first two moments of its frames' illumination luminance (temporal.comp), whose
+// variance is the noise the denoiser's edge-stop compares with once the history is long.
+struct HistoryGuide {
+    uint albedo;
+    float moment1;
+    float moment2;
+};
+layout(std430, set = 0, binding = BINDING_HISTORY_ALBEDO) writeonly buffer HistoryAlbedoBuf { HistoryGuide history_albedo_out[]; };
+layout(std430, set = 0, binding = BINDING_ALBEDO_BEFORE) readonly buffer AlbedoBeforeBuf { HistoryGuide albedo_before[]; };
 layout(std430, set = 0, binding = BINDING_DENOISE) buffer DenoiseBuf { vec4 denoise_pixels[]; };
 // What temporal and the denoiser read, through texel views: on lavapipe a texel is one vector
 // load per lane, where a storage buffer's vec4 is four bounds-checked scalar loads (the

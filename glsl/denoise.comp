@@ -4,14 +4,15 @@
 // (GpuLayer.denoise iterations; a pixel whose layer asks for fewer is copied, and so is the
 // sky). Iteration i spreads a 5x5 B3-spline kernel over taps 2^i pixels apart; a tap
 // counts only on the same surface (object and material, the temporal pass's per-pixel
-// surfaces), weighted down by the angle between the normals, the relative difference in
-// distance and the difference in luminance against the local noise. The noise is SVGF's:
-// each pixel's alpha carries the variance of its luminance (temporal.comp: a lattice
-// point's over the samples' worth in the pixel's history), smoothed over the 3x3 pixels
-// around for the edge-stop, and each iteration writes its own output's variance (the taps'
-// variances by their squared weights). So flat noisy regions are smoothed, edges between
-// surfaces are not crossed, and what a long history has resolved is kept: the filter blurs
-// only while history is short.
+// surfaces), weighted down by the angle between the normals, the relative differences in
+// distance and in albedo, and the difference in luminance against the local noise. The noise
+// is SVGF's: each pixel's alpha carries the variance of its luminance (temporal.comp: a
+// lattice point's, from a dense layer's history's own frames once it has a few, else from
+// the 3x3 lattice points around, over the samples' worth in the pixel's history), smoothed
+// over the 3x3 pixels around for the edge-stop, and each iteration writes its own output's
+// variance (the taps' variances by their squared weights). So flat noisy regions are
+// smoothed, edges between surfaces are not crossed, and what a long history has resolved is
+// kept: the filter blurs only while history is short.
 //
 // A layer's denoise_mar limits the blur by the eye's acuity: iteration i runs at a pixel only
 // while the filter's width after it (the B3 kernel's standard deviation is its tap spacing,
@@ -42,6 +43,9 @@ layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
 const float LOG2_E = 1.44269504;
+// A tap's weight falls by e for each ALBEDO_SIGMA its albedo differs from the centre's, relative
+// to the larger, in the channel that differs most (see main).
+const float ALBEDO_SIGMA = 0.25;
 
 uint pixel_index(ivec2 p) {
     return eye_pixel_index(p);
@@ -83,7 +87,7 @@ bool within_acuity(uint k, ivec2 p, vec3 u, uint i) {
 // The pixel's albedo (the mean temporal keeps, which it divided the frame by), which the last
 // iteration multiplies back.
 vec3 pixel_albedo(ivec2 p) {
-    return albedo_divisor(albedo_before[pixel_index(p)]);
+    return albedo_divisor(albedo_before[pixel_index(p)].albedo);
 }
 
 // The last iteration's output variance has no reader: the frame's pixels leave it with alpha
@@ -140,6 +144,7 @@ void main() {
     }
     float sigma = sqrt(variance);
     float lp = luminance(centre.rgb);
+    vec3 ap = pixel_albedo(p);
 
     const float KERNEL[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
     int step = 1 << iteration;
@@ -147,6 +152,7 @@ void main() {
     // distance's is per unit of the tap's distance in pixels.
     float by_distance = -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6);
     float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
+    const float by_albedo = -LOG2_E / ALBEDO_SIGMA;
     vec3 sum = vec3(0.0);
     float spread = 0.0; // the output's variance, times weights^2
     float weights = 0.0;
@@ -163,6 +169,16 @@ void main() {
             vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));
             float dq = uintBitsToFloat(sq.x);
             w *= power_64(max(dot(np, nq), 0.0));
+            // Another albedo: the illumination filtered is the radiance over the history's
+            // mean albedo, and next to a texel's edge in motion the two are resampled
+            // differently (temporal.comp: the radiance bilinearly, the albedo sharpened and
+            // clamped), so some of the texture is left in it there, which the wider
+            // iterations spread over the texels around (a moving checkerboard's flat texels
+            // kept 0.78 of the plain history's error without this weight, 0.39 with it:
+            // tests/textures.rs).
+            vec3 aq = pixel_albedo(q);
+            vec3 apart = abs(aq - ap) / max(aq, ap);
+            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
             exponent += by_distance * abs(dp - dq) * inversesqrt(max(float(dx * dx + dy * dy), 1.0));
             w *= exp2(exponent);
             sum += w * c;

@@ -82,10 +82,11 @@
                                  // RGBA32UI texels (a uniform texel buffer, like LATTICE_TEXELS)
 #define BINDING_LATTICE_SURFACE_TEXELS 33 // LATTICE_SURFACE as RGBA32UI texels: what temporal and
                                           // the lattice filter read; per eye, like LATTICE_TEXELS
-#define BINDING_HISTORY_ALBEDO 34 // uint[] in HISTORY's layout, written by temporal while a layer
-                                  // denoises (EyePush.albedo): the mean albedo of the pixel's
-                                  // history's samples (pack_albedo), the plane this frame writes;
-                                  // History keeps two, as it does of HISTORY
+#define BINDING_HISTORY_ALBEDO 34 // HistoryGuide[] (bindings.glsl) in HISTORY's layout, written by
+                                  // temporal while albedos are kept (EyePush.albedo): the mean
+                                  // albedo of the pixel's history's samples (pack_albedo) and the
+                                  // first two moments of their illumination's luminance, the
+                                  // plane this frame writes; History keeps two, as of HISTORY
 #define BINDING_ALBEDO_BEFORE 35 // a HISTORY_ALBEDO plane, read: the frame before's (temporal
                                  // carries it) or this frame's (the denoiser multiplies it back)
 #define BINDING_COUNT 36
@@ -360,7 +361,9 @@ struct EyePush {
     uint albedo; // ALBEDO_ON: trace writes LATTICE_ALBEDO, temporal keeps HISTORY_ALBEDO (its
                  // clamp within a surface); | ALBEDO_DIVIDED while a layer denoises: temporal
                  // shows the frame divided by it, denoise.comp's last iteration multiplies it
-                 // back; | ALBEDO_CARRIED when the frame before wrote HISTORY_ALBEDO too (else
+                 // back; | ALBEDO_MOMENTS_CARRIED when both this frame and the one before
+                 // divide (temporal keeps the illumination's moments only then); | ALBEDO_CARRIED
+                 // when the frame before wrote HISTORY_ALBEDO too (else
                  // temporal starts it afresh)
     uint lattice_base; // this eye's first LATTICE entry, where its per-eye texel views start
                        // (GpuLayer.first already counts it)
@@ -461,6 +464,7 @@ struct GpuLayer {
 #define ALBEDO_ON 1 // EyePush.albedo's bits
 #define ALBEDO_CARRIED 2
 #define ALBEDO_DIVIDED 4
+#define ALBEDO_MOMENTS_CARRIED 8 // the frame before divided too: HISTORY_ALBEDO has its moments
 // A surface (LATTICE_SURFACE, HISTORY_SURFACE) is a uvec4: x the distance from the camera along
 // the camera ray of the point's first sample (float bits; SURFACE_NONE: the ray left the
 // scene), y the unit normal

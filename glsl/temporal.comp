@@ -22,7 +22,8 @@
 // illumination is left as averaged). While a layer denoises it divides what it shows by it
 // and the denoiser multiplies it back; and it tells the denoiser how noisy what it shows is
 // (the pixel's alpha, see shown_variance), so that the denoiser blurs only while the
-// history is short.
+// history is short. For that it keeps, beside the albedo, the first two moments of the
+// illumination's luminance over the pixel's frames (see history_variance).
 //
 // One invocation per pixel: this pass is simple per-pixel work, not shaped for lavapipe
 // like resolve.comp, except that it reads through texel views (the lattice's values and
@@ -133,10 +134,22 @@ bool carries_albedo() {
     return (pc.albedo & ALBEDO_CARRIED) != 0u;
 }
 
+// Whether the frame before kept the illumination's moments (it divided too); this frame keeps
+// them while it divides.
+bool carries_moments() {
+    return (pc.albedo & ALBEDO_MOMENTS_CARRIED) != 0u;
+}
+
 // The frame before's albedo at pixel index i (none when it kept none).
 vec3 albedo_carried_from(uint i) {
-    return carries_albedo() ? unpack_albedo(albedo_before[i]) : vec3(0.0);
+    return carries_albedo() ? unpack_albedo(albedo_before[i].albedo) : vec3(0.0);
 }
+
+// The frame before's illumination moments at pixel index i (read only while carries_moments()).
+vec2 moments_carried_from(uint i) {
+    return vec2(albedo_before[i].moment1, albedo_before[i].moment2);
+}
+
 
 // The pixel's albedo now, as its radiance's mean is made: what was carried with `carried`
 // samples' weight, this frame's (its lattice point's) with `added`. The denoiser's guide is
@@ -146,6 +159,13 @@ uint albedo_now(vec3 carried_albedo, float carried, vec3 added_albedo, float add
     if (!carries_albedo()) carried = 0.0;
     if (carried + added <= 0.0) return pack_albedo(added_albedo);
     return pack_albedo((carried_albedo * carried + added_albedo * added) / (carried + added));
+}
+
+// The pixel's illumination moments now, as its albedo's mean is made.
+vec2 moments_now(vec2 carried_moments, float carried, vec2 added_moments, float added) {
+    if (!carries_moments()) carried = 0.0;
+    if (carried + added <= 0.0) return added_moments;
+    return (carried_moments * carried + added_moments * added) / (carried + added);
 }
 
 // A lattice point's illumination luminance (what the denoiser filters: its radiance divided
@@ -173,6 +193,25 @@ vec2 lattice_moments(uint k, ivec2 nearest, ivec2 box_first, ivec2 box_last) {
         moments += illumination_moments(lattice_texel(entry).rgb, lattice_albedo[entry]);
     }
     return moments;
+}
+
+// A history needs this many frames' worth of samples before its own moments say how noisy it
+// is; until then the 3x3 lattice points' spatial estimate does (SVGF's 4).
+const float TEMPORAL_VARIANCE_FRAMES = 4.0;
+
+// One lattice point's illumination variance from the history's own frames (the first two
+// moments of their illumination's luminance, kept as its radiance is): SVGF's temporal
+// variance (Schied et al. 2017), which the denoiser's edge-stop compares with once a dense
+// layer's history holds TEMPORAL_VARIANCE_FRAMES frames of them; before that the 3x3 lattice
+// points' (moments_variance) does. Nine points of one frame underrate a path tracer's
+// heavy-tailed noise (cornell's denoised 1 spp gained 0.017 JOD in motion with the
+// history's), and they count the shading's own changes across them as noise (a shadow's edge
+// within a surface, which they blurred by 4% of the step and the history's frames by 0.5%:
+// tests/temporal.rs). A sparse layer keeps the 3x3's: in motion its pixels add resolve's
+// spatial estimate to their history between their own samples, which is smoother than a
+// sample.
+float history_variance(vec2 history_moments) {
+    return max(history_moments.y - history_moments.x * history_moments.x, 0.0);
 }
 
 // The variance of the luminance the pixel shows (what the denoiser's edge-stop compares
@@ -244,7 +283,7 @@ void main() {
               && visibility_bit(mask_words, pc.eye.index * (pc.eye.layer_count + 1u), p);
     if (!shown) { // never traced, black in resolve: no history either
         history_store(history_index(p), vec4(0.0), uvec4(SURFACE_NONE, 0u, NO_OBJECT, SURFACE_HIDDEN));
-        if (keeps_albedo()) history_albedo_out[history_index(p)] = pack_albedo(vec3(1.0));
+        if (keeps_albedo()) history_albedo_out[history_index(p)] = HistoryGuide(pack_albedo(vec3(1.0)), 0.0, 0.0);
         if (divides_albedo()) pixels[out_index] = vec4(0.0); // black, and no noise for the denoiser
         return;
     }
@@ -275,6 +314,7 @@ void main() {
     vec4 carried = vec4(0.0);
     uvec4 carried_packed = now_packed;
     vec3 carried_albedo = vec3(0.0); // while keeps_albedo(), with the radiance's weights
+    vec2 carried_moments = vec2(0.0); // and the illumination's moments, the same way
     // While keeps_albedo(): the 3x3 lattice points' illumination moments, for the denoiser's
     // noise estimate, when the clamp below has read the points (in motion).
     vec2 moments = vec2(0.0);
@@ -285,6 +325,7 @@ void main() {
             carried = history_before(history_index(p));
             carried_packed = pixel_surface(history_index(p));
             if (keeps_albedo()) carried_albedo = albedo_carried_from(history_index(p));
+            if (carries_moments()) carried_moments = moments_carried_from(history_index(p));
         } else {
             // This frame's 3x3 nearest lattice points around the pixel: the range of their
             // radiance (the clamp below), whether another surface is among them (an edge), and
@@ -379,6 +420,7 @@ void main() {
                     if (w <= 0.0) continue;
                     carried += w * h;
                     carried_albedo += w * a;
+                    if (carries_moments()) carried_moments += w * moments_carried_from(history_index(t));
                     illumination += w * h.rgb / floored_albedo(a);
                     weights += w;
                     if (w > best) {
@@ -388,6 +430,7 @@ void main() {
                 }
                 carried = weights > 1e-3 ? carried / weights : vec4(0.0);
                 carried_albedo = weights > 1e-3 ? carried_albedo / weights : vec3(0.0);
+                carried_moments = weights > 1e-3 ? carried_moments / weights : vec2(0.0);
                 illumination = weights > 1e-3 ? illumination / weights : vec3(0.0);
                 // The 8 pixels beside the 4 taps (the 4x4's corners, whose weights are the
                 // products of two small lobes, at most 0.006, are left out): only their
@@ -471,10 +514,17 @@ void main() {
     }
     history_store(history_index(p), vec4(mean, n), surface);
     uint albedo = 0u;
+    vec2 history_moments = vec2(0.0);
     if (keeps_albedo()) {
-        vec3 own_albedo = unpack_albedo(lattice_albedo[own_entry]);
-        albedo = albedo_now(carried_albedo, carried.w, own_albedo, added);
-        history_albedo_out[history_index(p)] = albedo;
+        uint own_bits = lattice_albedo[own_entry];
+        albedo = albedo_now(carried_albedo, carried.w, unpack_albedo(own_bits), added);
+        if (divides_albedo()) {
+            vec3 added_value = own_spp > 0u ? lattice_texel(own_entry).rgb : spatial;
+            history_moments = moments_now(carried_moments, carried.w, illumination_moments(added_value, own_bits), added);
+            history_albedo_out[history_index(p)] = HistoryGuide(albedo, history_moments.x, history_moments.y);
+        } else {
+            history_albedo_out[history_index(p)].albedo = albedo;
+        }
     }
 
     // Shown: the history, and resolve's spatial estimate (biased by its interpolation) worth
@@ -493,8 +543,14 @@ void main() {
     float noise = 1.0;
     if (divides_albedo()) {
         shows /= albedo_divisor(albedo);
-        if (!moments_summed) moments = lattice_moments(k, nearest, box_first, box_last);
-        noise = shown_variance(moments_variance(moments), shown_spp, n + w_spatial);
+        float point_variance;
+        if (carries_moments() && !sparse && n >= TEMPORAL_VARIANCE_FRAMES * shown_spp) {
+            point_variance = history_variance(history_moments);
+        } else {
+            if (!moments_summed) moments = lattice_moments(k, nearest, box_first, box_last);
+            point_variance = moments_variance(moments);
+        }
+        noise = shown_variance(point_variance, shown_spp, n + w_spatial);
     }
     pixels[out_index] = vec4(shows, noise);
 }

@@ -823,22 +823,40 @@ fn a_filter_or_denoiser_without_history_is_refused_with_what_to_do() {
 /// camera is the plate's shadow, dark, and the plate is bright. When the camera slides
 /// sideways, what it uncovers is dark; any of the plate that history carries there shows.
 fn plate_before_a_wall() -> Scene {
-    let mut scene = fovea::scene::builtin::control(1.0);
-    let eye = scene.camera.position;
-    let quad = |x: f32, y: f32, half_w: f32, half_h: f32, z: f32| {
-        [
-            Vec3::new(x - half_w, y - half_h, z),
-            Vec3::new(x + half_w, y - half_h, z),
-            Vec3::new(x + half_w, y + half_h, z),
-            Vec3::new(x - half_w, y + half_h, z),
-        ]
+    let eye = fovea::scene::builtin::control(1.0).camera.position;
+    let (x, y) = (eye.x, eye.y);
+    let plate = quad(x - 0.3, x + 0.3, y - 0.3, y + 0.3, -2.5);
+    let wall = quad(x - 3.0, x + 3.0, y - 3.0, y + 3.0, -5.0);
+    let light = PunctualLight {
+        kind: LightKind::Point,
+        intensity: Vec3::splat(30.0),
+        position: eye,
+        direction: Vec3::NEG_Z,
+        range: None,
     };
-    let mut positions = quad(eye.x, eye.y, 0.3, 0.3, -2.5).to_vec();
-    positions.extend(quad(eye.x, eye.y, 3.0, 3.0, -5.0));
+    grey_quads("plate-and-wall", &[plate, wall], light, Vec3::ZERO)
+}
+
+/// The rectangle x0..x1 by y0..y1 at depth z, facing +z.
+fn quad(x0: f32, x1: f32, y0: f32, y1: f32, z: f32) -> [Vec3; 4] {
+    [
+        Vec3::new(x0, y0, z),
+        Vec3::new(x1, y0, z),
+        Vec3::new(x1, y1, z),
+        Vec3::new(x0, y1, z),
+    ]
+}
+
+/// The control scene's camera before one object: a mesh of `quads`, diffuse grey (0.5), lit
+/// by `light` and a uniform sky of `sky`.
+fn grey_quads(name: &str, quads: &[[Vec3; 4]], light: PunctualLight, sky: Vec3) -> Scene {
+    let mut scene = fovea::scene::builtin::control(1.0);
     scene.meshes = vec![Mesh {
-        name: "plate-and-wall".into(),
-        positions,
-        indices: vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]],
+        name: name.into(),
+        positions: quads.iter().flatten().copied().collect(),
+        indices: (0..quads.len() as u32)
+            .flat_map(|q| [[4 * q, 4 * q + 1, 4 * q + 2], [4 * q, 4 * q + 2, 4 * q + 3]])
+            .collect(),
         shading: Default::default(),
     }];
     scene.instances = vec![Instance {
@@ -847,14 +865,8 @@ fn plate_before_a_wall() -> Scene {
         transform: Mat4::IDENTITY,
     }];
     scene.materials = vec![Material::diffuse(Vec3::splat(0.5))];
-    scene.lights = vec![PunctualLight {
-        kind: LightKind::Point,
-        intensity: Vec3::splat(30.0),
-        position: eye,
-        direction: Vec3::NEG_Z,
-        range: None,
-    }];
-    scene.environment = Environment::uniform(Vec3::ZERO);
+    scene.lights = vec![light];
+    scene.environment = Environment::uniform(sky);
     scene
 }
 
@@ -1015,5 +1027,95 @@ fn a_turning_view_keeps_a_fine_textures_contrast() {
             "{spp} spp, turning: the history shows {kept:.4} of the stripes' contrast"
         );
     }
+    common::assert_no_validation_messages(&ctx);
+}
+
+/// A wall 5 m ahead lit by a sun from behind the camera and a dim sky, half of it in the
+/// shadow of a plate behind the camera (which no camera ray sees): a hard vertical edge of
+/// sunlight within one surface (one object, one material), which no edge-stop by surface can
+/// see, between regions whose skylight is noisy at 1 spp.
+fn shadow_edge_on_a_wall() -> Scene {
+    let eye = fovea::scene::builtin::control(1.0).camera.position;
+    let (x, y) = (eye.x, eye.y);
+    let wall = quad(x - 6.0, x + 6.0, y - 6.0, y + 6.0, -5.0);
+    let shade = quad(x - 20.0, x, y - 20.0, y + 20.0, 1.0);
+    let sun = PunctualLight {
+        kind: LightKind::Directional,
+        intensity: Vec3::splat(3.0),
+        position: Vec3::ZERO,
+        direction: Vec3::NEG_Z,
+        range: None,
+    };
+    grey_quads("wall-and-shade", &[wall, shade], sun, Vec3::splat(0.3))
+}
+
+/// Each column's mean luminance over the image's rows: a vertical edge's profile, without
+/// most of the noise.
+fn column_means(f: &Frame) -> Vec<f64> {
+    (0..SIZE)
+        .map(|x| {
+            let sum: f64 = (0..SIZE)
+                .map(|y| f.pixel(x, y).iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+                .sum();
+            sum / SIZE as f64
+        })
+        .collect()
+}
+
+#[test]
+fn the_denoiser_keeps_a_shadows_edge_the_history_resolved() {
+    // A shadow's edge within one surface, after 8 still 1-spp frames: once a pixel's history
+    // is long, the denoiser's edge-stop compares luminance with the history's own variance
+    // (its frames' moments, temporal.comp), which sees that the edge is no noise; the 3x3
+    // lattice points' spatial variance, which it used before, counts the edge as noise. The
+    // columns beside the edge stay within 3% of the step of the reference's (0.45% measured;
+    // 4.0% with the spatial variance alone, 1.1% in the plain history), while the denoiser
+    // still smooths the noise on either side.
+    let ctx = common::context();
+    let scene = shadow_edge_on_a_wall();
+    let mut renderer = Renderer::new(&ctx, &scene).unwrap();
+    let reference = regular(&mut renderer, &scene.camera, 1024, 99);
+    let last = |renderer: &mut Renderer, config: &FoveationConfig| {
+        sequence(renderer, &scene, config, &still(8), true).remove(7)
+    };
+    let plain = last(&mut renderer, &denoised(1, 0));
+    let filtered = last(&mut renderer, &denoised(1, 3));
+    let profile = column_means(&reference);
+    let edge = (1..SIZE as usize)
+        .max_by(|&a, &b| {
+            let step = |x: usize| (profile[x] - profile[x - 1]).abs();
+            step(a).total_cmp(&step(b))
+        })
+        .unwrap();
+    let step = (profile[edge] - profile[edge - 1]).abs();
+    // The worst of the 3 columns on each side of the edge, off the reference's, per step.
+    let leak = |f: &Frame| {
+        let means = column_means(f);
+        (edge - 3..edge + 3)
+            .map(|x| (means[x] - profile[x]).abs() / step)
+            .fold(0.0, f64::max)
+    };
+    let away: Vec<(u32, u32)> = (1..SIZE - 1)
+        .flat_map(|y| (1..SIZE - 1).map(move |x| (x, y)))
+        .filter(|&(x, _)| (x as i64 - edge as i64).abs() > 8)
+        .collect();
+    let (leak_plain, leak_filtered) = (leak(&plain), leak(&filtered));
+    let (noise_plain, noise_filtered) = (
+        mse_at(&plain, &reference, &away),
+        mse_at(&filtered, &reference, &away),
+    );
+    eprintln!(
+        "the shadow's edge (column {edge}, step {step:.3}) after 8 still frames: columns beside \
+         it off by {leak_plain:.4} plain, {leak_filtered:.4} denoised (of the step); away from \
+         it {noise_plain:.3e} plain, {noise_filtered:.3e} denoised"
+    );
+    assert!(
+        leak_filtered < 0.03,
+        "the denoiser moved the columns beside the edge by {leak_filtered:.4} of the step"
+    );
+    assert!(
+        noise_filtered < 0.5 * noise_plain,
+        "away from the edge: {noise_plain:.3e} plain, {noise_filtered:.3e} denoised"
+    );
     common::assert_no_validation_messages(&ctx);
 }

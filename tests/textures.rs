@@ -845,9 +845,13 @@ fn the_denoisers_albedo_stays_sharp_in_motion() {
     // frames: the history is resampled halfway between pixels every frame. The albedo it keeps
     // for the denoiser is clamped to this frame's 3x3 neighbourhood as its radiance is;
     // resampled without that it blurs frame after frame (0.27 JOD lost on the textured room
-    // in motion), and the texture the last iteration multiplies back with it. Measured with
-    // the clamp: edges 1.06x the history's error, flat 0.65x (0.78x with 2ef4851's shaders,
-    // 2026-11-28); without it 1.30x and 2.25x.
+    // in motion), and the texture the last iteration multiplies back with it (without the
+    // clamp: 1.30x the history's error at edges, 2.25x flat). Next to a texel's edge some of
+    // the texture is left in the illumination the denoiser filters (the radiance and the
+    // albedo are resampled differently); its taps count less the more their albedo differs,
+    // so that is not spread over the texels around. Measured: edges 0.91x the history's
+    // error, flat 0.39x; without the albedo weight 1.06x and 0.78x with the 3x3 lattice
+    // points' noise, 0.91x flat with the history's (2026-11-28).
     let ctx = common::context();
     let step = 0.5 * 2.0 * 4.0 * (13f32).to_radians().tan() / SIZE as f32; // half a pixel
     let at = |dx: f32| {
@@ -866,11 +870,11 @@ fn the_denoisers_albedo_stays_sharp_in_motion() {
          flat: {flat_plain:.3e} history, {flat_denoised:.3e} denoised"
     );
     assert!(
-        edge_denoised < 1.2 * edge_plain,
+        edge_denoised < edge_plain,
         "the texels' edges in motion: {edge_plain:.3e} history, {edge_denoised:.3e} denoised"
     );
     assert!(
-        flat_denoised < 0.8 * flat_plain,
+        flat_denoised < 0.55 * flat_plain,
         "inside the texels in motion: {flat_plain:.3e} history, {flat_denoised:.3e} denoised"
     );
     common::assert_no_validation_messages(&ctx);

@@ -11,7 +11,8 @@ use super::slots::MAX_FRAMES_IN_FLIGHT;
 use super::RenderError;
 use crate::gpu::{vk, Buffer, EyeTexels, GpuContext, PlannedAllocation, TexelView};
 use crate::shader_layout::{
-    GpuHistoryView, PushCamera, ALBEDO_CARRIED, ALBEDO_ON, HISTORY_ON, STAT_EYES,
+    GpuHistoryView, PushCamera, ALBEDO_CARRIED, ALBEDO_DIVIDED, ALBEDO_MOMENTS_CARRIED, ALBEDO_ON,
+    HISTORY_ON, STAT_EYES,
 };
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
@@ -60,20 +61,30 @@ impl HistoryKey {
             PlannedAllocation::storage_with_texels("denoiser pixels", plane),
             PlannedAllocation::storage_with_views("filtered lattice values", lattice, eye_lattice),
             PlannedAllocation::storage("lattice albedos", self.eyes as u64 * self.lattice_len * 4),
-            PlannedAllocation::storage("history albedos plane 0", plane / 4),
-            PlannedAllocation::storage("history albedos plane 1", plane / 4),
+            PlannedAllocation::storage("history albedos plane 0", plane / 16 * GUIDE_BYTES),
+            PlannedAllocation::storage("history albedos plane 1", plane / 16 * GUIDE_BYTES),
         ]
     }
 }
 
+/// Bytes a pixel of a history albedo plane: bindings.glsl's HistoryGuide (the packed albedo
+/// and the two moments of the illumination's luminance, three 4-byte words).
+const GUIDE_BYTES: u64 = 12;
+
 /// A frame that keeps albedos (`albedo` has ALBEDO_ON) carries the pixels' albedos only when
-/// the frame before kept them (`kept_before`): else its albedo plane holds another frame's, or
-/// nothing, and temporal starts afresh from this frame's.
-fn albedo_word(albedo: u32, kept_before: bool) -> u32 {
-    match albedo & ALBEDO_ON != 0 && kept_before {
-        true => albedo | ALBEDO_CARRIED,
-        false => albedo,
-    }
+/// the frame before kept them (`before`, its albedo word, has ALBEDO_ON): else its albedo
+/// plane holds another frame's, or nothing, and temporal starts afresh from this frame's. So
+/// with the illumination's moments, which temporal keeps only while a layer denoises
+/// (ALBEDO_DIVIDED).
+fn albedo_word(albedo: u32, before: u32) -> u32 {
+    let both = |bit: u32| albedo & before & bit != 0;
+    let carried = if both(ALBEDO_ON) { ALBEDO_CARRIED } else { 0 };
+    let moments = if both(ALBEDO_DIVIDED) {
+        ALBEDO_MOMENTS_CARRIED
+    } else {
+        0
+    };
+    albedo | carried | moments
 }
 
 fn views_bytes() -> u64 {
@@ -110,12 +121,14 @@ pub struct History {
     /// BINDING_LATTICE_ALBEDO: the albedo at every lattice point traced this frame, while a
     /// layer denoises.
     pub lattice_albedos: Buffer,
-    /// BINDING_HISTORY_ALBEDO: two planes of every pixel's mean albedo over its history,
-    /// while a layer denoises; a frame writes one and reads the other (BINDING_ALBEDO_BEFORE),
-    /// and the denoiser reads the one it wrote.
+    /// BINDING_HISTORY_ALBEDO: two planes of every pixel's mean albedo over its history and
+    /// the moments of its illumination (the denoiser's noise estimate), while albedos are
+    /// kept; a frame writes one and reads the other (BINDING_ALBEDO_BEFORE), and the denoiser
+    /// reads the one it wrote.
     pub albedos: [Buffer; 2],
-    /// Whether the frame before kept albedos: a frame that denoises carries them only then.
-    albedos_kept: bool,
+    /// The frame before's albedo word (ALBEDO_ON, ALBEDO_DIVIDED): a frame carries the albedos
+    /// and moments it kept (`albedo_word`).
+    albedo_before: u32,
     /// Frames added since the history started (the lattice shift's frame).
     frame: u32,
     /// The plane the next frame reads (the one the frame before wrote).
@@ -201,7 +214,7 @@ impl History {
                 device(&plan[9].name, plan[9].bytes)?,
                 device(&plan[10].name, plan[10].bytes)?,
             ],
-            albedos_kept: false,
+            albedo_before: 0,
             frame: 0,
             read_plane: 0,
             cameras: None,
@@ -211,7 +224,7 @@ impl History {
     /// Forgets everything accumulated: the next frame starts afresh (and unshifted).
     pub fn reset(&mut self) {
         self.frame = 0;
-        self.albedos_kept = false;
+        self.albedo_before = 0;
         self.cameras = None;
     }
 
@@ -238,17 +251,17 @@ impl History {
     /// EyePush::albedo of the next frame, whose own is `albedo` (ALBEDO_ON while a layer
     /// denoises).
     pub fn albedo_word(&self, albedo: u32) -> u32 {
-        albedo_word(albedo, self.albedos_kept)
+        albedo_word(albedo, self.albedo_before)
     }
 
     /// Writes slot `slot`'s views for the next frame, whose eyes' cameras are `cameras` and
-    /// which keeps albedos or not (`keeps_albedos`), and moves on to the frame after it
+    /// whose albedo word (ALBEDO_ON, ALBEDO_DIVIDED: what it keeps) is `albedo`, and moves on to the frame after it
     /// (called once per submitted frame, in order).
     pub fn advance(
         &mut self,
         slot: usize,
         cameras: &[PushCamera],
-        keeps_albedos: bool,
+        albedo: u32,
     ) -> Result<(), RenderError> {
         let now = cameras.to_vec();
         let views: Vec<GpuHistoryView> = now
@@ -279,7 +292,7 @@ impl History {
         let at = slot * STAT_EYES as usize * std::mem::size_of::<GpuHistoryView>();
         self.views.write(at, bytemuck::cast_slice(&views))?;
         self.cameras = Some(now);
-        self.albedos_kept = keeps_albedos;
+        self.albedo_before = albedo & (ALBEDO_ON | ALBEDO_DIVIDED);
         self.read_plane = 1 - self.read_plane;
         self.frame = self.frame.wrapping_add(1);
         Ok(())
@@ -302,30 +315,51 @@ mod tests {
 
     #[test]
     fn albedos_are_carried_only_from_a_frame_that_kept_them() {
-        assert_eq!(albedo_word(ALBEDO_ON, true), ALBEDO_ON | ALBEDO_CARRIED);
-        assert_eq!(albedo_word(ALBEDO_ON, false), ALBEDO_ON);
         assert_eq!(
-            albedo_word(0, true),
+            albedo_word(ALBEDO_ON, ALBEDO_ON),
+            ALBEDO_ON | ALBEDO_CARRIED
+        );
+        assert_eq!(albedo_word(ALBEDO_ON, 0), ALBEDO_ON);
+        assert_eq!(
+            albedo_word(0, ALBEDO_ON),
             0,
             "a frame that keeps none carries none"
         );
-        assert_eq!(albedo_word(0, false), 0);
+        assert_eq!(albedo_word(0, 0), 0);
     }
 
     #[test]
-    fn the_albedo_planes_are_a_quarter_of_a_history_plane() {
+    fn moments_are_carried_only_between_frames_that_divide() {
+        let divides = ALBEDO_ON | ALBEDO_DIVIDED;
+        let carried = ALBEDO_CARRIED | ALBEDO_MOMENTS_CARRIED;
+        assert_eq!(albedo_word(divides, divides), divides | carried);
+        assert_eq!(
+            albedo_word(divides, ALBEDO_ON),
+            divides | ALBEDO_CARRIED,
+            "the frame before kept albedos but no moments"
+        );
+        assert_eq!(
+            albedo_word(ALBEDO_ON, divides),
+            ALBEDO_ON | ALBEDO_CARRIED,
+            "a frame that does not divide keeps no moments"
+        );
+    }
+
+    #[test]
+    fn the_albedo_planes_hold_three_words_a_pixel() {
         let plan = stereo_key().allocations();
         let bytes = |name: &str| plan.iter().find(|p| p.name == name).unwrap().bytes;
         for name in ["history albedos plane 0", "history albedos plane 1"] {
             assert_eq!(
                 bytes(name),
-                64 * 48 * 2 * 4,
-                "{name}: a u32 per pixel of each eye"
+                64 * 48 * 2 * 12,
+                "{name}: a HistoryGuide (albedo, two moments) per pixel of each eye"
             );
         }
+        // A history plane's vec4 is 16 bytes a pixel.
         assert_eq!(
-            bytes("history plane 0"),
-            4 * bytes("history albedos plane 0")
+            12 * bytes("history plane 0"),
+            16 * bytes("history albedos plane 0")
         );
     }
 

@@ -13,7 +13,7 @@ use super::request::{AfterFrame, FrameOptions, FrameRequest};
 use super::RenderError;
 use crate::foveation::Gaze;
 use crate::gpu::{Commands, GpuContext};
-use crate::shader_layout::{EyePush, PushCamera, ALBEDO_ON};
+use crate::shader_layout::{EyePush, PushCamera};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -42,8 +42,9 @@ impl Renderer {
         targets.write_layers(slot, &eyes)?;
         if let Some(history) = self.history.as_mut().filter(|_| traced) {
             let cameras: Vec<PushCamera> = pushes.iter().map(|p| p.cam).collect();
-            let keeps_albedos = pushes.iter().any(|p| p.albedo & ALBEDO_ON != 0);
-            history.advance(slot, &cameras, keeps_albedos)?;
+            // What the eyes keep (`advance` leaves out the carried bits).
+            let albedo = pushes.iter().fold(0, |word, p| word | p.albedo);
+            history.advance(slot, &cameras, albedo)?;
         }
         let busy_at_submit = self.ring.busy()?;
         let submitted_at = Instant::now();
