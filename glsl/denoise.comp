@@ -44,8 +44,10 @@ const float LUMINANCE_SIGMA = 4.0;
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
 const float LOG2_E = 1.44269504;
 // A tap's weight falls by e for each ALBEDO_SIGMA its albedo differs from the centre's, relative
-// to the larger, in the channel that differs most (see main).
-const float ALBEDO_SIGMA = 0.25;
+// to the larger, in the channel that differs most (see main). 0.125 scored best of 0.0625, 0.125,
+// 0.25 and 0.5 on the textured room in motion (reports/tune-motion-window-lavapipe/albedo-weight/
+// sigma/); looser spreads more of the texture's leftover, tighter filters less next to texels.
+const float ALBEDO_SIGMA = 0.125;
 
 uint pixel_index(ivec2 p) {
     return eye_pixel_index(p);
@@ -174,7 +176,7 @@ void main() {
             // differently (temporal.comp: the radiance bilinearly, the albedo sharpened and
             // clamped), so some of the texture is left in it there, which the wider
             // iterations spread over the texels around (a moving checkerboard's flat texels
-            // kept 0.78 of the plain history's error without this weight, 0.39 with it:
+            // kept 0.78 of the plain history's error without this weight, 0.32 with it:
             // tests/textures.rs).
             vec3 aq = pixel_albedo(q);
             vec3 apart = abs(aq - ap) / max(aq, ap);

@@ -850,8 +850,9 @@ fn the_denoisers_albedo_stays_sharp_in_motion() {
     // the texture is left in the illumination the denoiser filters (the radiance and the
     // albedo are resampled differently); its taps count less the more their albedo differs,
     // so that is not spread over the texels around. Measured: edges 0.91x the history's
-    // error, flat 0.39x; without the albedo weight 1.06x and 0.78x with the 3x3 lattice
-    // points' noise, 0.91x flat with the history's (2026-11-28).
+    // error, flat 0.32x (0.39x with the weight's first constant, 0.25); without the albedo
+    // weight 1.06x and 0.78x with the 3x3 lattice points' noise, 0.91x flat with the
+    // history's (2026-11-28, 2026-11-29).
     let ctx = common::context();
     let step = 0.5 * 2.0 * 4.0 * (13f32).to_radians().tan() / SIZE as f32; // half a pixel
     let at = |dx: f32| {
