@@ -146,7 +146,7 @@ void main() {
     }
     float sigma = sqrt(variance);
     float lp = luminance(centre.rgb);
-    vec3 ap = pixel_albedo(p);
+    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above
 
     const float KERNEL[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
     int step = 1 << iteration;

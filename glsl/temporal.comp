@@ -150,7 +150,6 @@ vec2 moments_carried_from(uint i) {
     return vec2(albedo_before[i].moment1, albedo_before[i].moment2);
 }
 
-
 // The pixel's albedo now, as its radiance's mean is made: what was carried with `carried`
 // samples' weight, this frame's (its lattice point's) with `added`. The denoiser's guide is
 // this mean, not this frame's samples' albedo alone: a texel edge across the pixel changes
