@@ -39,8 +39,8 @@
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
 // Edge-stopping strengths (SVGF's defaults where it has them; the normals' power, 64, is
-// power_64 below).
-const float LUMINANCE_SIGMA = 4.0;
+// power_64 below). The luminance's is the layer's (GpuLayer.denoise_sigma, 4 by default):
+// tighter in a fovea keeps shading detail the eye resolves there.
 const float DISTANCE_SIGMA = 0.02; // relative distance difference per pixel of tap spacing
 const float LOG2_E = 1.44269504;
 // A tap's weight falls by e for each ALBEDO_SIGMA its albedo differs from the centre's, relative
@@ -153,7 +153,7 @@ void main() {
     // Each tap's falloffs in distance and luminance add in one exp2 (log2 units); the
     // distance's is per unit of the tap's distance in pixels.
     float by_distance = -LOG2_E / (DISTANCE_SIGMA * dp * float(step) + 1e-6);
-    float by_luminance = -LOG2_E / (LUMINANCE_SIGMA * sigma + 1e-6);
+    float by_luminance = -LOG2_E / (layers[k].denoise_sigma * sigma + 1e-6);
     const float by_albedo = -LOG2_E / ALBEDO_SIGMA;
     vec3 sum = vec3(0.0);
     float spread = 0.0; // the output's variance, times weights^2

@@ -457,6 +457,11 @@ struct GpuLayer {
     // The largest `lanes` of the eye's layers, the same in each: plan.comp reserves work-list
     // slots in multiples of it, so a point's lanes are aligned and share a workgroup.
     uint lane_unit;
+    // denoise.comp's luminance edge-stop, in standard deviations of the local noise
+    float denoise_sigma;
+    uint pad0; // (std430 rounds the struct to 16 bytes)
+    uint pad1;
+    uint pad2;
 };
 
 // ---- temporal history (glsl/temporal.comp) ----------------------------------------------------

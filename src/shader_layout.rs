@@ -296,6 +296,11 @@ pub struct GpuLayer {
     pub lanes: u32,
     /// The largest `lanes` of the eye's layers: plan.comp's reservation unit.
     pub lane_unit: u32,
+    /// denoise.comp's luminance edge-stop, in standard deviations of the local noise.
+    pub denoise_sigma: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 #[repr(C)]

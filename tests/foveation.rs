@@ -13,6 +13,7 @@ use fovea::foveation::plan::{gaze_anchor, Regions};
 use fovea::foveation::view::angle_between;
 use fovea::foveation::{
     EyePlan, FoveationConfig, Gaze, GazeChoice, ImageGeometry, Layer, RayBuffer, VisibilityMask,
+    DEFAULT_DENOISE_SIGMA,
 };
 use fovea::gpu::GpuContext;
 use fovea::render::FrameOptions;
@@ -79,6 +80,7 @@ fn two_layer_config() -> FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             },
             Layer {
@@ -89,6 +91,7 @@ fn two_layer_config() -> FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             },
         ],
@@ -618,6 +621,7 @@ fn resolve_cases() -> Vec<ResolveCase> {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            denoise_sigma: DEFAULT_DENOISE_SIGMA,
             fraction: 1,
         }],
         blend_deg: 1.0,
@@ -913,6 +917,7 @@ fn blend_masks_bound_the_step_at_a_layer_border() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             },
             Layer {
@@ -923,6 +928,7 @@ fn blend_masks_bound_the_step_at_a_layer_border() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             },
         ],

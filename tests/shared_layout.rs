@@ -280,7 +280,11 @@ fn rust_mirrors_match_shared_h_std430_layout() {
             fraction,
             fraction_phase,
             lanes,
-            lane_unit
+            lane_unit,
+            denoise_sigma,
+            pad0,
+            pad1,
+            pad2
         }
     );
     check!(s, GpuProbeRay { origin, direction });

@@ -7,7 +7,7 @@
 mod common;
 
 use fovea::check::gltf_brdf::GltfBrdf;
-use fovea::foveation::{FoveationConfig, Gaze, Layer};
+use fovea::foveation::{FoveationConfig, Gaze, Layer, DEFAULT_DENOISE_SIGMA};
 use fovea::render::accumulate::frame_seed;
 use fovea::render::{DebugView, EyeView, FrameOptions, FrameRequest, Integrator, Renderer};
 use fovea::scene::gltf_load::load_gltf;
@@ -442,6 +442,7 @@ fn a_sparser_lattice_reads_coarser_levels() {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             }],
             blend_deg: 0.0,

@@ -12,14 +12,14 @@ use std::path::{Path, PathBuf};
 mod limits;
 use limits::{DEFAULT_BLEND_DEG, DEFAULT_SPP};
 pub use limits::{
-    MAX_DENOISE, MAX_FILTER_MAR, MAX_FILTER_PX, MAX_LAYERS, MAX_LAYER_SPP, MAX_SPACING,
-    THESIS_OCCLUSION_DEG,
+    DEFAULT_DENOISE_SIGMA, DENOISE_SIGMA_RANGE, MAX_DENOISE, MAX_FILTER_MAR, MAX_FILTER_PX,
+    MAX_LAYERS, MAX_LAYER_SPP, MAX_SPACING, THESIS_OCCLUSION_DEG,
 };
 
 mod serde_fields;
 use serde_fields::{
-    default_blend_deg, default_spp, deserialize_spacing, deserialize_spp, is_one, is_zero,
-    is_zero_f32, one,
+    default_blend_deg, default_denoise_sigma, default_spp, deserialize_spacing, deserialize_spp,
+    is_default_denoise_sigma, is_one, is_zero, is_zero_f32, one,
 };
 
 /// What `--foveation` accepts, for error messages.
@@ -51,6 +51,17 @@ pub struct Layer {
     /// there and the fovea stays sharp.
     #[serde(default, skip_serializing_if = "is_zero_f32")]
     pub denoise_mar: f32,
+    /// The denoiser's luminance edge-stop, in standard deviations of the local noise (4, the
+    /// default, SVGF's): a tap whose luminance differs from the pixel's by this much counts e
+    /// times less. Tighter keeps more of what differs — detail the eye resolves where it
+    /// looks — and removes less noise: at 1 in a 4-spp fovea, bunny-high's shading finer than
+    /// a pixel stays and cornell's flat walls are still smoothed
+    /// (reports/tune-motion-window-lavapipe/sigma-0.125/fovea-for-all/).
+    #[serde(
+        default = "default_denoise_sigma",
+        skip_serializing_if = "is_default_denoise_sigma"
+    )]
+    pub denoise_sigma: f32,
     /// The lattice filter's width, in minimum angles of resolution of the eye at the lattice
     /// point's eccentricity (Guenter et al. 2012's acuity line; 0, the default: none). The
     /// filter (glsl/lattice_filter.comp) smooths the layer's traced points on their lattice,
@@ -74,6 +85,35 @@ impl Layer {
     /// Whether the layer asks for the lattice filter.
     pub fn filters(&self) -> bool {
         self.filter_mar > 0.0 || self.filter_px > 0.0
+    }
+
+    /// The denoiser's settings' rules (see [`FoveationConfig::validate`]); `n` is the layer's
+    /// 1-based number, for the message.
+    fn check_denoiser(&self, n: usize) -> Result<(), String> {
+        if self.denoise > MAX_DENOISE {
+            return Err(format!(
+                "layer {n}: denoise = {} must be in 0..={MAX_DENOISE} iterations",
+                self.denoise
+            ));
+        }
+        if !(0.0..=MAX_FILTER_MAR).contains(&self.denoise_mar) {
+            return Err(format!(
+                "layer {n}: denoise_mar = {} must be in 0..={MAX_FILTER_MAR} minimum angles \
+                 of resolution (0: no limit to the denoiser's width)",
+                self.denoise_mar
+            ));
+        }
+        if !DENOISE_SIGMA_RANGE.contains(&self.denoise_sigma) {
+            return Err(format!(
+                "layer {n}: denoise_sigma = {} must be in {}..={} standard deviations of \
+                 the local noise (the denoiser's luminance edge-stop; {DEFAULT_DENOISE_SIGMA} \
+                 when left out)",
+                self.denoise_sigma,
+                DENOISE_SIGMA_RANGE.start(),
+                DENOISE_SIGMA_RANGE.end()
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -136,6 +176,7 @@ impl FoveationConfig {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            denoise_sigma: DEFAULT_DENOISE_SIGMA,
             fraction: 1,
         };
         Self {
@@ -161,6 +202,7 @@ impl FoveationConfig {
                 filter_mar: 0.0,
                 filter_px: 0.0,
                 denoise_mar: 0.0,
+                denoise_sigma: DEFAULT_DENOISE_SIGMA,
                 fraction: 1,
             }],
             // No finite radius, so there is no band to blend; 0 keeps the value meaningful.
@@ -182,6 +224,7 @@ impl FoveationConfig {
     pub fn without_history_filters(mut self) -> Self {
         for layer in &mut self.layers {
             (layer.denoise, layer.denoise_mar) = (0, 0.0);
+            layer.denoise_sigma = DEFAULT_DENOISE_SIGMA;
             (layer.filter_mar, layer.filter_px) = (0.0, 0.0);
         }
         self
@@ -220,7 +263,8 @@ impl FoveationConfig {
     /// layer, so the whole screen is covered); finite radii in (0, 180) degrees, strictly growing
     /// outward; `blend_deg` finite and >= 0, and no blend band overlapping the previous one or
     /// the gaze point; spacing in 1..=[`MAX_SPACING`], never decreasing outward; spp in
-    /// 1..=[`MAX_LAYER_SPP`]; denoise up to [`MAX_DENOISE`]; filter_mar and filter_px in
+    /// 1..=[`MAX_LAYER_SPP`]; denoise up to [`MAX_DENOISE`], denoise_sigma in
+    /// [`DENOISE_SIGMA_RANGE`]; filter_mar and filter_px in
     /// 0..=[`MAX_FILTER_MAR`] and 0..=[`MAX_FILTER_PX`]; `occlusion_deg`, if given, finite in
     /// (0, 180].
     pub fn validate(&self) -> Result<(), FoveationError> {
@@ -277,19 +321,7 @@ impl FoveationConfig {
                     layer.spacing
                 ));
             }
-            if layer.denoise > MAX_DENOISE {
-                return Err(format!(
-                    "layer {n}: denoise = {} must be in 0..={MAX_DENOISE} iterations",
-                    layer.denoise
-                ));
-            }
-            if !(0.0..=MAX_FILTER_MAR).contains(&layer.denoise_mar) {
-                return Err(format!(
-                    "layer {n}: denoise_mar = {} must be in 0..={MAX_FILTER_MAR} minimum angles \
-                     of resolution (0: no limit to the denoiser's width)",
-                    layer.denoise_mar
-                ));
-            }
+            layer.check_denoiser(n)?;
             if !(0.0..=MAX_FILTER_MAR).contains(&layer.filter_mar) {
                 return Err(format!(
                     "layer {n}: filter_mar = {} must be in 0..={MAX_FILTER_MAR} minimum angles \
@@ -492,6 +524,12 @@ impl FoveationConfig {
             ];
             for (name, value) in widths.into_iter().filter(|&(_, v)| v != 0.0) {
                 lines.push(format!("{name} = {}", toml_float(value)));
+            }
+            if layer.denoise_sigma != DEFAULT_DENOISE_SIGMA {
+                lines.push(format!(
+                    "denoise_sigma = {}",
+                    toml_float(layer.denoise_sigma)
+                ));
             }
         }
         lines.push(String::new());

@@ -296,7 +296,7 @@ mod tests {
     use super::*;
     use crate::foveation::ray_buffer::unpack_offset;
     use crate::foveation::view::EyeFov;
-    use crate::foveation::{FoveationConfig, Gaze, Layer, VisibilityMask};
+    use crate::foveation::{FoveationConfig, Gaze, Layer, VisibilityMask, DEFAULT_DENOISE_SIGMA};
 
     /// Counts traced rays per layer by visiting every pixel of the image: on the layer's
     /// lattice (relative to its anchor) and inside its region.
@@ -341,6 +341,7 @@ mod tests {
                     filter_mar: 0.0,
                     filter_px: 0.0,
                     denoise_mar: 0.0,
+                    denoise_sigma: DEFAULT_DENOISE_SIGMA,
                     fraction: 1,
                 },
                 Layer {
@@ -351,6 +352,7 @@ mod tests {
                     filter_mar: 0.0,
                     filter_px: 0.0,
                     denoise_mar: 0.0,
+                    denoise_sigma: DEFAULT_DENOISE_SIGMA,
                     fraction: 1,
                 },
             ],

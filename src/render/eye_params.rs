@@ -12,7 +12,7 @@ use crate::foveation::gaze::GazeFix;
 use crate::foveation::lattice_shift::lattice_shift;
 use crate::foveation::plan::{cos_limit, gaze_anchor, layer_box, Regions};
 use crate::foveation::Gaze;
-use crate::foveation::{ImageGeometry, RayBuffer};
+use crate::foveation::{ImageGeometry, Layer, RayBuffer};
 use crate::scene::Camera;
 use crate::shader_layout::{
     EyePush, GpuLayer, PushCamera, PushEye, ALBEDO_DIVIDED, ALBEDO_ON, NO_LIMIT, PLAN_RUN,
@@ -159,14 +159,11 @@ pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanI
                 mask_plane: e as u32 * (layer_count + 1) + 1 + k as u32,
                 outer: l.outer.clamp(-NO_LIMIT as f64, NO_LIMIT as f64) as f32,
                 plan_runs: 0,
-                denoise: request.foveation.layers[k].denoise,
-                filter_mar: request.foveation.layers[k].filter_mar,
-                filter_px: request.foveation.layers[k].filter_px,
-                denoise_mar: request.foveation.layers[k].denoise_mar,
                 fraction: l.fraction,
                 fraction_phase: phase(history_frame, l.spacing, l.fraction),
                 lanes: input.layer_lanes[k],
                 lane_unit: lane_unit(input.layer_lanes),
+                ..history_filters(&request.foveation.layers[k])
             }
         })
         .collect();
@@ -176,6 +173,19 @@ pub fn eye_layers(request: &FrameRequest, e: usize, gaze: Gaze, input: &EyePlanI
     EyeLayers {
         layers,
         gaze: (gaze_px, fix),
+    }
+}
+
+/// A layer's settings for the passes that follow the history's surfaces (denoise.comp and
+/// lattice_filter.comp), the rest of its GpuLayer zero.
+fn history_filters(layer: &Layer) -> GpuLayer {
+    GpuLayer {
+        denoise: layer.denoise,
+        denoise_mar: layer.denoise_mar,
+        denoise_sigma: layer.denoise_sigma,
+        filter_mar: layer.filter_mar,
+        filter_px: layer.filter_px,
+        ..Default::default()
     }
 }
 

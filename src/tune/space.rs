@@ -4,7 +4,7 @@
 //! scores give the same candidates.
 
 use crate::check::rng::Rng;
-use crate::foveation::{FoveationConfig, Layer, THESIS_OCCLUSION_DEG};
+use crate::foveation::{FoveationConfig, Layer, DEFAULT_DENOISE_SIGMA, THESIS_OCCLUSION_DEG};
 
 /// The grid the search draws from (and moves on when it mutates).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -26,6 +26,12 @@ pub struct Space {
     /// Plans from before the limit have none.
     #[serde(default = "no_filter")]
     pub denoise_mar: Vec<f32>,
+    /// Luminance edge-stops a denoised layer may take, in standard deviations of the local
+    /// noise, ascending. Tight keeps a fovea's shading detail: a 4-spp fovea stopped at 1
+    /// reached regular 4 spp on cornell, bunny-high and the textured room in motion, stopped
+    /// at 4 only on two. Plans from before the setting have only the default.
+    #[serde(default = "default_sigma")]
+    pub denoise_sigma: Vec<f32>,
     /// Lattice filter widths a sparse layer may take, in minimum angles of resolution at the
     /// eccentricity (0 = none), ascending. Plans from before the filter have none.
     #[serde(default = "no_filter")]
@@ -57,6 +63,11 @@ fn no_filter() -> Vec<f32> {
 }
 
 /// serde's `default = "..."` needs a function path.
+fn default_sigma() -> Vec<f32> {
+    vec![DEFAULT_DENOISE_SIGMA]
+}
+
+/// serde's `default = "..."` needs a function path.
 fn every_point() -> Vec<u32> {
     vec![1]
 }
@@ -64,7 +75,7 @@ fn every_point() -> Vec<u32> {
 impl Space {
     /// The search `fovea tune` runs by default: up to three layers and a background, radii
     /// from 3° to 40°, spacings 1–6, 1–16 spp, up to 3 denoiser iterations (limited to 2 or 4
-    /// minimum angles of resolution, or not), lattice filters
+    /// minimum angles of resolution, or not; stopping at 1 or 4 σ of luminance), lattice filters
     /// 0.5–2 minimum angles of resolution wide; baselines at 1, 2 and 4 spp, regular ones
     /// also with uniform lattice filters 1 and 2 pixels wide.
     pub fn standard() -> Self {
@@ -78,6 +89,7 @@ impl Space {
             baseline_spp: vec![1, 2, 4],
             denoise: vec![0, 1, 2, 3],
             denoise_mar: vec![0.0, 2.0, 4.0],
+            denoise_sigma: vec![1.0, DEFAULT_DENOISE_SIGMA],
             filter_mar: vec![0.0, 0.5, 1.0, 2.0],
             baseline_filter_px: vec![1.0, 2.0],
             spp_fovea_radii_deg: vec![20.0, 30.0],
@@ -97,6 +109,7 @@ impl Space {
             baseline_spp: vec![1, 2],
             denoise: vec![0],
             denoise_mar: no_filter(),
+            denoise_sigma: default_sigma(),
             filter_mar: no_filter(),
             baseline_filter_px: Vec::new(),
             spp_fovea_radii_deg: Vec::new(),
@@ -168,6 +181,7 @@ impl Space {
                 };
                 spp = rng.below(spp + 1);
                 let (denoise, denoise_mar) = self.random_denoise(rng, k, self.spacings[spacing]);
+                let denoise_sigma = self.random_sigma(rng, denoise);
                 let filter_mar = self.random_filter(rng, self.spacings[spacing]);
                 layers.push(Layer {
                     radius_deg: radii.get(k).map(|&r| self.radii_deg[r]),
@@ -177,6 +191,7 @@ impl Space {
                     filter_mar,
                     filter_px: 0.0,
                     denoise_mar,
+                    denoise_sigma,
                     fraction: self.random_fraction(rng, filter_mar),
                 });
             }
@@ -210,6 +225,15 @@ impl Space {
         }
     }
 
+    /// The luminance edge-stop of a layer denoised `iterations` times: one of the space's. A
+    /// space with only the default draws as before it had the setting.
+    fn random_sigma(&self, rng: &mut Rng, iterations: u32) -> f32 {
+        match iterations > 0 && self.denoise_sigma.len() > 1 {
+            true => self.denoise_sigma[rng.below(self.denoise_sigma.len())],
+            false => DEFAULT_DENOISE_SIGMA,
+        }
+    }
+
     /// The lattice filter for a layer of `spacing`: only sparse layers, and one time in two.
     fn random_filter(&self, rng: &mut Rng, spacing: u32) -> f32 {
         if spacing == 1 || self.filter_mar.len() < 2 || rng.below(2) != 0 {
@@ -228,19 +252,25 @@ impl Space {
         self.fractions[1 + rng.below(self.fractions.len() - 1)]
     }
 
-    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser or its limit, a
-    /// lattice filter, a layer added or removed), valid; the parent itself when no change the space
+    /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, its limit or its
+    /// edge-stop, a lattice filter, a layer added or removed), valid; the parent itself when no change the space
     /// allows is valid.
     pub fn mutate(&self, parent: &FoveationConfig, rng: &mut Rng) -> FoveationConfig {
         for _ in 0..64 {
             let mut layers = parent.layers.clone();
             let k = rng.below(layers.len());
             let up = rng.below(2) == 0;
-            // A space without denoiser limits or fractions mutates as before it had them.
-            let changes = match (self.fractions.len() > 1, self.denoise_mar.len() > 1) {
-                (true, _) => 9,
-                (false, true) => 8,
-                (false, false) => 7,
+            // A space without edge-stops, denoiser limits or fractions mutates as before it
+            // had them.
+            let changes = match (
+                self.denoise_sigma.len() > 1,
+                self.fractions.len() > 1,
+                self.denoise_mar.len() > 1,
+            ) {
+                (true, _, _) => 10,
+                (false, true, _) => 9,
+                (false, false, true) => 8,
+                (false, false, false) => 7,
             };
             match rng.below(changes) {
                 0 => {
@@ -262,6 +292,9 @@ impl Space {
                     layers[k].denoise_mar = step(&self.denoise_mar, layers[k].denoise_mar, up)
                 }
                 8 => layers[k].fraction = step(&self.fractions, layers[k].fraction, up),
+                9 if layers[k].denoise > 0 => {
+                    layers[k].denoise_sigma = step(&self.denoise_sigma, layers[k].denoise_sigma, up)
+                }
                 4 if layers.len() <= self.max_inner_layers => {
                     // Split layer k at a radius inside it: the new inner part one spacing finer.
                     let outer = layers[k].radius_deg.unwrap_or(f32::INFINITY);
@@ -319,7 +352,8 @@ fn step<T: PartialOrd + Copy>(values: &[T], v: T, up: bool) -> T {
 
 /// A config in one short line, its identity in the tune's files: each layer as
 /// `RADIUS:SPACINGxSPP` (`bg` for the background), `dN` for denoiser iterations, `mW` for
-/// their acuity limit, `fM` for an acuity lattice filter, `pP` for a uniform one, `rN` for 1
+/// their acuity limit, `sS` for their luminance edge-stop (when not the default 4), `fM` for
+/// an acuity lattice filter, `pP` for a uniform one, `rN` for 1
 /// in N points traced per frame, then the occlusion mask; e.g.
 /// `6:1x4 10:2x4 20:3x4d1f0.5 bg:4x4f1 occ56`.
 pub fn describe(config: &FoveationConfig) -> String {
@@ -334,6 +368,9 @@ pub fn describe(config: &FoveationConfig) -> String {
             }
             if l.denoise_mar > 0.0 {
                 knobs += &format!("m{}", l.denoise_mar);
+            }
+            if l.denoise_sigma != DEFAULT_DENOISE_SIGMA {
+                knobs += &format!("s{}", l.denoise_sigma);
             }
             if l.filter_mar > 0.0 {
                 knobs += &format!("f{}", l.filter_mar);
@@ -408,6 +445,17 @@ mod tests {
         assert!(a
             .iter()
             .all(|c| c.layers.iter().all(|l| l.fraction == 1 || !l.filters())));
+        // Both edge-stops among the denoised layers, the default on the others.
+        for sigma in [1.0, DEFAULT_DENOISE_SIGMA] {
+            assert!(a.iter().any(|c| c
+                .layers
+                .iter()
+                .any(|l| l.denoise > 0 && l.denoise_sigma == sigma)));
+        }
+        assert!(a.iter().all(|c| c
+            .layers
+            .iter()
+            .all(|l| l.denoise > 0 || l.denoise_sigma == DEFAULT_DENOISE_SIGMA)));
         let distinct: std::collections::HashSet<String> = a.iter().map(describe).collect();
         assert!(distinct.len() > 150, "{}", distinct.len());
     }
@@ -433,6 +481,14 @@ mod tests {
             }
         }
         assert_eq!(layer_counts.len(), 3, "{layer_counts:?}");
+        // A denoised layer's edge-stop is one of the things a mutation may change.
+        parent.layers[0].denoise = 3;
+        let sigmas: std::collections::HashSet<String> = (0..200)
+            .map(|_| space.mutate(&parent, &mut rng))
+            .filter(|c| c.layers.len() == parent.layers.len())
+            .map(|c| format!("{}", c.layers[0].denoise_sigma))
+            .collect();
+        assert!(sigmas.contains("1"), "{sigmas:?}");
     }
 
     #[test]
@@ -476,6 +532,16 @@ mod tests {
         let old: Space = serde_json::from_value(old).unwrap();
         assert_eq!(old.fractions, [1]);
         assert!((0..200).all(|_| !old.random(&mut rng).fractional()));
+        // And without edge-stops: every layer stops at the default.
+        let mut old = serde_json::to_value(Space::standard()).unwrap();
+        old.as_object_mut().unwrap().remove("denoise_sigma");
+        let old: Space = serde_json::from_value(old).unwrap();
+        assert_eq!(old.denoise_sigma, [DEFAULT_DENOISE_SIGMA]);
+        assert!((0..200).all(|_| old
+            .random(&mut rng)
+            .layers
+            .iter()
+            .all(|l| l.denoise_sigma == DEFAULT_DENOISE_SIGMA)));
         assert_eq!(Space::small().baselines().len(), 2 + 2);
     }
 
@@ -486,10 +552,11 @@ mod tests {
         config.layers[2].filter_mar = 0.5;
         config.layers[3].filter_mar = 1.0;
         (config.layers[0].denoise, config.layers[0].denoise_mar) = (3, 2.0);
+        config.layers[0].denoise_sigma = 1.0;
         config.layers[1].fraction = 4;
         assert_eq!(
             describe(&config),
-            "6:1x4d3m2 10:2x4r4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
+            "6:1x4d3m2s1 10:2x4r4 20:3x4d2f0.5 bg:4x4f1 occ56 blend1"
         );
         let mut regular = FoveationConfig::regular(2);
         assert_eq!(describe(&regular), "bg:1x2");

@@ -22,3 +22,11 @@ pub const MAX_FILTER_PX: f32 = 64.0;
 
 /// The most denoiser iterations a layer may ask for (a reach of 125 pixels).
 pub const MAX_DENOISE: u32 = 5;
+
+/// The denoiser's luminance edge-stop when a layer leaves out `denoise_sigma`: a tap whose
+/// luminance differs from the pixel's by 4 standard deviations of the local noise counts e
+/// times less (SVGF's, Schied et al. 2017).
+pub const DEFAULT_DENOISE_SIGMA: f32 = 4.0;
+/// The edge-stop's range: tighter than a quarter of the noise filters nearly nothing, looser
+/// than 16 stops nothing a 5x5 tap could tell apart.
+pub const DENOISE_SIGMA_RANGE: std::ops::RangeInclusive<f32> = 0.25..=16.0;

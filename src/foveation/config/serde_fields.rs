@@ -1,7 +1,9 @@
 //! The functions serde's attributes on [`super::Layer`] and the config file name: defaults,
 //! skip tests, and whole-number fields read with a message that says what they take.
 
-use super::limits::{DEFAULT_BLEND_DEG, DEFAULT_SPP, MAX_LAYER_SPP, MAX_SPACING};
+use super::limits::{
+    DEFAULT_BLEND_DEG, DEFAULT_DENOISE_SIGMA, DEFAULT_SPP, MAX_LAYER_SPP, MAX_SPACING,
+};
 
 /// serde's `skip_serializing_if = "..."` needs a function path.
 pub(super) fn is_zero(n: &u32) -> bool {
@@ -21,6 +23,16 @@ pub(super) fn one() -> u32 {
 /// serde's `skip_serializing_if = "..."` needs a function path.
 pub(super) fn is_zero_f32(x: &f32) -> bool {
     *x == 0.0
+}
+
+/// serde's `default = "..."` needs a function path.
+pub(super) fn default_denoise_sigma() -> f32 {
+    DEFAULT_DENOISE_SIGMA
+}
+
+/// serde's `skip_serializing_if = "..."` needs a function path.
+pub(super) fn is_default_denoise_sigma(x: &f32) -> bool {
+    *x == DEFAULT_DENOISE_SIGMA
 }
 
 /// A layer's whole-number field, read with a message that says what it takes (serde's own

@@ -58,6 +58,7 @@ fn regular_validates_and_is_regular() {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            denoise_sigma: DEFAULT_DENOISE_SIGMA,
             fraction: 1,
         }]
     );
@@ -147,6 +148,7 @@ fn rejects_layer_count() {
             filter_mar: 0.0,
             filter_px: 0.0,
             denoise_mar: 0.0,
+            denoise_sigma: DEFAULT_DENOISE_SIGMA,
             fraction: 1,
         })
         .collect();
@@ -158,6 +160,7 @@ fn rejects_layer_count() {
         filter_mar: 0.0,
         filter_px: 0.0,
         denoise_mar: 0.0,
+        denoise_sigma: DEFAULT_DENOISE_SIGMA,
         fraction: 1,
     });
     assert_rejected(&many, &["9 layers", "8"]);
