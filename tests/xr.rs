@@ -264,6 +264,10 @@ fn a_scripted_gaze_centres_each_eyes_fovea_where_the_projection_says() {
             "3",
             "--scene",
             "cornell",
+            // The thesis' 6-degree fovea, tinted, is small enough to locate by its centroid
+            // (the shipped config's 20-degree one reaches past this image's edges).
+            "--foveation",
+            "thesis",
             "--debug",
             "layers",
         ],
@@ -580,6 +584,8 @@ fn a_recorded_gaze_trace_replays_in_render() {
             "--simulated",
             "--frames",
             "4",
+            "--foveation",
+            "thesis",
             "--debug",
             "layers",
             "--record-gaze",
@@ -1201,7 +1207,7 @@ fn the_headset_shows_the_display_transform() {
 #[test]
 fn the_headsets_shipped_config_is_the_default_and_a_given_one_wins() {
     // The simulated headset reports itself as Vive Pro Eye-like: its shipped config, whose
-    // lattice filters need the history (on by default; off, they are left out and it says so).
+    // denoiser needs the history (on by default; off, it is left out and it says so).
     let size = [("SIM_HEADSET_SIZE", "32x32")];
     for (args, says) in [
         (

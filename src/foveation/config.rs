@@ -54,9 +54,9 @@ pub struct Layer {
     /// The denoiser's luminance edge-stop, in standard deviations of the local noise (4, the
     /// default, SVGF's): a tap whose luminance differs from the pixel's by this much counts e
     /// times less. Tighter keeps more of what differs — detail the eye resolves where it
-    /// looks — and removes less noise: at 1 in a 4-spp fovea, bunny-high's shading finer than
-    /// a pixel stays and cornell's flat walls are still smoothed
-    /// (reports/tune-motion-window-lavapipe/sigma-0.125/fovea-for-all/).
+    /// looks — and removes less noise: at 0.5 in a 20° 4-spp fovea (the Vive's shipped config),
+    /// bunny-high's shading finer than a pixel stays and cornell's flat walls are still
+    /// smoothed (reports/tune-motion-window-lavapipe/sigma-0.125/fovea-for-all/).
     #[serde(
         default = "default_denoise_sigma",
         skip_serializing_if = "is_default_denoise_sigma"
