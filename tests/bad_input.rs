@@ -120,7 +120,12 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
     assert!(!text.contains("gpu pass"), "no frame may run:\n{text}");
 
     // A 16384x16384 stereo thesis frame needs 16 GiB for its pixels and their read-back alone. With
-    // a limit the case does not depend on the device's memory.
+    // a limit the case does not depend on the device's memory. Beside them: each frame in
+    // flight's layer table (per eye, 4 layers) and plan dispatch arguments (16 bytes per eye).
+    let slots = fovea::render::MAX_FRAMES_IN_FLIGHT as u64;
+    let layer_tables = slots * 2 * 4 * std::mem::size_of::<fovea::shader_layout::GpuLayer>() as u64;
+    let needs = (16u64 << 30) + layer_tables + slots * 2 * 16;
+    let needs = format!("it needs 16.00 GiB, {needs} bytes");
     let text = fails_with(
         &[
             "render",
@@ -137,7 +142,7 @@ fn frame_too_large_for_the_memory_limit_fails_before_allocating() {
         &[("FOVEA_GPU_MEMORY_LIMIT", "8G")],
         &[
             "16384x16384 stereo frame with 4 layers",
-            "it needs 16.00 GiB, 17179873120 bytes",
+            &needs,
             "frame pixels 8.00 GiB",
             "frame read-back 8.00 GiB",
             "caps fovea at 8.00 GiB (8589934592 bytes)",
