@@ -254,8 +254,8 @@ impl Space {
     }
 
     /// `parent` changed in one place (a radius, a spacing, an spp, a denoiser, its limit or its
-    /// edge-stop, a lattice filter, a layer added or removed), valid; the parent itself when no change the space
-    /// allows is valid.
+    /// edge-stop, a lattice filter, a layer added or removed), valid; the parent itself when no
+    /// change the space allows is valid.
     pub fn mutate(&self, parent: &FoveationConfig, rng: &mut Rng) -> FoveationConfig {
         for _ in 0..64 {
             let mut layers = parent.layers.clone();
@@ -287,7 +287,13 @@ impl Space {
                 }
                 1 => layers[k].spacing = step(&self.spacings, layers[k].spacing, up),
                 2 => layers[k].spp = step(&self.spp, layers[k].spp, up),
-                3 => layers[k].denoise = step(&self.denoise, layers[k].denoise, up),
+                3 => {
+                    layers[k].denoise = step(&self.denoise, layers[k].denoise, up);
+                    // An undenoised layer's edge-stop would change only its name.
+                    if layers[k].denoise == 0 {
+                        layers[k].denoise_sigma = DEFAULT_DENOISE_SIGMA;
+                    }
+                }
                 6 => layers[k].filter_mar = step(&self.filter_mar, layers[k].filter_mar, up),
                 7 if layers[k].denoise > 0 => {
                     layers[k].denoise_mar = step(&self.denoise_mar, layers[k].denoise_mar, up)
@@ -490,6 +496,15 @@ mod tests {
             .map(|c| format!("{}", c.layers[0].denoise_sigma))
             .collect();
         assert!(sigmas.contains("1"), "{sigmas:?}");
+        // And a layer whose denoiser a mutation turns off keeps no edge-stop of its own.
+        parent.layers[0].denoise_sigma = 1.0;
+        parent.layers[0].denoise = 1;
+        assert!((0..200).all(|_| {
+            let child = space.mutate(&parent, &mut rng);
+            child.layers.len() != parent.layers.len()
+                || child.layers[0].denoise > 0
+                || child.layers[0].denoise_sigma == DEFAULT_DENOISE_SIGMA
+        }));
     }
 
     #[test]
