@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Where the denoiser's time goes on lavapipe: builds fovea from COMMIT with one variant of
+# glsl/denoise.comp at a time (each leaves out or changes one part of the pass; only `tile`
+# keeps its output, bit for bit) and times the shipped Vive config on bunny-high at 720x800,
+# turning 0.34 degrees a frame, 8 frames, median of frames 2-7, every binary twice in
+# alternating order.   bash run.sh COMMIT OUT [VARIANT...]   (VARIANT: head A B C D E F G H I tile)
+set -euo pipefail
+commit=$1 out=$2; shift 2
+variants=("$@")
+[ ${#variants[@]} -gt 0 ] || variants=(head A B C D E F G H I tile)
+here=$(cd "$(dirname "$0")" && pwd)
+repo=$(git -C "$here" rev-parse --show-toplevel)
+mkdir -p "$out"
+tree=$(mktemp -d)/tree
+git -C "$repo" worktree add -f --detach "$tree" "$commit" >/dev/null
+trap 'git -C "$repo" worktree remove --force "$tree"' EXIT
+d=glsl/denoise.comp
+edit() { python3 - "$tree/$d" "$@" <<'PY'
+import sys
+path, pairs = sys.argv[1], sys.argv[2:]
+s = open(path).read()
+for old, new in zip(pairs[::2], pairs[1::2]):
+    assert old in s, old
+    s = s.replace(old, new, 1)
+open(path, "w").write(s)
+PY
+}
+ALBEDO=('vec3 aq = pixel_albedo(q);' 'vec3 aq = ap;')
+NORMAL=('vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));' 'vec3 nq = np;')
+EXP=('w *= exp2(exponent);' 'w *= 1.0 + exponent;')
+LOADS=('uvec4 sq = read_surface(q);' 'uvec4 sq = sp; sq.x += uint(dx);'
+       'vec4 tap = read_input(q);' 'vec4 tap = centre + vec4(float(dx), float(dy), 0, 0) * 0.001;')
+for v in "${variants[@]}"; do
+  git -C "$tree" checkout -q -- glsl src
+  case $v in
+    head) ;;
+    A) edit "${ALBEDO[@]}" ;;                                   # no albedo load or weight
+    B) edit "${NORMAL[@]}" ;;                                   # no normal decode
+    C) edit "${ALBEDO[@]}" "${NORMAL[@]}" "${EXP[@]}" ;;         # A + B + no exp2
+    D) edit "${ALBEDO[@]}" "${NORMAL[@]}" "${EXP[@]}" "${LOADS[@]}" ;; # C + no tap loads
+    E) edit '    const float KERNEL[3]' '    if (sigma >= 0.0) { pass_through(p, centre + vec4(sigma * 1e-9), albedo); return; }
+    const float KERNEL[3]' ;;                                  # no tap loop at all
+    F) edit 'for (int i = 0; i < 9; ++i) {
+        ivec2 o' 'for (int i = 0; i < 1; ++i) {
+        ivec2 o' ;;                                           # one variance tap, not 9
+    G) edit '#extension GL_GOOGLE_include_directive : require' '#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require' \
+            '    for (int dy = -2; dy <= 2; ++dy) {
+        for (int dx = -2; dx <= 2; ++dx) {' '    [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
+        [[unroll]] for (int dx = -2; dx <= 2; ++dx) {' ;;    # loops unrolled (same output)
+    H) edit '    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above' \
+            '    uint ap_bits = albedo_before[pixel_index(p)].albedo;
+    vec3 ap = pc.last != 0u ? albedo : albedo_divisor(ap_bits);' \
+            '            vec3 aq = pixel_albedo(q);
+            vec3 apart = abs(aq - ap) / max(aq, ap);
+            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));' \
+            '            uint aq_bits = albedo_before[pixel_index(q)].albedo;
+            if (aq_bits != ap_bits) {
+                vec3 aq = albedo_divisor(aq_bits);
+                vec3 apart = abs(aq - ap) / max(aq, ap);
+                exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
+            }' ;;                                              # albedo unpacked only where it differs (same output)
+    I) edit '    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above' \
+            '    uint ap_bits = albedo_before[pixel_index(p)].albedo;
+    vec3 ap = pc.last != 0u ? albedo : albedo_divisor(ap_bits);' \
+            '            vec3 aq = pixel_albedo(q);
+            vec3 apart = abs(aq - ap) / max(aq, ap);
+            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));' \
+            '            uint aq_bits = pixel_surface(pixel_index(q) + 1u).y;
+            if (aq_bits != ap_bits) {
+                vec3 aq = albedo_divisor(aq_bits);
+                vec3 apart = abs(aq - ap) / max(aq, ap);
+                exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
+            }' ;;                                              # H with a texel load in place of the albedo's (wrong output)
+    tile) git -C "$tree" apply "$here/tile-denoise.patch" "$here/tile-passes.patch" ;; # shared-memory tiles (same output)
+    *) echo "unknown variant $v" >&2; exit 2 ;;
+  esac
+  (cd "$tree" && CARGO_TARGET_DIR="$repo/target" cargo build --release -q)
+  cp "$repo/target/release/fovea" "$out/fovea-$v"
+done
+git -C "$tree" checkout -q -- glsl src
+python3 - "$out/path.csv" <<'PY'
+import sys
+with open(sys.argv[1], "w") as f:
+    f.write("frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n")
+    for k in range(8):
+        f.write(f"{k},0,0,0,{0.34 * k:g},0,0\n")
+PY
+for round in 1 2; do
+  for v in "${variants[@]}"; do
+    "$out/fovea-$v" render --scene bunny-high --width 720 --height 800 --fov vive-pro-eye \
+      --foveation "$repo/assets/foveation/vive-pro-eye.toml" --camera-path "$out/path.csv" \
+      --out "$out/frames-$v" --pass-times > "$out/log-$v-$round.txt"
+    python3 - "$out/log-$v-$round.txt" "$v" "$round" <<'PY'
+import re, statistics, sys
+frame, passes = None, {}
+for line in open(sys.argv[1]):
+    m = re.match(r"frame (\d+): ", line)
+    if m:
+        frame = int(m.group(1))
+        continue
+    m = re.match(r"  gpu pass (.+?): ([\d.]+) ms", line)
+    if m and frame is not None and frame >= 2:
+        per = passes.setdefault(m.group(1), {})
+        per[frame] = per.get(frame, 0.0) + float(m.group(2))
+print(f"round {sys.argv[3]} {sys.argv[2]}: " + " ".join(
+    f"{k} {statistics.median(v.values()):.1f} ms" for k, v in passes.items()
+    if k in ("trace", "temporal", "denoise")))
+PY
+  done
+done
