@@ -25,6 +25,21 @@ for old, new in zip(pairs[::2], pairs[1::2]):
 open(path, "w").write(s)
 PY
 }
+# The albedo unpacked and divided only where the tap's bits (read by LOAD) differ from the centre's.
+albedo_skip() {
+  edit '    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above' \
+       '    uint ap_bits = albedo_before[pixel_index(p)].albedo;
+    vec3 ap = pc.last != 0u ? albedo : albedo_divisor(ap_bits);' \
+       '            vec3 aq = pixel_albedo(q);
+            vec3 apart = abs(aq - ap) / max(aq, ap);
+            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));' \
+       "            uint aq_bits = $1;
+            if (aq_bits != ap_bits) {
+                vec3 aq = albedo_divisor(aq_bits);
+                vec3 apart = abs(aq - ap) / max(aq, ap);
+                exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
+            }"
+}
 ALBEDO=('vec3 aq = pixel_albedo(q);' 'vec3 aq = ap;')
 NORMAL=('vec3 nq = from_octahedral(unpackSnorm2x16(sq.y));' 'vec3 nq = np;')
 EXP=('w *= exp2(exponent);' 'w *= 1.0 + exponent;')
@@ -48,30 +63,8 @@ for v in "${variants[@]}"; do
             '    for (int dy = -2; dy <= 2; ++dy) {
         for (int dx = -2; dx <= 2; ++dx) {' '    [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
         [[unroll]] for (int dx = -2; dx <= 2; ++dx) {' ;;    # loops unrolled (same output)
-    H) edit '    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above' \
-            '    uint ap_bits = albedo_before[pixel_index(p)].albedo;
-    vec3 ap = pc.last != 0u ? albedo : albedo_divisor(ap_bits);' \
-            '            vec3 aq = pixel_albedo(q);
-            vec3 apart = abs(aq - ap) / max(aq, ap);
-            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));' \
-            '            uint aq_bits = albedo_before[pixel_index(q)].albedo;
-            if (aq_bits != ap_bits) {
-                vec3 aq = albedo_divisor(aq_bits);
-                vec3 apart = abs(aq - ap) / max(aq, ap);
-                exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
-            }' ;;                                              # albedo unpacked only where it differs (same output)
-    I) edit '    vec3 ap = pc.last != 0u ? albedo : pixel_albedo(p); // the last iteration read it above' \
-            '    uint ap_bits = albedo_before[pixel_index(p)].albedo;
-    vec3 ap = pc.last != 0u ? albedo : albedo_divisor(ap_bits);' \
-            '            vec3 aq = pixel_albedo(q);
-            vec3 apart = abs(aq - ap) / max(aq, ap);
-            exponent += by_albedo * max(apart.r, max(apart.g, apart.b));' \
-            '            uint aq_bits = pixel_surface(pixel_index(q) + 1u).y;
-            if (aq_bits != ap_bits) {
-                vec3 aq = albedo_divisor(aq_bits);
-                vec3 apart = abs(aq - ap) / max(aq, ap);
-                exponent += by_albedo * max(apart.r, max(apart.g, apart.b));
-            }' ;;                                              # H with a texel load in place of the albedo's (wrong output)
+    H) albedo_skip 'albedo_before[pixel_index(q)].albedo' ;;   # albedo unpacked only where its bits differ (same output)
+    I) albedo_skip 'pixel_surface(pixel_index(q) + 1u).y' ;;   # H with a texel load in place of the albedo's (wrong output)
     tile) git -C "$tree" apply "$here/tile-denoise.patch" "$here/tile-passes.patch" ;; # shared-memory tiles (same output)
     *) echo "unknown variant $v" >&2; exit 2 ;;
   esac
