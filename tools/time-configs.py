@@ -167,5 +167,6 @@ def summarise(rows):
                          f" ({min(values):.3f}-{max(values):.3f})")
         print(f"{text} of the baseline over {len(group)} rounds")
 
+
 if __name__ == "__main__":
     main()
