@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Where the denoiser's time goes on lavapipe: builds fovea from COMMIT with one variant of
-# glsl/denoise.comp at a time (each leaves out or changes one part of the pass; only `tile`
-# keeps its output, bit for bit) and times the shipped Vive config on bunny-high at 720x800,
-# turning 0.34 degrees a frame, 8 frames, median of frames 2-7, every binary twice in
-# alternating order.   bash run.sh COMMIT OUT [VARIANT...]   (VARIANT: head A B C D E F G H I tile)
+# glsl/denoise.comp at a time (each leaves out or changes one part of the pass; G, H and
+# `tile` keep its output, bit for bit) and times the shipped Vive config on bunny-high at
+# 720x800 with tools/time-configs.py: turning 0.34 degrees a frame, 8 frames, the median of
+# frames 2-7, every binary in turn, twice.   bash run.sh COMMIT OUT [VARIANT...]   (VARIANT: head A B C D E F G H I tile)
 set -euo pipefail
 commit=$1 out=$2; shift 2
 variants=("$@")
@@ -72,33 +72,9 @@ for v in "${variants[@]}"; do
   cp "$repo/target/release/fovea" "$out/fovea-$v"
 done
 git -C "$tree" checkout -q -- glsl src
-python3 - "$out/path.csv" <<'PY'
-import sys
-with open(sys.argv[1], "w") as f:
-    f.write("frame,dx,dy,dz,yaw_deg,pitch_deg,roll_deg\n")
-    for k in range(8):
-        f.write(f"{k},0,0,0,{0.34 * k:g},0,0\n")
-PY
-for round in 1 2; do
-  for v in "${variants[@]}"; do
-    "$out/fovea-$v" render --scene bunny-high --width 720 --height 800 --fov vive-pro-eye \
-      --foveation "$repo/assets/foveation/vive-pro-eye.toml" --camera-path "$out/path.csv" \
-      --out "$out/frames-$v" --pass-times > "$out/log-$v-$round.txt"
-    python3 - "$out/log-$v-$round.txt" "$v" "$round" <<'PY'
-import re, statistics, sys
-frame, passes = None, {}
-for line in open(sys.argv[1]):
-    m = re.match(r"frame (\d+): ", line)
-    if m:
-        frame = int(m.group(1))
-        continue
-    m = re.match(r"  gpu pass (.+?): ([\d.]+) ms", line)
-    if m and frame is not None and frame >= 2:
-        per = passes.setdefault(m.group(1), {})
-        per[frame] = per.get(frame, 0.0) + float(m.group(2))
-print(f"round {sys.argv[3]} {sys.argv[2]}: " + " ".join(
-    f"{k} {statistics.median(v.values()):.1f} ms" for k, v in passes.items()
-    if k in ("trace", "temporal", "denoise")))
-PY
-  done
-done
+# Timed as tools/time-configs.py times configs: every binary in turn, the whole set twice.
+bins=()
+for v in "${variants[@]}"; do bins+=(--bin "$v=$out/fovea-$v"); done
+python3 "$repo/tools/time-configs.py" "${bins[@]}" --scene bunny-high \
+  --config vive="$repo/assets/foveation/vive-pro-eye.toml" --frames 8 --turn-deg 0.34 \
+  --rounds 2 --out "$out/times.csv"
