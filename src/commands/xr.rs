@@ -32,7 +32,8 @@ pub struct XrArgs {
     #[arg(long, value_parser = parse_size)]
     pub size: Option<[u32; 2]>,
     /// Foveation layers: auto (the config fovea ships for the headset the runtime reports,
-    /// assets/foveation/vive-pro-eye.toml for a Vive Pro Eye; the thesis' layers for another),
+    /// assets/foveation/vive-pro-eye.toml for a Vive Pro Eye, varjo-xr-4.toml for a Varjo XR-4;
+    /// the thesis' layers for another),
     /// thesis, off (regular rendering) or a TOML file.
     #[arg(long, default_value = "auto")]
     pub foveation: String,

@@ -119,15 +119,18 @@ impl DisplayProfile {
     }
 
     /// The foveation config fovea ships for this headset (`assets/foveation/NAME.toml`,
-    /// built into the binary), which `fovea xr` uses unless told otherwise; None where none
-    /// was measured.
+    /// built into the binary), which `fovea xr` uses unless told otherwise. Option, so that a
+    /// profile added before its config has been measured can say so.
     pub fn shipped_foveation(self) -> Option<(&'static str, FoveationConfig)> {
         let (file, text) = match self {
             DisplayProfile::ViveProEye => (
                 "assets/foveation/vive-pro-eye.toml",
                 include_str!("../../assets/foveation/vive-pro-eye.toml"),
             ),
-            DisplayProfile::VarjoXr4 => return None,
+            DisplayProfile::VarjoXr4 => (
+                "assets/foveation/varjo-xr-4.toml",
+                include_str!("../../assets/foveation/varjo-xr-4.toml"),
+            ),
         };
         let config = FoveationConfig::from_toml_str(text, file).expect("shipped configs are valid");
         Some((file, config))
@@ -173,9 +176,10 @@ mod tests {
 
     #[test]
     fn the_shipped_configs_are_valid_and_foveated() {
-        let (file, config) = DisplayProfile::ViveProEye.shipped_foveation().unwrap();
-        assert!(file.ends_with("vive-pro-eye.toml"));
-        assert!(config.validate().is_ok() && !config.is_regular());
-        assert!(DisplayProfile::VarjoXr4.shipped_foveation().is_none());
+        for profile in [DisplayProfile::ViveProEye, DisplayProfile::VarjoXr4] {
+            let (file, config) = profile.shipped_foveation().unwrap();
+            assert_eq!(file, format!("assets/foveation/{}.toml", profile.name()));
+            assert!(config.validate().is_ok() && !config.is_regular(), "{file}");
+        }
     }
 }

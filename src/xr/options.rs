@@ -91,3 +91,25 @@ impl FoveationChoice {
         (config, source)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_recognised_headset_gets_its_shipped_config_and_others_the_thesis() {
+        let auto = FoveationChoice::ForHeadset { spp: None };
+        let (config, source) = auto.resolve("Varjo XR-4", [2880, 2808], true);
+        assert_eq!(
+            source,
+            "assets/foveation/varjo-xr-4.toml (the runtime reports a varjo-xr-4)"
+        );
+        assert!(config.needs_history() && !config.is_regular());
+        let (config, source) = auto.resolve("Quest 3", [2064, 2208], true);
+        assert_eq!(config, FoveationConfig::thesis());
+        assert!(
+            source.contains("no shipped config for 'Quest 3' at 2064x2208"),
+            "{source}"
+        );
+    }
+}
